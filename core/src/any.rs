@@ -1,0 +1,113 @@
+//! Dimension dispatch: one enum over the 2D and 3D simulations.
+
+use crate::guard::Blowup;
+use crate::math::Real;
+use crate::scene::{LoadedScene, SceneError};
+use crate::simulation::{Frame, Sample, Simulation};
+use crate::stepper::StepStats;
+use crate::timers::StageTimers;
+use std::fmt;
+
+/// A simulation of either dimension.
+pub enum AnySimulation {
+    D2(Box<Simulation<2>>),
+    D3(Box<Simulation<3>>),
+}
+
+/// Error while setting up a simulation from a scene.
+#[derive(Debug, Clone)]
+pub enum SetupError {
+    Scene(SceneError),
+}
+
+impl fmt::Display for SetupError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SetupError::Scene(e) => write!(f, "{e}"),
+        }
+    }
+}
+impl std::error::Error for SetupError {}
+
+macro_rules! dispatch {
+    ($self:expr, $s:ident => $e:expr) => {
+        match $self {
+            AnySimulation::D2($s) => $e,
+            AnySimulation::D3($s) => $e,
+        }
+    };
+}
+
+impl AnySimulation {
+    /// Build from a loaded scene.
+    pub fn new(loaded: &LoadedScene) -> Result<Self, SetupError> {
+        let scene = &loaded.scene;
+        let err = |e: crate::world::BuildError| {
+            SetupError::Scene(SceneError {
+                file: loaded.file.clone(),
+                line: crate::scene::locate(&loaded.text, &e.path),
+                path: e.path,
+                message: e.message,
+            })
+        };
+        Ok(match scene.simulation.dimension {
+            2 => AnySimulation::D2(Box::new(Simulation::<2>::new(scene).map_err(err)?)),
+            _ => AnySimulation::D3(Box::new(Simulation::<3>::new(scene).map_err(err)?)),
+        })
+    }
+    pub fn dimension(&self) -> usize {
+        match self {
+            AnySimulation::D2(_) => 2,
+            AnySimulation::D3(_) => 3,
+        }
+    }
+    pub fn time(&self) -> Real {
+        dispatch!(self, s => s.time())
+    }
+    pub fn steps(&self) -> u64 {
+        dispatch!(self, s => s.world.steps)
+    }
+    pub fn fine_count(&self) -> usize {
+        dispatch!(self, s => s.world.fine.len())
+    }
+    pub fn wall_count(&self) -> usize {
+        dispatch!(self, s => s.world.walls.len())
+    }
+    pub fn region_counts(&self) -> Vec<(String, usize)> {
+        dispatch!(self, s => s.world.region_counts.clone())
+    }
+    pub fn barrier_names(&self) -> Vec<String> {
+        dispatch!(self, s => s.world.walls.barriers.iter().map(|b| b.name.clone()).collect())
+    }
+    pub fn probe_names(&self) -> Vec<String> {
+        dispatch!(self, s => s.world.probes.iter().map(|p| p.name.clone()).collect())
+    }
+    /// Δt of Eq. (51) for the current state.
+    pub fn stable_dt(&self) -> Real {
+        dispatch!(self, s => s.stepper.stable_dt(&s.world))
+    }
+    pub fn step(&mut self, max_dt: Real) -> Result<StepStats, Blowup> {
+        dispatch!(self, s => s.step(max_dt))
+    }
+    pub fn advance_to(&mut self, t: Real) -> Result<(), Blowup> {
+        dispatch!(self, s => s.advance_to(t))
+    }
+    pub fn sample(&mut self) -> Sample {
+        dispatch!(self, s => s.sample())
+    }
+    pub fn frame(&self) -> Frame {
+        dispatch!(self, s => s.frame())
+    }
+    pub fn timers(&self) -> &StageTimers {
+        dispatch!(self, s => &s.stepper.timers)
+    }
+    pub fn timers_mut(&mut self) -> &mut StageTimers {
+        dispatch!(self, s => &mut s.stepper.timers)
+    }
+    pub fn skipped(&self) -> Vec<(String, String)> {
+        dispatch!(self, s => s.stepper.skipped.clone())
+    }
+    pub fn neighbor_builds(&self) -> usize {
+        dispatch!(self, s => s.stepper.lists.builds)
+    }
+}

@@ -1,0 +1,135 @@
+//! Continuity, velocity gradient, stress diffusion and the constitutive update,
+//! in one sweep with the new velocities v_{n+1}.
+//!
+//! dρ_i/dt = 2ρ_i Σ_j (v_i − v*)·∇_i W_ij V_j              Eq. (15), v* from Eq. (19)
+//! ∇v_i    = −Σ_j (v_i − v_j) ⊗ ∇_i W_ij V_j                Eq. (24) (sign so that a
+//!           linear field v = A x gives ∇v = A with ∇_i W = W' e_ij, e_ij from j to i)
+//! D_i     = 2ζ h c0 Σ_j Ψ_ij (r_ij·∇_i W_ij)/(r² + 0.01h²) V_j      Eqs. (25)–(26)
+//! Walls are no-slip mirrors: v_w,dummy = 2 v_wall − v_i, and the one-sided pressure
+//! jump to the wall pressure of Eq. (35) enters the density rate.
+
+use super::material::FineMaterial;
+use super::plasticity::update_stress;
+use super::riemann::{Riemann, Side};
+use super::state::FineParticles;
+use crate::kernel::WendlandC2;
+use crate::math::{Real, Sym, Vect};
+use crate::neighbors::{NeighborLists, CHUNK};
+use crate::walls::Walls;
+use nalgebra::{Matrix3, SMatrix};
+use rayon::prelude::*;
+
+/// Inputs of the continuity/stress sweep that are not particle arrays.
+pub struct ContinuityParams<const D: usize> {
+    pub kernel: WendlandC2,
+    pub gravity: Vect<D>,
+    pub dt: Real,
+    /// ζ of Eq. (25); 0 disables stress diffusion.
+    pub zeta: Real,
+    /// Per material: ρ0 |g| (K0 (I − n n) + n n), the geostatic gradient of Eq. (26).
+    pub geostatic: Vec<Sym>,
+    /// Unit vector opposite to gravity (zero without gravity).
+    pub up: Vect<D>,
+}
+
+/// Output buffers of the sweep.
+pub struct ContinuityOut<'a, const D: usize> {
+    pub drho: &'a mut [Real],
+    pub stress: &'a mut [Sym],
+    pub plastic_strain: &'a mut [Real],
+}
+
+/// Sweep with v_{n+1} already in `p.vel`.
+pub fn continuity_sweep<const D: usize>(
+    p: &FineParticles<D>,
+    mats: &[FineMaterial],
+    walls: &Walls<D>,
+    lists: &NeighborLists,
+    prm: &ContinuityParams<D>,
+    out: ContinuityOut<'_, D>,
+) {
+    let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
+    let h = prm.kernel.h;
+    let reg = 0.01 * h * h;
+    let vw = walls.volume;
+    lists
+        .chunks
+        .par_iter()
+        .zip(out.drho.par_chunks_mut(CHUNK))
+        .zip(out.stress.par_chunks_mut(CHUNK))
+        .zip(out.plastic_strain.par_chunks_mut(CHUNK))
+        .enumerate()
+        .for_each(|(c, (((cl, drho_out), stress_out), eps_out))| {
+            for k in 0..drho_out.len() {
+                let i = c * CHUNK + k;
+                let mi = &mats[p.material[i] as usize];
+                let xi = p.pos[i];
+                let vi = p.vel[i];
+                let rhoi = p.rho[i];
+                let sig_i = p.stress[i];
+                let pi = -sig_i.trace() / 3.0;
+                let zi = rhoi * mi.c0;
+                let geo = prm.geostatic[p.material[i] as usize];
+                let mut drho = 0.0;
+                let mut grad = SMatrix::<Real, D, D>::zeros();
+                let mut diff = Sym::ZERO;
+                for &j in &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize] {
+                    let j = j as usize;
+                    let rij = xi - p.pos[j];
+                    let r2 = rij.norm_squared();
+                    if r2 >= cut2 {
+                        continue;
+                    }
+                    let r = r2.sqrt();
+                    let e = rij / r;
+                    let dw = prm.kernel.dw(r);
+                    let mj = &mats[p.material[j] as usize];
+                    let rhoj = p.rho[j];
+                    let vj = p.mass[j] / rhoj;
+                    let dwv = dw * vj;
+                    let zj = rhoj * mj.c0;
+                    let pj = -p.stress[j].trace() / 3.0;
+                    let ul = -vi.dot(&e);
+                    let ur = -p.vel[j].dot(&e);
+                    let ustar = Riemann::u_star(Side::new(zi, ul, pi), Side::new(zj, ur, pj));
+                    // (v_i − v*)·e_ij = U* − U_L (U measured along −e_ij)
+                    drho += 2.0 * (ustar - ul) * dwv;
+                    let vij = vi - p.vel[j];
+                    grad -= vij * e.transpose() * dwv;
+                    if prm.zeta > 0.0 {
+                        let zij = rij.dot(&prm.up);
+                        let mut psi = sig_i.sub(&p.stress[j]);
+                        psi.axpy(-zij, &geo);
+                        diff.axpy(r * dwv / (r2 + reg), &psi);
+                    }
+                }
+                let (w0, w1) = (cl.woff[k] as usize, cl.woff[k + 1] as usize);
+                for &w in &cl.wall[w0..w1] {
+                    let w = w as usize;
+                    let rij = xi - walls.pos[w];
+                    let r2 = rij.norm_squared();
+                    if r2 >= cut2 || r2 == 0.0 {
+                        continue;
+                    }
+                    let r = r2.sqrt();
+                    let e = rij / r;
+                    let dwv = prm.kernel.dw(r) * vw;
+                    let rel = (vi - walls.velocity(w)) * 2.0;
+                    let pw = pi + rhoi * r * prm.gravity.dot(&(-e)).max(0.0);
+                    drho += (rel.dot(&e) + (pi - pw) / zi) * dwv;
+                    grad -= rel * e.transpose() * dwv;
+                }
+                drho_out[k] = rhoi * drho;
+                let mut l = Matrix3::<Real>::zeros();
+                for a in 0..D {
+                    for b in 0..D {
+                        l[(a, b)] = grad[(a, b)];
+                    }
+                }
+                let d = diff.scale(2.0 * prm.zeta * h * mi.c0);
+                let u = update_stress(mi, &l, &sig_i, &d, prm.dt);
+                stress_out[k] = u.stress;
+                eps_out[k] = p.plastic_strain[i] + u.plastic_strain;
+            }
+        });
+}

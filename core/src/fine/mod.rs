@@ -1,0 +1,9 @@
+//! Fine grains: updated-Lagrangian SPH with the Drucker–Prager soil model (seed 000 §2).
+
+pub mod artificial_stress;
+pub mod continuity;
+pub mod material;
+pub mod momentum;
+pub mod plasticity;
+pub mod riemann;
+pub mod state;

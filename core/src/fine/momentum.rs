@@ -1,0 +1,173 @@
+//! Momentum sweep, Eqs. (16), (20), (27) and the wall terms of Eqs. (32)–(35).
+//!
+//! For each fine particle i (gather, no write races):
+//!   dv_i/dt = 2/ρ_i Σ_j (σ̄ˢ_ij − P* I + f_ijⁿ R̄_ij)·∇_i W_ij V_j + g
+//!           + 2/ρ_i Σ_w (σˢ_i − P*_w I)·∇_i W_iw V_w
+//! and v_{n+1} = v_n + Δt dv/dt (Eq. 55). Wall particles take the stress of i
+//! (σ_w = σ_i, no-slip); P*_w solves the one-sided Riemann problem along the wall
+//! normal of Eq. (33). The reaction on barrier particles is summed per chunk.
+
+use super::material::FineMaterial;
+use super::riemann::{Riemann, Side};
+use super::state::FineParticles;
+use crate::kernel::WendlandC2;
+use crate::math::{to3, Real, Sym, Vect};
+use crate::neighbors::{NeighborLists, CHUNK};
+use crate::walls::Walls;
+use nalgebra::Vector3;
+use rayon::prelude::*;
+
+/// Force and moment on a barrier (3D components; in 2D z-force is 0 and only the
+/// z-moment is non-zero).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Load {
+    pub force: Vector3<Real>,
+    pub moment: Vector3<Real>,
+}
+
+impl Load {
+    pub fn add(&mut self, o: &Load) {
+        self.force += o.force;
+        self.moment += o.moment;
+    }
+}
+
+/// Artificial-stress settings (cohesive materials only).
+#[derive(Clone, Copy, Debug)]
+pub struct ArtificialStress {
+    /// Exponent n of Eq. (27).
+    pub exponent: Real,
+    /// W(dp, h).
+    pub w_dp: Real,
+}
+
+/// Inputs of the momentum sweep that are not particle arrays.
+pub struct MomentumParams<const D: usize> {
+    pub kernel: WendlandC2,
+    pub riemann: Riemann,
+    pub gravity: Vect<D>,
+    pub dt: Real,
+    pub artificial: Option<ArtificialStress>,
+}
+
+/// Compute v_{n+1} into `vel_new` and per-chunk barrier loads into `loads`
+/// (`max(1, barriers)` slots per chunk).
+#[allow(clippy::too_many_arguments)]
+pub fn momentum_sweep<const D: usize>(
+    p: &FineParticles<D>,
+    mats: &[FineMaterial],
+    walls: &Walls<D>,
+    lists: &NeighborLists,
+    art: &[Sym],
+    prm: &MomentumParams<D>,
+    vel_new: &mut [Vect<D>],
+    loads: &mut [Load],
+) {
+    let nbs = walls.barriers.len().max(1);
+    let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
+    let vw = walls.volume;
+    lists
+        .chunks
+        .par_iter()
+        .zip(vel_new.par_chunks_mut(CHUNK))
+        .zip(loads.par_chunks_mut(nbs))
+        .enumerate()
+        .for_each(|(c, ((cl, vout), lout))| {
+            for l in lout.iter_mut() {
+                *l = Load::default();
+            }
+            for (k, vo) in vout.iter_mut().enumerate() {
+                let i = c * CHUNK + k;
+                let mi = &mats[p.material[i] as usize];
+                let xi = p.pos[i];
+                let vi = p.vel[i];
+                let rhoi = p.rho[i];
+                let si = p.stress[i].dev();
+                let pi = -p.stress[i].trace() / 3.0;
+                let zi = rhoi * mi.c0;
+                let mut acc = Vect::<D>::zeros();
+                for &j in &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize] {
+                    let j = j as usize;
+                    let rij = xi - p.pos[j];
+                    let r2 = rij.norm_squared();
+                    if r2 >= cut2 {
+                        continue;
+                    }
+                    let r = r2.sqrt();
+                    let e = rij / r;
+                    let dw = prm.kernel.dw(r);
+                    let mj = &mats[p.material[j] as usize];
+                    let rhoj = p.rho[j];
+                    let zj = rhoj * mj.c0;
+                    let pj = -p.stress[j].trace() / 3.0;
+                    let ul = -vi.dot(&e);
+                    let ur = -p.vel[j].dot(&e);
+                    let pstar = prm.riemann.p_star(
+                        Side::new(zi, ul, pi),
+                        Side::new(zj, ur, pj),
+                        0.5 * (mi.c0 + mj.c0),
+                    );
+                    // σ* = σ̄ˢ − P* I, Eq. (18)
+                    let mut sstar = si.add(&p.stress[j].dev()).scale(0.5);
+                    sstar.0[0] -= pstar;
+                    sstar.0[1] -= pstar;
+                    sstar.0[2] -= pstar;
+                    if let Some(a) = &prm.artificial {
+                        let f = (prm.kernel.w(r) / a.w_dp).powf(a.exponent);
+                        sstar.axpy(0.5 * f, &art[i].add(&art[j]));
+                    }
+                    let vj = p.mass[j] / rhoj;
+                    acc += sstar.dot_vec(&e) * (2.0 * dw * vj / rhoi);
+                }
+                let (w0, w1) = (cl.woff[k] as usize, cl.woff[k + 1] as usize);
+                if w1 > w0 {
+                    let wl = &cl.wall[w0..w1];
+                    // Wall normal at i, Eq. (33): Φ = −Σ_w ∇_i W_iw V_w.
+                    let mut phi = Vect::<D>::zeros();
+                    for &w in wl {
+                        let rij = xi - walls.pos[w as usize];
+                        let r2 = rij.norm_squared();
+                        if r2 >= cut2 || r2 == 0.0 {
+                            continue;
+                        }
+                        let r = r2.sqrt();
+                        phi -= rij * (prm.kernel.dw(r) / r * vw);
+                    }
+                    let nrm = phi.norm();
+                    let n = if nrm > 0.0 { phi / nrm } else { phi };
+                    let ul = -n.dot(&vi); // Eq. (32)
+                    for &w in wl {
+                        let w = w as usize;
+                        let rij = xi - walls.pos[w];
+                        let r2 = rij.norm_squared();
+                        if r2 >= cut2 || r2 == 0.0 {
+                            continue;
+                        }
+                        let r = r2.sqrt();
+                        let e = rij / r;
+                        let dw = prm.kernel.dw(r);
+                        let uw = -n.dot(&walls.velocity(w));
+                        // Eq. (34): U_R = −U_L + 2u_w, so U_L − U_R = 2(U_L − u_w).
+                        let du = 2.0 * (ul - uw);
+                        // Eq. (35): hydrostatic increase towards the wall.
+                        let pr = pi + rhoi * r * prm.gravity.dot(&(-e)).max(0.0);
+                        let beta = prm.riemann.limiter(du, mi.c0);
+                        let pstar = 0.5 * (pi + pr) + 0.5 * beta * zi * du;
+                        let mut sstar = si;
+                        sstar.0[0] -= pstar;
+                        sstar.0[1] -= pstar;
+                        sstar.0[2] -= pstar;
+                        let a = sstar.dot_vec(&e) * (2.0 * dw * vw / rhoi);
+                        acc += a;
+                        if let Some(b) = walls.objects[walls.object[w] as usize].barrier {
+                            let f = to3(&a) * (-p.mass[i]);
+                            let arm = to3(&(walls.pos[w] - walls.barriers[b].reference));
+                            lout[b].force += f;
+                            lout[b].moment += arm.cross(&f);
+                        }
+                    }
+                }
+                *vo = vi + (acc + prm.gravity) * prm.dt;
+            }
+        });
+}

@@ -1,0 +1,353 @@
+//! Shapes and lattice fills. Particles are placed on a cubic lattice of spacing dp and
+//! kept where a shape's signed distance says they belong (seed 000 §5.2: particles by
+//! lattice fill of a signed-distance shape).
+
+use crate::math::{Real, Vect};
+use crate::scene::ShapeSpec;
+
+/// A shape in `D` dimensions with a signed distance (negative inside).
+#[derive(Clone, Debug)]
+pub enum Shape<const D: usize> {
+    Box {
+        min: Vect<D>,
+        max: Vect<D>,
+    },
+    /// Vertical cylinder (axis along the last coordinate), 3D only.
+    Cylinder {
+        base: Vect<D>,
+        radius: Real,
+        height: Real,
+    },
+    Sphere {
+        center: Vect<D>,
+        radius: Real,
+    },
+    /// 2D polygon.
+    Polygon {
+        vertices: Vec<[Real; 2]>,
+    },
+    /// Half-space behind `point` with unit `normal`, limited to a patch of `half_extent`.
+    Plane {
+        point: Vect<D>,
+        normal: Vect<D>,
+        half_extent: Vec<Real>,
+    },
+}
+
+fn v<const D: usize>(x: &[f64]) -> Vect<D> {
+    Vect::<D>::from_iterator(x.iter().copied())
+}
+
+impl<const D: usize> Shape<D> {
+    /// Build from a validated scene shape.
+    pub fn from_spec(s: &ShapeSpec) -> Self {
+        match s {
+            ShapeSpec::Box { min, max } => Shape::Box {
+                min: v(min),
+                max: v(max),
+            },
+            ShapeSpec::Cylinder {
+                base,
+                radius,
+                height,
+            } => Shape::Cylinder {
+                base: v(base),
+                radius: *radius,
+                height: *height,
+            },
+            ShapeSpec::Sphere { center, radius } => Shape::Sphere {
+                center: v(center),
+                radius: *radius,
+            },
+            ShapeSpec::Polygon { vertices } => Shape::Polygon {
+                vertices: vertices.iter().map(|p| [p[0], p[1]]).collect(),
+            },
+            ShapeSpec::Plane {
+                point,
+                normal,
+                half_extent,
+            } => {
+                let n = v::<D>(normal);
+                Shape::Plane {
+                    point: v(point),
+                    normal: n / n.norm(),
+                    half_extent: half_extent.clone(),
+                }
+            }
+        }
+    }
+
+    /// Signed distance: negative inside. For a plane, "inside" is the wall side (behind
+    /// the plane); the patch limits are not part of the distance.
+    pub fn sdf(&self, p: &Vect<D>) -> Real {
+        match self {
+            Shape::Box { min, max } => {
+                let c = (min + max) * 0.5;
+                let hsz = (max - min) * 0.5;
+                let q = (p - c).abs() - hsz;
+                let outside = q.map(|x| x.max(0.0)).norm();
+                let inside = q.max().min(0.0);
+                outside + inside
+            }
+            Shape::Cylinder {
+                base,
+                radius,
+                height,
+            } => {
+                let mut r2 = 0.0;
+                for k in 0..D - 1 {
+                    r2 += (p[k] - base[k]).powi(2);
+                }
+                let dr = r2.sqrt() - radius;
+                let z = p[D - 1] - base[D - 1];
+                let dz = (z - height * 0.5).abs() - height * 0.5;
+                let out = (dr.max(0.0).powi(2) + dz.max(0.0).powi(2)).sqrt();
+                out + dr.max(dz).min(0.0)
+            }
+            Shape::Sphere { center, radius } => (p - center).norm() - radius,
+            Shape::Polygon { vertices } => polygon_sdf(vertices, p[0], p[1]),
+            Shape::Plane { point, normal, .. } => (p - point).dot(normal),
+        }
+    }
+
+    /// Axis-aligned bounding box.
+    pub fn bounds(&self) -> (Vect<D>, Vect<D>) {
+        match self {
+            Shape::Box { min, max } => (*min, *max),
+            Shape::Cylinder {
+                base,
+                radius,
+                height,
+            } => {
+                let mut lo = *base;
+                let mut hi = *base;
+                for k in 0..D - 1 {
+                    lo[k] -= radius;
+                    hi[k] += radius;
+                }
+                hi[D - 1] += height;
+                (lo, hi)
+            }
+            Shape::Sphere { center, radius } => {
+                (center.add_scalar(-radius), center.add_scalar(*radius))
+            }
+            Shape::Polygon { vertices } => {
+                let mut lo = Vect::<D>::repeat(Real::INFINITY);
+                let mut hi = Vect::<D>::repeat(Real::NEG_INFINITY);
+                for p in vertices {
+                    for k in 0..2 {
+                        lo[k] = lo[k].min(p[k]);
+                        hi[k] = hi[k].max(p[k]);
+                    }
+                }
+                (lo, hi)
+            }
+            Shape::Plane { point, .. } => (*point, *point),
+        }
+    }
+
+    /// A representative centre (bounding-box centre; the patch centre for a plane).
+    pub fn center(&self) -> Vect<D> {
+        let (lo, hi) = self.bounds();
+        (lo + hi) * 0.5
+    }
+
+    /// Lattice points inside the shape (fine-grain fill). Boxes anchor the lattice at
+    /// their min corner so that faces fall on half-spacings; other shapes use the
+    /// global lattice x = (i + ½) dp.
+    pub fn fill(&self, dp: Real) -> Vec<Vect<D>> {
+        let (lo, hi) = self.bounds();
+        let anchor = match self {
+            Shape::Box { min, .. } => *min,
+            _ => Vect::<D>::zeros(),
+        };
+        lattice_in(&lo, &hi, &anchor, dp, |p| self.sdf(p) < 0.0)
+    }
+
+    /// Wall particles: `layers` lattice layers on the wall side of the surface.
+    /// Solid shapes keep the shell −layers·dp < sdf < 0; a plane builds its own
+    /// tangential lattice behind the plane.
+    pub fn wall_fill(&self, dp: Real, layers: usize) -> Vec<Vect<D>> {
+        let depth = layers as Real * dp;
+        match self {
+            Shape::Plane {
+                point,
+                normal,
+                half_extent,
+            } => {
+                let tangents = tangent_basis::<D>(normal);
+                let mut out = Vec::new();
+                let counts: Vec<i64> = half_extent
+                    .iter()
+                    .map(|h| (h / dp).floor() as i64)
+                    .collect();
+                let mut idx = vec![0i64; D - 1];
+                for k in 0..D - 1 {
+                    idx[k] = -counts[k];
+                }
+                loop {
+                    for l in 0..layers {
+                        let mut p = point - normal * ((l as Real + 0.5) * dp);
+                        for k in 0..D - 1 {
+                            p += tangents[k] * ((idx[k] as Real) * dp);
+                        }
+                        out.push(p);
+                    }
+                    // odometer increment
+                    let mut k = 0;
+                    loop {
+                        if k == D - 1 {
+                            return out;
+                        }
+                        idx[k] += 1;
+                        if idx[k] <= counts[k] {
+                            break;
+                        }
+                        idx[k] = -counts[k];
+                        k += 1;
+                    }
+                }
+            }
+            _ => {
+                let (lo, hi) = self.bounds();
+                let anchor = match self {
+                    Shape::Box { min, .. } => *min,
+                    _ => Vect::<D>::zeros(),
+                };
+                lattice_in(&lo, &hi, &anchor, dp, |p| {
+                    let d = self.sdf(p);
+                    d < 0.0 && d > -depth
+                })
+            }
+        }
+    }
+}
+
+/// Orthonormal tangents of a unit normal (one in 2D, two in 3D).
+pub fn tangent_basis<const D: usize>(n: &Vect<D>) -> Vec<Vect<D>> {
+    if D == 2 {
+        let mut t = Vect::<D>::zeros();
+        t[0] = -n[1];
+        t[1] = n[0];
+        vec![t]
+    } else {
+        let n3 = nalgebra::Vector3::new(n[0], n[1], n[2]);
+        let a = if n3.x.abs() < 0.9 {
+            nalgebra::Vector3::x()
+        } else {
+            nalgebra::Vector3::y()
+        };
+        let t1 = n3.cross(&a).normalize();
+        let t2 = n3.cross(&t1);
+        let c = |t: nalgebra::Vector3<Real>| Vect::<D>::from_iterator(t.iter().copied());
+        vec![c(t1), c(t2)]
+    }
+}
+
+/// Lattice points anchor + (i + ½) dp inside [lo, hi] that satisfy `keep`.
+fn lattice_in<const D: usize>(
+    lo: &Vect<D>,
+    hi: &Vect<D>,
+    anchor: &Vect<D>,
+    dp: Real,
+    keep: impl Fn(&Vect<D>) -> bool,
+) -> Vec<Vect<D>> {
+    let mut i0 = [0i64; 3];
+    let mut i1 = [0i64; 3];
+    for k in 0..D {
+        i0[k] = ((lo[k] - anchor[k]) / dp - 0.5).floor() as i64 - 1;
+        i1[k] = ((hi[k] - anchor[k]) / dp - 0.5).ceil() as i64 + 1;
+    }
+    let mut out = Vec::new();
+    let (k0, k1) = if D == 3 { (i0[2], i1[2]) } else { (0, 0) };
+    for kz in k0..=k1 {
+        for ky in i0[1]..=i1[1] {
+            for kx in i0[0]..=i1[0] {
+                let ids = [kx, ky, kz];
+                let mut p = Vect::<D>::zeros();
+                for k in 0..D {
+                    p[k] = anchor[k] + (ids[k] as Real + 0.5) * dp;
+                }
+                if keep(&p) {
+                    out.push(p);
+                }
+            }
+        }
+    }
+    out
+}
+
+fn polygon_sdf(v: &[[Real; 2]], x: Real, y: Real) -> Real {
+    let mut d2 = Real::INFINITY;
+    let mut inside = false;
+    let n = v.len();
+    let mut j = n - 1;
+    for i in 0..n {
+        let (a, b) = (v[i], v[j]);
+        let (ex, ey) = (b[0] - a[0], b[1] - a[1]);
+        let (wx, wy) = (x - a[0], y - a[1]);
+        let t = ((wx * ex + wy * ey) / (ex * ex + ey * ey)).clamp(0.0, 1.0);
+        let (dx, dy) = (wx - ex * t, wy - ey * t);
+        d2 = d2.min(dx * dx + dy * dy);
+        if (a[1] > y) != (b[1] > y) && x < (b[0] - a[0]) * (y - a[1]) / (b[1] - a[1]) + a[0] {
+            inside = !inside;
+        }
+        j = i;
+    }
+    let d = d2.sqrt();
+    if inside {
+        -d
+    } else {
+        d
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn box_fill_counts_and_volume() {
+        let s = Shape::<2>::Box {
+            min: Vect::<2>::new(0.0, 0.0),
+            max: Vect::<2>::new(0.2, 0.1),
+        };
+        assert_eq!(s.fill(0.01).len(), 200);
+        let c = Shape::<3>::Cylinder {
+            base: Vect::<3>::zeros(),
+            radius: 0.1,
+            height: 0.1,
+        };
+        let n = c.fill(0.005).len() as f64;
+        let vol = std::f64::consts::PI * 0.01 * 0.1;
+        assert!((n * 0.005f64.powi(3) / vol - 1.0).abs() < 0.02);
+    }
+
+    #[test]
+    fn polygon_sdf_sign() {
+        let s = Shape::<2>::Polygon {
+            vertices: vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+        };
+        assert!((s.sdf(&Vect::<2>::new(0.5, 0.25)) + 0.25).abs() < 1e-12);
+        assert!((s.sdf(&Vect::<2>::new(2.0, 0.5)) - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn wall_shell_has_requested_layers() {
+        let s = Shape::<2>::Box {
+            min: Vect::<2>::new(-1.0, -0.04),
+            max: Vect::<2>::new(1.0, 0.0),
+        };
+        let w = s.wall_fill(0.01, 4);
+        // a 2 m × 0.04 m slab is all shell: 200 × 4 particles
+        assert_eq!(w.len(), 800);
+        let p = Shape::<2>::Plane {
+            point: Vect::<2>::zeros(),
+            normal: Vect::<2>::new(0.0, 1.0),
+            half_extent: vec![0.1],
+        };
+        let w = p.wall_fill(0.01, 4);
+        assert_eq!(w.len(), 21 * 4);
+        assert!(w.iter().all(|q| q[1] < 0.0 && q[1] > -0.04));
+    }
+}

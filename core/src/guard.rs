@@ -1,0 +1,43 @@
+//! The stability guard: non-finite state or runaway speed stops the run with a
+//! diagnostic instead of producing silent NaNs.
+
+use std::fmt;
+
+/// A numerical blow-up detected at the end of a step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Blowup {
+    pub step: u64,
+    pub time: f64,
+    /// Stable particle id.
+    pub particle: u32,
+    pub position: Vec<f64>,
+    /// Quantity that failed, e.g. `velocity`, `stress`, `speed`.
+    pub quantity: String,
+    pub value: f64,
+    /// What the value was compared with (for the speed bound).
+    pub limit: Option<f64>,
+}
+
+impl fmt::Display for Blowup {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "numerical blow-up at step {} (t = {:.6e} s): fine particle {} at {:?}: {} = {:e}",
+            self.step, self.time, self.particle, self.position, self.quantity, self.value
+        )?;
+        if let Some(l) = self.limit {
+            write!(f, " exceeds the bound simulation.max_speed = {l} m/s")?;
+        } else {
+            write!(f, " is not finite")?;
+        }
+        write!(
+            f,
+            "; reduce simulation.cfl or check material stiffness and initial overlaps"
+        )
+    }
+}
+
+impl std::error::Error for Blowup {}
+
+/// First failure found in a chunk: (particle index, quantity, value, is-speed).
+pub type ChunkFailure = Option<(usize, &'static str, f64, bool)>;

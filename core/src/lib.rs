@@ -1,0 +1,23 @@
+//! granmix-core: SPH for binary granular mixtures (seed 000, Zhang et al.).
+//!
+//! Data flows one way: scene file → [`scene::Scene`] → [`world::World`] →
+//! [`stepper::Stepper`] → observations ([`simulation::Sample`], [`simulation::Frame`]).
+//! [`AnySimulation`] dispatches on the scene's dimension once, at the top.
+
+pub mod fine;
+pub mod geometry;
+pub mod guard;
+pub mod kernel;
+pub mod math;
+pub mod neighbors;
+pub mod observe;
+pub mod scene;
+pub mod simulation;
+pub mod stepper;
+pub mod timers;
+pub mod walls;
+pub mod world;
+
+mod any;
+pub mod runner;
+pub use any::{AnySimulation, SetupError};

@@ -1,0 +1,64 @@
+//! The run loop shared by the CLI, the benchmarks and the tests: step to each output
+//! time (landing exactly on it), sample, and stop at the end time or once settled.
+
+use crate::guard::Blowup;
+use crate::scene::SimulationSpec;
+use crate::simulation::Sample;
+use crate::AnySimulation;
+
+/// How a run ended.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RunEnd {
+    /// Reached `end_time`.
+    EndTime,
+    /// Kinetic energy fell below `settle_ratio` × its peak.
+    Settled,
+    /// The stability guard stopped the run.
+    Blowup(Blowup),
+    /// The sample callback asked to stop.
+    Stopped,
+}
+
+/// Run `sim` under the timing rules of `spec`. `on_sample` is called at t = 0 and at
+/// every output time and may return `false` to stop; `on_step` after every step.
+pub fn run(
+    sim: &mut AnySimulation,
+    spec: &SimulationSpec,
+    mut on_sample: impl FnMut(&mut AnySimulation, &Sample) -> bool,
+    mut on_step: impl FnMut(&AnySimulation),
+) -> RunEnd {
+    let end = spec.end_time;
+    let first = sim.sample();
+    if !on_sample(sim, &first) {
+        return RunEnd::Stopped;
+    }
+    let mut ke_peak: f64 = 0.0;
+    let mut k = 1u64;
+    loop {
+        let target = (k as f64 * spec.output_interval).min(end);
+        while sim.time() < target {
+            let remaining = target - sim.time();
+            if remaining <= 1e-12 * target {
+                break;
+            }
+            if let Err(b) = sim.step(remaining) {
+                return RunEnd::Blowup(b);
+            }
+            on_step(sim);
+        }
+        let s = sim.sample();
+        if !on_sample(sim, &s) {
+            return RunEnd::Stopped;
+        }
+        ke_peak = ke_peak.max(s.kinetic_energy);
+        if let Some(r) = spec.settle_ratio {
+            if s.time >= spec.settle_min_time && ke_peak > 0.0 && s.kinetic_energy < r * ke_peak {
+                return RunEnd::Settled;
+            }
+        }
+        if target >= end {
+            return RunEnd::EndTime;
+        }
+        k += 1;
+    }
+}

@@ -1,0 +1,232 @@
+//! Reading a scene: `--set` overrides, strict deserialisation, and locating keys by line.
+
+use super::error::SceneError;
+use super::types::Scene;
+use super::validate::validate;
+
+/// A parsed, validated scene together with the text it came from.
+#[derive(Debug, Clone)]
+pub struct LoadedScene {
+    pub scene: Scene,
+    /// The scene text after overrides (what was simulated).
+    pub text: String,
+    pub file: String,
+}
+
+/// Read and validate a scene file, applying `key.path=value` overrides first.
+pub fn load_scene_file(
+    path: &std::path::Path,
+    overrides: &[String],
+) -> Result<LoadedScene, SceneError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+        file: file.clone(),
+        path: String::new(),
+        line: None,
+        message: format!("cannot read scene file: {e}"),
+    })?;
+    load_scene_str(&text, &file, overrides)
+}
+
+/// Parse and validate scene text. `file` is used in error messages.
+pub fn load_scene_str(
+    text: &str,
+    file: &str,
+    overrides: &[String],
+) -> Result<LoadedScene, SceneError> {
+    let text = apply_overrides(text, file, overrides)?;
+    let de = toml::Deserializer::parse(&text).map_err(|e| toml_error(&text, file, "", &e))?;
+    let scene: Scene = serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = clean_path(&e.path().to_string());
+        toml_error(&text, file, &path, e.inner())
+    })?;
+    validate(&scene).map_err(|(path, message)| SceneError {
+        file: file.to_string(),
+        line: locate(&text, &path),
+        path,
+        message,
+    })?;
+    Ok(LoadedScene {
+        scene,
+        text,
+        file: file.to_string(),
+    })
+}
+
+fn toml_error(text: &str, file: &str, path: &str, e: &toml::de::Error) -> SceneError {
+    let line = e
+        .span()
+        .map(|s| line_of(text, s.start))
+        .or_else(|| locate(text, path));
+    SceneError {
+        file: file.to_string(),
+        path: path.to_string(),
+        line,
+        message: e.message().trim().to_string(),
+    }
+}
+
+/// serde_path_to_error prints `?` for untracked segments; drop them.
+fn clean_path(p: &str) -> String {
+    if p == "." || p == "?" {
+        return String::new();
+    }
+    p.replace(".?", "")
+}
+
+fn line_of(text: &str, offset: usize) -> usize {
+    text[..offset.min(text.len())]
+        .bytes()
+        .filter(|&b| b == b'\n')
+        .count()
+        + 1
+}
+
+/// Split `a.b[2].c` into segments `a`, `b`, `2`, `c`.
+fn segments(path: &str) -> Vec<String> {
+    path.replace('[', ".")
+        .replace(']', "")
+        .split('.')
+        .filter(|s| !s.is_empty())
+        .map(str::to_string)
+        .collect()
+}
+
+/// Line of the deepest existing key on `path`, if any.
+pub fn locate(text: &str, path: &str) -> Option<usize> {
+    use toml_edit::{Item, Table, Value};
+    enum Node<'a> {
+        Item(&'a Item),
+        Table(&'a Table),
+        Value(&'a Value),
+    }
+    let doc = toml_edit::Document::parse(text).ok()?;
+    let mut node = Node::Table(doc.as_table());
+    let mut best = None;
+    for seg in segments(path) {
+        let index = seg.parse::<usize>().ok();
+        let (span, next) = match (&node, index) {
+            (Node::Item(Item::ArrayOfTables(a)), Some(i)) => match a.get(i) {
+                Some(t) => (t.span(), Node::Table(t)),
+                None => break,
+            },
+            (Node::Item(Item::Value(Value::Array(a))), Some(i))
+            | (Node::Value(Value::Array(a)), Some(i)) => match a.get(i) {
+                Some(v) => (v.span(), Node::Value(v)),
+                None => break,
+            },
+            (Node::Item(item), None) => {
+                match item.as_table_like().and_then(|t| t.get_key_value(&seg)) {
+                    Some((k, v)) => (k.span().or(v.span()), Node::Item(v)),
+                    None => break,
+                }
+            }
+            (Node::Table(t), None) => match t.get_key_value(&seg) {
+                Some((k, v)) => (k.span().or(v.span()), Node::Item(v)),
+                None => break,
+            },
+            (Node::Value(Value::InlineTable(t)), None) => match t.get_key_value(&seg) {
+                Some((k, v)) => (k.span().or(v.span()), Node::Item(v)),
+                None => break,
+            },
+            _ => break,
+        };
+        if let Some(s) = span {
+            best = Some(line_of(text, s.start));
+        }
+        node = next;
+    }
+    best
+}
+
+/// Apply `key.path=value` overrides. The value is parsed as TOML (`0.3`, `[1, 2]`,
+/// `"name"`, `true`), falling back to a bare string.
+pub fn apply_overrides(text: &str, file: &str, overrides: &[String]) -> Result<String, SceneError> {
+    if overrides.is_empty() {
+        return Ok(text.to_string());
+    }
+    let mut doc: toml_edit::DocumentMut =
+        text.parse().map_err(|e: toml_edit::TomlError| SceneError {
+            file: file.to_string(),
+            path: String::new(),
+            line: e.span().map(|s| line_of(text, s.start)),
+            message: e.message().to_string(),
+        })?;
+    for expr in overrides {
+        let err = |message: String| SceneError {
+            file: "--set".to_string(),
+            path: expr.clone(),
+            line: None,
+            message,
+        };
+        let (key, raw) = expr
+            .split_once('=')
+            .ok_or_else(|| err("expected key.path=value".to_string()))?;
+        let raw = raw.trim();
+        let value: toml_edit::Value = raw
+            .parse()
+            .unwrap_or_else(|_| toml_edit::Value::from(raw.to_string()));
+        let segs = segments(key.trim());
+        if segs.is_empty() {
+            return Err(err("empty key path".to_string()));
+        }
+        set_path(doc.as_item_mut(), &segs, value).map_err(err)?;
+    }
+    Ok(doc.to_string())
+}
+
+fn set_in_table(
+    t: &mut toml_edit::Table,
+    rest: &[String],
+    value: toml_edit::Value,
+) -> Result<(), String> {
+    let mut item = toml_edit::Item::Table(std::mem::take(t));
+    let r = set_path(&mut item, rest, value);
+    if let toml_edit::Item::Table(back) = item {
+        *t = back;
+    }
+    r
+}
+
+fn set_path(
+    item: &mut toml_edit::Item,
+    segs: &[String],
+    value: toml_edit::Value,
+) -> Result<(), String> {
+    let seg = &segs[0];
+    let last = segs.len() == 1;
+    if let Ok(i) = seg.parse::<usize>() {
+        match item {
+            toml_edit::Item::Value(toml_edit::Value::Array(a)) if last => {
+                if i >= a.len() {
+                    return Err(format!(
+                        "index {i} out of range (array has {} entries)",
+                        a.len()
+                    ));
+                }
+                a.replace(i, value);
+                Ok(())
+            }
+            toml_edit::Item::ArrayOfTables(a) if !last => {
+                let n = a.len();
+                let t = a
+                    .get_mut(i)
+                    .ok_or(format!("index {i} out of range (array has {n} entries)"))?;
+                set_in_table(t, &segs[1..], value)
+            }
+            _ => Err(format!("`{seg}` indexes something that is not an array")),
+        }
+    } else {
+        let t = item
+            .as_table_like_mut()
+            .ok_or(format!("cannot set `{seg}`: parent is not a table"))?;
+        if last {
+            t.insert(seg, toml_edit::Item::Value(value));
+            return Ok(());
+        }
+        if t.get(seg).is_none() {
+            t.insert(seg, toml_edit::Item::Table(toml_edit::Table::new()));
+        }
+        set_path(t.get_mut(seg).expect("present"), &segs[1..], value)
+    }
+}

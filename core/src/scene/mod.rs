@@ -1,0 +1,10 @@
+//! Scene files: schema, loading with overrides, validation.
+
+mod error;
+mod load;
+mod types;
+mod validate;
+
+pub use error::SceneError;
+pub use load::{apply_overrides, load_scene_file, load_scene_str, locate, LoadedScene};
+pub use types::*;

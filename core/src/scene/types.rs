@@ -1,0 +1,249 @@
+//! The scene file schema (TOML). Units are SI, angles in degrees.
+//! Documented for users in `docs/scenes.md`; keep the two in step.
+
+use serde::Deserialize;
+
+/// A whole scene: one simulation, its materials, particle regions, walls and outputs.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    pub simulation: SimulationSpec,
+    #[serde(default)]
+    pub numerics: NumericsSpec,
+    pub materials: Vec<MaterialSpec>,
+    #[serde(default)]
+    pub regions: Vec<RegionSpec>,
+    #[serde(default)]
+    pub walls: Vec<WallSpec>,
+    #[serde(default)]
+    pub containers: Vec<ContainerSpec>,
+    #[serde(default)]
+    pub barriers: Vec<WallSpec>,
+    #[serde(default)]
+    pub probes: Vec<ProbeSpec>,
+    #[serde(default)]
+    pub observe: ObserveSpec,
+}
+
+/// `[simulation]`: dimension, gravity, resolution, time span and stability bounds.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimulationSpec {
+    /// Free-text name used in reports.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// 2 (plane strain) or 3.
+    pub dimension: usize,
+    /// Gravitational acceleration (m/s²), one component per dimension.
+    pub gravity: Vec<f64>,
+    /// Physical end time (s).
+    pub end_time: f64,
+    /// Initial particle spacing dp (m).
+    pub dp: f64,
+    /// CFL number of Eq. (51). Default 0.4.
+    #[serde(default = "default_cfl")]
+    pub cfl: f64,
+    /// Interval between snapshots and time-series rows (s).
+    pub output_interval: f64,
+    /// Speed bound (m/s): any particle faster than this stops the run. Default 100.
+    #[serde(default = "default_max_speed")]
+    pub max_speed: f64,
+    /// Stop early once the kinetic energy has fallen below this fraction of its peak
+    /// (checked at output times after `settle_min_time`). Off by default.
+    #[serde(default)]
+    pub settle_ratio: Option<f64>,
+    /// Earliest time (s) at which the settle criterion may stop the run. Default 0.
+    #[serde(default)]
+    pub settle_min_time: f64,
+}
+
+fn default_cfl() -> f64 {
+    0.4
+}
+fn default_max_speed() -> f64 {
+    100.0
+}
+
+/// `[numerics]`: method coefficients; defaults follow seed 000.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NumericsSpec {
+    /// Dissipation-limiter coefficient η of Eq. (23). Default 20·d.
+    #[serde(default)]
+    pub eta: Option<f64>,
+    /// Stress-diffusion coefficient ζ of Eq. (25). Default 0.1; 0 switches it off.
+    #[serde(default = "default_zeta")]
+    pub stress_diffusion: f64,
+    /// Smoothing length over particle spacing, h/dp. Default 1.3.
+    #[serde(default = "default_h_ratio")]
+    pub smoothing_ratio: f64,
+    /// Exponent n of the artificial-stress factor f_ij^n, Eq. (27). Default 2.55.
+    #[serde(default = "default_as_n")]
+    pub artificial_stress_exponent: f64,
+    /// ε of Eq. (30). Default 0.5.
+    #[serde(default = "default_as_eps")]
+    pub artificial_stress_epsilon: f64,
+    /// Verlet-list skin in units of dp. Default 0.3.
+    #[serde(default = "default_skin")]
+    pub neighbor_skin: f64,
+    /// Layers of dummy wall particles. Default 4.
+    #[serde(default = "default_layers")]
+    pub wall_layers: usize,
+}
+
+impl Default for NumericsSpec {
+    fn default() -> Self {
+        NumericsSpec {
+            eta: None,
+            stress_diffusion: default_zeta(),
+            smoothing_ratio: default_h_ratio(),
+            artificial_stress_exponent: default_as_n(),
+            artificial_stress_epsilon: default_as_eps(),
+            neighbor_skin: default_skin(),
+            wall_layers: default_layers(),
+        }
+    }
+}
+
+fn default_zeta() -> f64 {
+    0.1
+}
+fn default_h_ratio() -> f64 {
+    1.3
+}
+fn default_as_n() -> f64 {
+    2.55
+}
+fn default_as_eps() -> f64 {
+    0.5
+}
+fn default_skin() -> f64 {
+    0.3
+}
+fn default_layers() -> usize {
+    4
+}
+
+/// `[[materials]]`: elastic–perfectly-plastic Drucker–Prager soil (Eqs. 4–12).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    pub name: String,
+    /// Initial density ρ0 (kg/m³).
+    pub density: f64,
+    /// Young's modulus E (Pa).
+    pub youngs_modulus: f64,
+    /// Poisson's ratio ν.
+    pub poisson_ratio: f64,
+    /// Friction angle φ (degrees).
+    pub friction_angle: f64,
+    /// Cohesion c (Pa). Default 0.
+    #[serde(default)]
+    pub cohesion: f64,
+    /// Dilation angle ψ (degrees). Default 0.
+    #[serde(default)]
+    pub dilation_angle: f64,
+}
+
+/// Initial stress of a region.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum InitialStress {
+    /// Stress-free start.
+    #[default]
+    Zero,
+    /// K0 geostatic profile: σ_v = −ρ0 g (z_top − z), σ_h = K0 σ_v, K0 = 1 − sin φ.
+    Geostatic,
+}
+
+/// `[[regions]]`: a block of fine-grain particles.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegionSpec {
+    pub name: String,
+    pub material: String,
+    pub shape: ShapeSpec,
+    #[serde(default)]
+    pub initial_stress: InitialStress,
+    /// Initial velocity (m/s). Default at rest.
+    #[serde(default)]
+    pub velocity: Option<Vec<f64>>,
+}
+
+/// A shape, selected by `type`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
+pub enum ShapeSpec {
+    /// Axis-aligned box [min, max].
+    Box { min: Vec<f64>, max: Vec<f64> },
+    /// Vertical cylinder (3D) standing on `base` (centre of its bottom face).
+    Cylinder {
+        base: Vec<f64>,
+        radius: f64,
+        height: f64,
+    },
+    /// Sphere (3D) or disc (2D).
+    Sphere { center: Vec<f64>, radius: f64 },
+    /// Simple polygon (2D), vertices in order.
+    Polygon { vertices: Vec<Vec<f64>> },
+    /// A plane through `point` with outward `normal` (pointing into the material side);
+    /// wall layers are placed behind it over a patch of half-widths `half_extent`
+    /// (one value in 2D, two in 3D).
+    Plane {
+        point: Vec<f64>,
+        normal: Vec<f64>,
+        half_extent: Vec<f64>,
+    },
+}
+
+/// `[[walls]]` and `[[barriers]]`: solid boundaries of dummy particles (Eqs. 32–35).
+/// Barriers additionally report their load.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WallSpec {
+    pub name: String,
+    pub shape: ShapeSpec,
+    /// Prescribed rigid velocity (m/s). Default fixed.
+    #[serde(default)]
+    pub velocity: Option<Vec<f64>>,
+    /// Point about which the moment is reported (barriers). Default: shape centre.
+    #[serde(default)]
+    pub reference_point: Option<Vec<f64>>,
+}
+
+/// `[[containers]]`: a box of walls around [min, max] with some faces open.
+/// Each closed face is reported as a barrier named `<name>.<face>` when `report_loads`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContainerSpec {
+    pub name: String,
+    pub min: Vec<f64>,
+    pub max: Vec<f64>,
+    /// Faces left open, from "-x", "+x", "-y", "+y", "-z", "+z". Default: the top.
+    #[serde(default)]
+    pub open: Option<Vec<String>>,
+    /// Report the load on each face as a barrier.
+    #[serde(default)]
+    pub report_loads: bool,
+}
+
+/// `[[probes]]`: kernel-averaged stress and velocity at a point, written to the time series.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProbeSpec {
+    pub name: String,
+    pub position: Vec<f64>,
+}
+
+/// `[observe]`: how observables are measured.
+#[derive(Debug, Clone, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct ObserveSpec {
+    /// Origin of the run-out measurement: horizontal coordinates (x in 2D, [x, y] in 3D).
+    /// 3D run-out is radial from it; 2D run-out is the distance along `runout_direction`.
+    #[serde(default)]
+    pub runout_origin: Option<Vec<f64>>,
+    /// 2D only: +1 measures towards +x, −1 towards −x. Default +1.
+    #[serde(default)]
+    pub runout_direction: Option<f64>,
+}

@@ -1,0 +1,332 @@
+//! Semantic checks on a deserialised scene. Errors carry the key path.
+
+use super::types::*;
+use std::collections::HashSet;
+
+type Check = Result<(), (String, String)>;
+
+fn fail<T>(path: impl Into<String>, msg: impl Into<String>) -> Result<T, (String, String)> {
+    Err((path.into(), msg.into()))
+}
+
+fn vec_len(path: &str, v: &[f64], d: usize) -> Check {
+    if v.len() != d {
+        return fail(
+            path,
+            format!(
+                "expected {d} components for a {d}D scene, found {}",
+                v.len()
+            ),
+        );
+    }
+    if let Some(k) = v.iter().position(|x| !x.is_finite()) {
+        return fail(format!("{path}[{k}]"), "must be a finite number");
+    }
+    Ok(())
+}
+
+fn positive(path: &str, x: f64) -> Check {
+    if !(x.is_finite() && x > 0.0) {
+        return fail(path, format!("must be a positive number, found {x}"));
+    }
+    Ok(())
+}
+
+/// Check a shape against the scene dimension.
+pub fn validate_shape(path: &str, s: &ShapeSpec, d: usize) -> Check {
+    match s {
+        ShapeSpec::Box { min, max } => {
+            vec_len(&format!("{path}.min"), min, d)?;
+            vec_len(&format!("{path}.max"), max, d)?;
+            for k in 0..d {
+                if max[k] <= min[k] {
+                    return fail(
+                        format!("{path}.max[{k}]"),
+                        format!("must exceed min[{k}] = {}", min[k]),
+                    );
+                }
+            }
+        }
+        ShapeSpec::Cylinder {
+            base,
+            radius,
+            height,
+        } => {
+            if d != 3 {
+                return fail(
+                    format!("{path}.type"),
+                    "a cylinder needs a 3D scene; use a box in 2D",
+                );
+            }
+            vec_len(&format!("{path}.base"), base, d)?;
+            positive(&format!("{path}.radius"), *radius)?;
+            positive(&format!("{path}.height"), *height)?;
+        }
+        ShapeSpec::Sphere { center, radius } => {
+            vec_len(&format!("{path}.center"), center, d)?;
+            positive(&format!("{path}.radius"), *radius)?;
+        }
+        ShapeSpec::Polygon { vertices } => {
+            if d != 2 {
+                return fail(format!("{path}.type"), "a polygon needs a 2D scene");
+            }
+            if vertices.len() < 3 {
+                return fail(
+                    format!("{path}.vertices"),
+                    "a polygon needs at least 3 vertices",
+                );
+            }
+            for (i, v) in vertices.iter().enumerate() {
+                vec_len(&format!("{path}.vertices[{i}]"), v, 2)?;
+            }
+            let mut area = 0.0;
+            for i in 0..vertices.len() {
+                let (a, b) = (&vertices[i], &vertices[(i + 1) % vertices.len()]);
+                area += a[0] * b[1] - b[0] * a[1];
+            }
+            if area.abs() < 1e-300 {
+                return fail(format!("{path}.vertices"), "polygon has zero area");
+            }
+        }
+        ShapeSpec::Plane {
+            point,
+            normal,
+            half_extent,
+        } => {
+            vec_len(&format!("{path}.point"), point, d)?;
+            vec_len(&format!("{path}.normal"), normal, d)?;
+            if normal.iter().map(|x| x * x).sum::<f64>() < 1e-24 {
+                return fail(format!("{path}.normal"), "normal must be non-zero");
+            }
+            if half_extent.len() != d - 1 {
+                return fail(
+                    format!("{path}.half_extent"),
+                    format!(
+                        "expected {} value(s) for a {d}D plane patch, found {}",
+                        d - 1,
+                        half_extent.len()
+                    ),
+                );
+            }
+            for (k, h) in half_extent.iter().enumerate() {
+                positive(&format!("{path}.half_extent[{k}]"), *h)?;
+            }
+        }
+    }
+    Ok(())
+}
+
+const FACES: [&str; 6] = ["-x", "+x", "-y", "+y", "-z", "+z"];
+
+/// Validate the whole scene.
+pub fn validate(s: &Scene) -> Check {
+    let sim = &s.simulation;
+    let d = sim.dimension;
+    if d != 2 && d != 3 {
+        return fail("simulation.dimension", format!("must be 2 or 3, found {d}"));
+    }
+    vec_len("simulation.gravity", &sim.gravity, d)?;
+    positive("simulation.end_time", sim.end_time)?;
+    positive("simulation.dp", sim.dp)?;
+    positive("simulation.output_interval", sim.output_interval)?;
+    positive("simulation.max_speed", sim.max_speed)?;
+    if !(sim.cfl > 0.0 && sim.cfl <= 1.0) {
+        return fail(
+            "simulation.cfl",
+            format!("must lie in (0, 1], found {}", sim.cfl),
+        );
+    }
+    if let Some(r) = sim.settle_ratio {
+        if !(r > 0.0 && r < 1.0) {
+            return fail(
+                "simulation.settle_ratio",
+                format!("must lie in (0, 1), found {r}"),
+            );
+        }
+    }
+    if sim.settle_min_time.is_nan() || sim.settle_min_time < 0.0 {
+        return fail("simulation.settle_min_time", "must be ≥ 0");
+    }
+
+    let n = &s.numerics;
+    if let Some(eta) = n.eta {
+        if !(eta >= 0.0 && eta.is_finite()) {
+            return fail("numerics.eta", format!("must be ≥ 0, found {eta}"));
+        }
+    }
+    if !(n.stress_diffusion >= 0.0 && n.stress_diffusion.is_finite()) {
+        return fail("numerics.stress_diffusion", "must be ≥ 0");
+    }
+    if !(n.smoothing_ratio >= 1.0 && n.smoothing_ratio <= 2.0) {
+        return fail(
+            "numerics.smoothing_ratio",
+            format!("must lie in [1, 2], found {}", n.smoothing_ratio),
+        );
+    }
+    if !(n.neighbor_skin >= 0.0 && n.neighbor_skin <= 2.0) {
+        return fail(
+            "numerics.neighbor_skin",
+            format!(
+                "must lie in [0, 2] (units of dp), found {}",
+                n.neighbor_skin
+            ),
+        );
+    }
+    positive(
+        "numerics.artificial_stress_exponent",
+        n.artificial_stress_exponent,
+    )?;
+    if n.artificial_stress_epsilon.is_nan() || n.artificial_stress_epsilon < 0.0 {
+        return fail("numerics.artificial_stress_epsilon", "must be ≥ 0");
+    }
+    let need = (2.0 * n.smoothing_ratio).ceil() as usize;
+    if n.wall_layers < need {
+        return fail(
+            "numerics.wall_layers",
+            format!(
+                "{} layer(s) do not cover the kernel support 2h = {:.2} dp; use at least {need}",
+                n.wall_layers,
+                2.0 * n.smoothing_ratio
+            ),
+        );
+    }
+
+    if s.materials.is_empty() {
+        return fail("materials", "at least one [[materials]] entry is required");
+    }
+    let mut names = HashSet::new();
+    for (i, m) in s.materials.iter().enumerate() {
+        let p = format!("materials[{i}]");
+        if !names.insert(m.name.as_str()) {
+            return fail(
+                format!("{p}.name"),
+                format!("duplicate material name `{}`", m.name),
+            );
+        }
+        positive(&format!("{p}.density"), m.density)?;
+        positive(&format!("{p}.youngs_modulus"), m.youngs_modulus)?;
+        if !(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5) {
+            return fail(
+                format!("{p}.poisson_ratio"),
+                format!("must lie in (−1, 0.5), found {}", m.poisson_ratio),
+            );
+        }
+        if !(m.friction_angle > 0.0 && m.friction_angle < 90.0) {
+            return fail(
+                format!("{p}.friction_angle"),
+                format!("must lie in (0, 90) degrees, found {}", m.friction_angle),
+            );
+        }
+        if !(m.cohesion >= 0.0 && m.cohesion.is_finite()) {
+            return fail(
+                format!("{p}.cohesion"),
+                format!("must be ≥ 0 Pa, found {}", m.cohesion),
+            );
+        }
+        if !(m.dilation_angle >= 0.0 && m.dilation_angle <= m.friction_angle) {
+            return fail(
+                format!("{p}.dilation_angle"),
+                format!(
+                    "must lie in [0, friction_angle = {}] degrees, found {}",
+                    m.friction_angle, m.dilation_angle
+                ),
+            );
+        }
+    }
+
+    if s.regions.is_empty() {
+        return fail("regions", "at least one [[regions]] entry is required");
+    }
+    for (i, r) in s.regions.iter().enumerate() {
+        let p = format!("regions[{i}]");
+        if !names.contains(r.material.as_str()) {
+            let known: Vec<_> = s.materials.iter().map(|m| m.name.as_str()).collect();
+            return fail(
+                format!("{p}.material"),
+                format!(
+                    "unknown material `{}` (known: {})",
+                    r.material,
+                    known.join(", ")
+                ),
+            );
+        }
+        validate_shape(&format!("{p}.shape"), &r.shape, d)?;
+        if matches!(r.shape, ShapeSpec::Plane { .. }) {
+            return fail(
+                format!("{p}.shape.type"),
+                "a plane cannot hold particles; use box, cylinder, sphere or polygon",
+            );
+        }
+        if let Some(v) = &r.velocity {
+            vec_len(&format!("{p}.velocity"), v, d)?;
+        }
+    }
+
+    let mut wall_names = HashSet::new();
+    for (list, key) in [(&s.walls, "walls"), (&s.barriers, "barriers")] {
+        for (i, w) in list.iter().enumerate() {
+            let p = format!("{key}[{i}]");
+            if !wall_names.insert(w.name.clone()) {
+                return fail(
+                    format!("{p}.name"),
+                    format!("duplicate wall/barrier name `{}`", w.name),
+                );
+            }
+            validate_shape(&format!("{p}.shape"), &w.shape, d)?;
+            if let Some(v) = &w.velocity {
+                vec_len(&format!("{p}.velocity"), v, d)?;
+            }
+            if let Some(v) = &w.reference_point {
+                vec_len(&format!("{p}.reference_point"), v, d)?;
+            }
+        }
+    }
+    for (i, c) in s.containers.iter().enumerate() {
+        let p = format!("containers[{i}]");
+        if !wall_names.insert(c.name.clone()) {
+            return fail(
+                format!("{p}.name"),
+                format!("duplicate wall/barrier name `{}`", c.name),
+            );
+        }
+        vec_len(&format!("{p}.min"), &c.min, d)?;
+        vec_len(&format!("{p}.max"), &c.max, d)?;
+        for k in 0..d {
+            if c.max[k] <= c.min[k] {
+                return fail(
+                    format!("{p}.max[{k}]"),
+                    format!("must exceed min[{k}] = {}", c.min[k]),
+                );
+            }
+        }
+        if let Some(open) = &c.open {
+            for (k, f) in open.iter().enumerate() {
+                let ok = FACES[..2 * d].contains(&f.as_str());
+                if !ok {
+                    return fail(
+                        format!("{p}.open[{k}]"),
+                        format!(
+                            "unknown face `{f}`; use one of {}",
+                            FACES[..2 * d].join(", ")
+                        ),
+                    );
+                }
+            }
+        }
+    }
+    for (i, pr) in s.probes.iter().enumerate() {
+        vec_len(&format!("probes[{i}].position"), &pr.position, d)?;
+    }
+    if let Some(o) = &s.observe.runout_origin {
+        vec_len("observe.runout_origin", o, d - 1)?;
+    }
+    if let Some(dir) = s.observe.runout_direction {
+        if d != 2 || (dir != 1.0 && dir != -1.0) {
+            return fail(
+                "observe.runout_direction",
+                "only for 2D scenes, and must be 1 or -1",
+            );
+        }
+    }
+    Ok(())
+}

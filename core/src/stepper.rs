@@ -1,0 +1,383 @@
+//! The fine-grain step: position-based Verlet (Eqs. 54–56) assembled from the stages
+//! this scene needs. The stepper holds scratch memory; the world holds state.
+
+use crate::fine::artificial_stress::gray2001_artificial_stress;
+use crate::fine::continuity::{continuity_sweep, ContinuityOut, ContinuityParams};
+use crate::fine::momentum::{momentum_sweep, ArtificialStress, Load, MomentumParams};
+use crate::fine::riemann::Riemann;
+use crate::fine::state::PermuteScratch;
+use crate::guard::{Blowup, ChunkFailure};
+use crate::kernel::WendlandC2;
+use crate::math::{Real, Sym, Vect};
+use crate::neighbors::{CellGrid, NeighborLists, CHUNK};
+use crate::scene::Scene;
+use crate::timers::{Stage, StageTimers};
+use crate::world::{geostatic_tensor, World};
+use rayon::prelude::*;
+
+/// Method parameters of one run (one struct per subsystem; defaults from seed 000).
+#[derive(Clone, Debug)]
+pub struct StepParams {
+    /// Smoothing length h = smoothing_ratio · dp (1.3 dp).
+    pub h: Real,
+    /// CFL number of Eq. (51).
+    pub cfl: Real,
+    /// Limiter coefficient η of Eq. (23).
+    pub eta: Real,
+    /// Stress-diffusion ζ of Eq. (25).
+    pub zeta: Real,
+    /// Verlet skin (m).
+    pub skin: Real,
+    /// Speed bound of the stability guard (m/s).
+    pub max_speed: Real,
+    /// Artificial stress (n, ε), only with cohesive materials.
+    pub artificial: Option<(Real, Real)>,
+}
+
+impl StepParams {
+    pub fn from_scene(s: &Scene) -> Self {
+        let d = s.simulation.dimension as Real;
+        let n = &s.numerics;
+        let cohesive = s.materials.iter().any(|m| m.cohesion > 0.0);
+        StepParams {
+            h: n.smoothing_ratio * s.simulation.dp,
+            cfl: s.simulation.cfl,
+            eta: n.eta.unwrap_or(20.0 * d),
+            zeta: n.stress_diffusion,
+            skin: n.neighbor_skin * s.simulation.dp,
+            max_speed: s.simulation.max_speed,
+            artificial: cohesive
+                .then_some((n.artificial_stress_exponent, n.artificial_stress_epsilon)),
+        }
+    }
+}
+
+/// Statistics of one step.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct StepStats {
+    pub vmax: Real,
+    pub rebuilt: bool,
+}
+
+/// Scratch memory and stage assembly for the fine step.
+pub struct Stepper<const D: usize> {
+    pub params: StepParams,
+    pub kernel: WendlandC2,
+    fine_grid: CellGrid<D>,
+    wall_grid: CellGrid<D>,
+    pub lists: NeighborLists,
+    pos_at_build: Vec<Vect<D>>,
+    wall_disp_at_build: Vec<Vect<D>>,
+    walls_binned: bool,
+    /// Largest displacement since the last list build (end of last step).
+    max_disp: Real,
+    vmax: Real,
+    vel_new: Vec<Vect<D>>,
+    stress_new: Vec<Sym>,
+    drho_new: Vec<Real>,
+    eps_new: Vec<Real>,
+    art: Vec<Sym>,
+    chunk_loads: Vec<Load>,
+    /// Load on each barrier during the last step.
+    pub step_loads: Vec<Load>,
+    permute: PermuteScratch<D>,
+    order: Vec<u32>,
+    geostatic: Vec<Sym>,
+    up: Vect<D>,
+    pub timers: StageTimers,
+    /// Stages left out for this scene, with the reason.
+    pub skipped: Vec<(String, String)>,
+    failures: Vec<(Real, Real, ChunkFailure)>,
+}
+
+impl<const D: usize> Stepper<D> {
+    pub fn new(world: &World<D>, params: StepParams) -> Self {
+        let kernel = WendlandC2::new(params.h, D);
+        let g = world.gravity.norm();
+        let up = if g > 0.0 {
+            -world.gravity / g
+        } else {
+            Vect::<D>::zeros()
+        };
+        let geostatic = world
+            .materials
+            .iter()
+            .map(|m| geostatic_tensor::<D>(&up, m.k0).scale(m.rho0 * g))
+            .collect();
+        let cell = kernel.cutoff + params.skin;
+        let mut skipped = Vec::new();
+        if params.artificial.is_none() {
+            skipped.push((
+                "artificial_stress".into(),
+                "no cohesive material (c = 0)".into(),
+            ));
+        }
+        if params.zeta == 0.0 {
+            skipped.push((
+                "stress_diffusion".into(),
+                "numerics.stress_diffusion = 0".into(),
+            ));
+        }
+        if world.walls.is_empty() {
+            skipped.push(("wall_boundary".into(), "scene has no walls".into()));
+        } else if world.walls.barriers.is_empty() {
+            skipped.push(("barrier_loads".into(), "scene has no barriers".into()));
+        }
+        skipped.push(("coarse_grains".into(), "scene has no coarse grains".into()));
+        skipped.push(("coupling".into(), "no coarse grains to couple".into()));
+        skipped.push(("coarse_substeps".into(), "no coarse grains (κ = 1)".into()));
+        let nb = world.walls.barriers.len();
+        Stepper {
+            fine_grid: CellGrid::new(&world.domain.0, &world.domain.1, cell),
+            wall_grid: CellGrid::new(&world.domain.0, &world.domain.1, cell),
+            params,
+            kernel,
+            lists: NeighborLists::default(),
+            pos_at_build: Vec::new(),
+            wall_disp_at_build: Vec::new(),
+            walls_binned: false,
+            max_disp: Real::INFINITY,
+            vmax: 0.0,
+            vel_new: Vec::new(),
+            stress_new: Vec::new(),
+            drho_new: Vec::new(),
+            eps_new: Vec::new(),
+            art: Vec::new(),
+            chunk_loads: Vec::new(),
+            step_loads: vec![Load::default(); nb],
+            permute: PermuteScratch::default(),
+            order: Vec::new(),
+            geostatic,
+            up,
+            timers: StageTimers::default(),
+            skipped,
+            failures: Vec::new(),
+        }
+    }
+
+    /// Δt of Eq. (51) for the current state: CFL · h / (c0 + |v|max).
+    pub fn stable_dt(&self, world: &World<D>) -> Real {
+        self.params.cfl * self.params.h / (world.max_c0() + self.vmax)
+    }
+
+    /// Largest particle speed at the end of the last step.
+    pub fn vmax(&self) -> Real {
+        self.vmax
+    }
+
+    fn needs_rebuild(&self, world: &World<D>, dt: Real) -> bool {
+        if self.lists.chunks.is_empty() && !world.fine.is_empty() {
+            return true;
+        }
+        let fine = self.max_disp + 0.5 * dt * self.vmax;
+        let wall = world.walls.max_displacement_since(&self.wall_disp_at_build);
+        2.0 * fine > self.params.skin || fine + wall > self.params.skin
+    }
+
+    /// Re-sort particles by cell and rebuild the Verlet lists.
+    fn rebuild(&mut self, world: &mut World<D>) {
+        self.fine_grid.bin(&world.fine.pos);
+        self.order.clear();
+        self.order.extend_from_slice(self.fine_grid.order());
+        world.fine.permute(&self.order, &mut self.permute);
+        self.fine_grid.bin(&world.fine.pos);
+        self.pos_at_build.clear();
+        self.pos_at_build.extend_from_slice(&world.fine.pos);
+        if !self.walls_binned || world.walls.any_moving() {
+            self.wall_grid.bin(&world.walls.pos);
+            self.walls_binned = true;
+        }
+        self.wall_disp_at_build.clear();
+        self.wall_disp_at_build
+            .extend(world.walls.objects.iter().map(|o| o.displacement));
+        let radius = self.kernel.cutoff + self.params.skin;
+        self.lists.build(
+            &world.fine.pos,
+            &self.fine_grid,
+            &world.walls.pos,
+            &self.wall_grid,
+            radius,
+        );
+        self.max_disp = 0.0;
+    }
+
+    /// Advance the world by one fine step of size `dt`.
+    pub fn step(&mut self, world: &mut World<D>, dt: Real) -> Result<StepStats, Blowup> {
+        let n = world.fine.len();
+        let half = 0.5 * dt;
+        // Eq. (54): positions and density to the half step.
+        self.timers.time(Stage::Drift, || {
+            let f = &mut world.fine;
+            f.pos
+                .par_iter_mut()
+                .zip(f.vel.par_iter())
+                .for_each(|(x, v)| *x += v * half);
+            f.rho
+                .par_iter_mut()
+                .zip(f.drho.par_iter())
+                .for_each(|(r, d)| *r += d * half);
+            world.walls.advance(half);
+        });
+        let mut rebuilt = false;
+        if self.needs_rebuild(world, dt) {
+            let t = std::time::Instant::now();
+            self.rebuild(world);
+            self.timers.add(Stage::Neighbors, t.elapsed().as_secs_f64());
+            rebuilt = true;
+        }
+        self.vel_new.resize(n, Vect::<D>::zeros());
+        self.stress_new.resize(n, Sym::ZERO);
+        self.drho_new.resize(n, 0.0);
+        self.eps_new.resize(n, 0.0);
+        let nbs = world.walls.barriers.len().max(1);
+        self.chunk_loads
+            .resize(self.lists.chunks.len() * nbs, Load::default());
+
+        let artificial = self.params.artificial.map(|(exponent, eps)| {
+            let art = &mut self.art;
+            let stress = &world.fine.stress;
+            self.timers.time(Stage::ArtificialStress, || {
+                art.clear();
+                art.par_extend(
+                    stress
+                        .par_iter()
+                        .map(|s| gray2001_artificial_stress::<D>(s, eps)),
+                );
+            });
+            ArtificialStress {
+                exponent,
+                w_dp: self.kernel.w(world.dp),
+            }
+        });
+
+        // Eqs. (16), (55): v_{n+1}.
+        let mprm = MomentumParams {
+            kernel: self.kernel,
+            riemann: Riemann {
+                eta: self.params.eta,
+            },
+            gravity: world.gravity,
+            dt,
+            artificial,
+        };
+        {
+            let (fine, walls, lists, art) = (&world.fine, &world.walls, &self.lists, &self.art);
+            let (vel_new, loads) = (&mut self.vel_new, &mut self.chunk_loads);
+            self.timers.time(Stage::Momentum, || {
+                momentum_sweep(
+                    fine,
+                    &world.materials,
+                    walls,
+                    lists,
+                    art,
+                    &mprm,
+                    vel_new,
+                    loads,
+                )
+            });
+        }
+        std::mem::swap(&mut world.fine.vel, &mut self.vel_new);
+        for (b, l) in self.step_loads.iter_mut().enumerate() {
+            *l = Load::default();
+            for c in 0..self.lists.chunks.len() {
+                l.add(&self.chunk_loads[c * nbs + b]);
+            }
+        }
+
+        // Eqs. (15), (24)–(26), (7)–(12) with v_{n+1}.
+        let cprm = ContinuityParams {
+            kernel: self.kernel,
+            gravity: world.gravity,
+            dt,
+            zeta: self.params.zeta,
+            geostatic: std::mem::take(&mut self.geostatic),
+            up: self.up,
+        };
+        {
+            let (fine, walls, lists) = (&world.fine, &world.walls, &self.lists);
+            let out = ContinuityOut {
+                drho: &mut self.drho_new,
+                stress: &mut self.stress_new,
+                plastic_strain: &mut self.eps_new,
+            };
+            self.timers.time(Stage::ContinuityStress, || {
+                continuity_sweep(fine, &world.materials, walls, lists, &cprm, out)
+            });
+        }
+        self.geostatic = cprm.geostatic;
+        std::mem::swap(&mut world.fine.drho, &mut self.drho_new);
+        std::mem::swap(&mut world.fine.stress, &mut self.stress_new);
+        std::mem::swap(&mut world.fine.plastic_strain, &mut self.eps_new);
+
+        // Eq. (56) and the stability guard.
+        let max_speed = self.params.max_speed;
+        let failures = &mut self.failures;
+        let pos_at_build = &self.pos_at_build;
+        self.timers.time(Stage::Finalize, || {
+            let f = &mut world.fine;
+            f.pos
+                .par_chunks_mut(CHUNK)
+                .zip(f.rho.par_chunks_mut(CHUNK))
+                .zip(f.vel.par_chunks(CHUNK))
+                .zip(f.drho.par_chunks(CHUNK))
+                .zip(f.stress.par_chunks(CHUNK))
+                .zip(pos_at_build.par_chunks(CHUNK))
+                .enumerate()
+                .map(|(c, (((((x, r), v), d), s), x0))| {
+                    let mut vmax2: Real = 0.0;
+                    let mut disp2: Real = 0.0;
+                    let mut fail: ChunkFailure = None;
+                    for k in 0..x.len() {
+                        x[k] += v[k] * half;
+                        r[k] += d[k] * half;
+                        let v2 = v[k].norm_squared();
+                        vmax2 = vmax2.max(v2);
+                        disp2 = disp2.max((x[k] - x0[k]).norm_squared());
+                        if fail.is_none() {
+                            let i = c * CHUNK + k;
+                            if !v2.is_finite() {
+                                fail = Some((i, "velocity", v2.sqrt(), false));
+                            } else if !x[k].iter().all(|q| q.is_finite()) {
+                                fail = Some((i, "position", x[k].norm(), false));
+                            } else if !(r[k].is_finite() && r[k] > 0.0) {
+                                fail = Some((i, "density", r[k], false));
+                            } else if !s[k].is_finite() {
+                                fail = Some((i, "stress", s[k].trace(), false));
+                            } else if v2 > max_speed * max_speed {
+                                fail = Some((i, "speed", v2.sqrt(), true));
+                            }
+                        }
+                    }
+                    (vmax2, disp2, fail)
+                })
+                .collect_into_vec(failures);
+            world.walls.advance(half);
+        });
+        world.time += dt;
+        world.steps += 1;
+        let mut vmax2: Real = 0.0;
+        let mut disp2: Real = 0.0;
+        for (v, d, fail) in &self.failures {
+            vmax2 = vmax2.max(*v);
+            disp2 = disp2.max(*d);
+            if let Some((i, q, val, speed)) = fail {
+                let f = &world.fine;
+                return Err(Blowup {
+                    step: world.steps,
+                    time: world.time,
+                    particle: f.id[*i],
+                    position: f.pos[*i].iter().copied().collect(),
+                    quantity: q.to_string(),
+                    value: *val,
+                    limit: speed.then_some(max_speed),
+                });
+            }
+        }
+        self.vmax = vmax2.sqrt();
+        self.max_disp = disp2.sqrt();
+        Ok(StepStats {
+            vmax: self.vmax,
+            rebuilt,
+        })
+    }
+}

@@ -1,0 +1,78 @@
+//! Wall boundaries: layers of dummy particles (seed 000 §2.4) grouped into objects.
+//! An object is a wall, a barrier or one face of a container; barriers report loads.
+
+use crate::math::{Real, Vect};
+
+/// One rigid wall object.
+#[derive(Clone, Debug)]
+pub struct WallObject<const D: usize> {
+    pub name: String,
+    /// Prescribed rigid velocity (m/s).
+    pub velocity: Vect<D>,
+    /// Index into the barrier list when this object reports its load.
+    pub barrier: Option<usize>,
+    /// Rigid displacement since the start (m).
+    pub displacement: Vect<D>,
+}
+
+/// A barrier: a wall object whose load is summed every step.
+#[derive(Clone, Debug)]
+pub struct Barrier<const D: usize> {
+    pub name: String,
+    pub object: usize,
+    /// Point about which the moment is taken; moves with the barrier.
+    pub reference: Vect<D>,
+}
+
+/// All dummy wall particles.
+#[derive(Clone, Debug, Default)]
+pub struct Walls<const D: usize> {
+    pub pos: Vec<Vect<D>>,
+    pub object: Vec<u16>,
+    pub objects: Vec<WallObject<D>>,
+    pub barriers: Vec<Barrier<D>>,
+    /// Volume of one wall particle, dp^D.
+    pub volume: Real,
+}
+
+impl<const D: usize> Walls<D> {
+    pub fn len(&self) -> usize {
+        self.pos.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.pos.is_empty()
+    }
+    /// True when any wall object moves.
+    pub fn any_moving(&self) -> bool {
+        self.objects.iter().any(|o| o.velocity.norm_squared() > 0.0)
+    }
+    /// Velocity of wall particle `w`.
+    #[inline(always)]
+    pub fn velocity(&self, w: usize) -> Vect<D> {
+        self.objects[self.object[w] as usize].velocity
+    }
+    /// Move moving objects rigidly by their velocity over `dt`.
+    pub fn advance(&mut self, dt: Real) {
+        if !self.any_moving() {
+            return;
+        }
+        for o in &mut self.objects {
+            o.displacement += o.velocity * dt;
+        }
+        for b in &mut self.barriers {
+            b.reference += self.objects[b.object].velocity * dt;
+        }
+        let objects = &self.objects;
+        for (p, &o) in self.pos.iter_mut().zip(&self.object) {
+            *p += objects[o as usize].velocity * dt;
+        }
+    }
+    /// Largest rigid displacement of any object since `since` (per-object snapshot).
+    pub fn max_displacement_since(&self, since: &[Vect<D>]) -> Real {
+        self.objects
+            .iter()
+            .zip(since)
+            .map(|(o, s)| (o.displacement - s).norm())
+            .fold(0.0, Real::max)
+    }
+}

@@ -1,0 +1,275 @@
+//! `granmix bench`: named cases at several resolutions. Each run reports particle-steps
+//! per second, time per stage and the error against the case's reference; the set is
+//! written as JSON plus a PNG of error against run time.
+
+use crate::plot::{loglog, Curve};
+use crate::run::{run, RunOptions};
+use anyhow::{bail, Result};
+use serde_json::{json, Value};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct BenchArgs {
+    /// Cases to run (default: all). See --list.
+    #[arg(long = "case")]
+    cases: Vec<String>,
+    /// Only the coarsest resolution of each case.
+    #[arg(long)]
+    quick: bool,
+    /// List the cases and exit.
+    #[arg(long)]
+    list: bool,
+    /// Directory with the bundled scenes.
+    #[arg(long, default_value = "models/scenes")]
+    scenes: PathBuf,
+    /// Output directory for bench.json, bench.png and run outputs.
+    #[arg(long, default_value = "out/bench")]
+    out: PathBuf,
+}
+
+/// How a case is scored.
+#[derive(Clone, Copy)]
+enum Metric {
+    /// Final run-out against a reference length (m).
+    Runout(f64),
+    /// Mid-depth vertical stress against −ρ g H/2 (Pa) from the probe `mid`.
+    ProbeSigmaYy(f64),
+    /// Throughput only (short run).
+    Speed,
+}
+
+struct Case {
+    name: String,
+    scene: &'static str,
+    /// Resolution label and its overrides.
+    levels: Vec<(String, Vec<String>)>,
+    /// Overrides shared by all levels.
+    common: Vec<String>,
+    metric: Metric,
+    /// Relative tolerance at the finest level.
+    tolerance: Option<f64>,
+    note: &'static str,
+}
+
+fn cases() -> Vec<Case> {
+    let mut v = Vec::new();
+    let r0 = 0.1;
+    for a in [0.5, 1.0, 1.5] {
+        v.push(Case {
+            name: format!("collapse_3d_a{a}"),
+            scene: "column_collapse_3d.toml",
+            levels: [10.0, 15.0, 20.0]
+                .iter()
+                .map(|k| (format!("r0/{k}"), vec![format!("simulation.dp={}", r0 / k)]))
+                .collect(),
+            common: vec![format!("regions.0.shape.height={}", a * r0)],
+            metric: Metric::Runout(r0 * (1.0 + 1.24 * a)),
+            tolerance: Some(0.05),
+            note: "Lube et al. 2004: r∞ = r0 (1 + 1.24 a)",
+        });
+    }
+    v.push(Case {
+        name: "collapse_2d".into(),
+        scene: "column_collapse_2d.toml",
+        levels: vec![
+            ("dp=4mm".into(), vec!["simulation.dp=0.004".into()]),
+            ("dp=2mm".into(), vec!["simulation.dp=0.002".into()]),
+        ],
+        common: vec![],
+        metric: Metric::Runout(0.2 * (1.0 + 1.2 * 0.5)),
+        tolerance: Some(0.15),
+        note: "Lube et al. 2005 (quasi-2D): L∞ = L0 (1 + 1.2 a), ±15 %",
+    });
+    v.push(Case {
+        name: "geostatic".into(),
+        scene: "geostatic_layer.toml",
+        levels: vec![
+            ("dp=20mm".into(), vec!["simulation.dp=0.02".into()]),
+            ("dp=10mm".into(), vec!["simulation.dp=0.01".into()]),
+            ("dp=5mm".into(), vec!["simulation.dp=0.005".into()]),
+        ],
+        common: vec!["simulation.end_time=1.0".into()],
+        metric: Metric::ProbeSigmaYy(-2040.0 * 9.81 * 0.1),
+        tolerance: Some(0.03),
+        note: "σ_v = −ρ g (H − z) at mid-depth",
+    });
+    v.push(Case {
+        name: "speed_2d".into(),
+        scene: "column_collapse_2d.toml",
+        levels: vec![("dp=2mm".into(), vec!["simulation.dp=0.002".into()])],
+        common: vec![
+            "simulation.end_time=0.15".into(),
+            "simulation.settle_ratio=0.5".into(),
+        ],
+        metric: Metric::Speed,
+        tolerance: None,
+        note: "2D collapse, 5000 particles, first 0.15 s",
+    });
+    v.push(Case {
+        name: "speed_3d".into(),
+        scene: "column_collapse_3d.toml",
+        levels: vec![("r0/20".into(), vec!["simulation.dp=0.005".into()])],
+        common: vec!["simulation.end_time=0.05".into()],
+        metric: Metric::Speed,
+        tolerance: None,
+        note: "3D collapse a = 1, 25 k particles, first 0.05 s",
+    });
+    v
+}
+
+pub fn bench(a: &BenchArgs) -> Result<ExitCode> {
+    let all = cases();
+    if a.list {
+        for c in &all {
+            let lv: Vec<&str> = c.levels.iter().map(|l| l.0.as_str()).collect();
+            println!(
+                "{:<18} {:<26} [{}]  {}",
+                c.name,
+                c.scene,
+                lv.join(", "),
+                c.note
+            );
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
+    for name in &a.cases {
+        if !all.iter().any(|c| &c.name == name) {
+            bail!("unknown bench case `{name}`; run `granmix bench --list`");
+        }
+    }
+    std::fs::create_dir_all(&a.out)?;
+    let mut records = Vec::new();
+    let mut curves = Vec::new();
+    let mut failed = false;
+    println!(
+        "{:<18} {:<8} {:>9} {:>8} {:>9} {:>12} {:>11} {:>11} {:>8}",
+        "case",
+        "level",
+        "particles",
+        "steps",
+        "wall [s]",
+        "Mpart-st/s",
+        "value",
+        "reference",
+        "error"
+    );
+    for c in all
+        .iter()
+        .filter(|c| a.cases.is_empty() || a.cases.contains(&c.name))
+    {
+        let levels: Vec<_> = if a.quick {
+            c.levels.iter().take(1).collect()
+        } else {
+            c.levels.iter().collect()
+        };
+        let mut pts = Vec::new();
+        let nlev = levels.len();
+        for (k, (label, over)) in levels.into_iter().enumerate() {
+            let mut set = c.common.clone();
+            set.extend(over.iter().cloned());
+            let dir = a.out.join(&c.name).join(label.replace('/', "_"));
+            let rep = run(&RunOptions {
+                scene: a.scenes.join(c.scene),
+                out: dir,
+                set,
+                interactive: false,
+                vtk: false,
+            })?;
+            let last = rep.samples.last().cloned().unwrap_or_default();
+            let (value, reference) = match c.metric {
+                Metric::Runout(r) => (Some(last.runout), Some(r)),
+                Metric::ProbeSigmaYy(r) => (
+                    last.probes
+                        .iter()
+                        .find(|p| p.0 == "mid")
+                        .map(|p| p.1.stress.0[1]),
+                    Some(r),
+                ),
+                Metric::Speed => (None, None),
+            };
+            let err = match (value, reference) {
+                (Some(v), Some(r)) => Some((v - r).abs() / r.abs()),
+                _ => None,
+            };
+            if let (Some(e), Some(tol)) = (err, c.tolerance) {
+                if k + 1 == nlev && !a.quick && e > tol {
+                    failed = true;
+                }
+            }
+            if let Some(b) = &rep.blowup {
+                failed = true;
+                eprintln!("{}: {label}: {b}", c.name);
+            }
+            println!(
+                "{:<18} {:<8} {:>9} {:>8} {:>9.1} {:>12.3} {:>11} {:>11} {:>8}",
+                c.name,
+                label,
+                rep.particles,
+                rep.summary["steps_fine"],
+                rep.wall_time,
+                rep.particle_steps_per_s / 1e6,
+                value.map(|v| format!("{v:.4}")).unwrap_or("-".into()),
+                reference.map(|v| format!("{v:.4}")).unwrap_or("-".into()),
+                err.map(|e| format!("{:.2}%", 100.0 * e))
+                    .unwrap_or("-".into()),
+            );
+            let stages = rep.summary["stages"].clone();
+            print_stages(&stages, rep.wall_time);
+            if let Some(e) = err {
+                pts.push((rep.wall_time, e.max(1e-6)));
+            }
+            records.push(json!({
+                "case": c.name, "level": label, "scene": c.scene, "note": c.note,
+                "particles": rep.particles, "steps_fine": rep.summary["steps_fine"],
+                "wall_time_s": rep.wall_time, "particle_steps_per_s": rep.particle_steps_per_s,
+                "stages": stages, "value": value, "reference": reference, "rel_error": err,
+                "tolerance": c.tolerance, "status": rep.summary["status"],
+            }));
+        }
+        if !pts.is_empty() {
+            curves.push(Curve {
+                label: c.name.clone(),
+                points: pts,
+            });
+        }
+    }
+    let doc = json!({
+        "threads": rayon::current_num_threads(),
+        "runs": records,
+    });
+    let jpath = a.out.join("bench.json");
+    std::fs::write(&jpath, serde_json::to_string_pretty(&doc)?)?;
+    println!("wrote {}", jpath.display());
+    if !curves.is_empty() {
+        let png = a.out.join("bench.png");
+        loglog(
+            &png,
+            "granmix bench: error against run time",
+            "wall time [s]",
+            "relative error",
+            &curves,
+        )?;
+        println!("wrote {}", png.display());
+    }
+    if failed {
+        eprintln!("some cases missed their tolerance at the finest level (see above)");
+        return Ok(ExitCode::from(1));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn print_stages(stages: &Value, wall: f64) {
+    if let Some(m) = stages.as_object() {
+        let parts: Vec<String> = m
+            .iter()
+            .map(|(k, v)| {
+                format!(
+                    "{k} {:.0}%",
+                    100.0 * v.as_f64().unwrap_or(0.0) / wall.max(1e-12)
+                )
+            })
+            .collect();
+        println!("{:<27} stages: {}", "", parts.join(", "));
+    }
+}

@@ -1,0 +1,213 @@
+//! `granmix run`: step a scene to its end time, writing VTK, CSV and summary.json.
+
+use crate::series::{self, CsvSeries};
+use crate::vtk::VtkSeries;
+use anyhow::{Context, Result};
+use granmix_core::guard::Blowup;
+use granmix_core::runner::{self, RunEnd};
+use granmix_core::scene::{load_scene_file, LoadedScene};
+use granmix_core::simulation::Sample;
+use granmix_core::timers::Stage;
+use granmix_core::AnySimulation;
+use indicatif::{ProgressBar, ProgressStyle};
+use serde_json::{json, Map, Value};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Options of one run.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    pub scene: PathBuf,
+    pub out: PathBuf,
+    pub set: Vec<String>,
+    /// Show a progress bar and print the stage table.
+    pub interactive: bool,
+    /// Write VTK snapshots.
+    pub vtk: bool,
+}
+
+/// What a run produced.
+pub struct RunReport {
+    pub summary: Value,
+    pub samples: Vec<Sample>,
+    pub blowup: Option<Blowup>,
+    pub particles: usize,
+    pub wall_time: f64,
+    pub particle_steps_per_s: f64,
+}
+
+/// Load a scene with overrides, turning errors into messages that name the file.
+pub fn load(scene: &Path, set: &[String]) -> Result<LoadedScene> {
+    load_scene_file(scene, set).map_err(|e| anyhow::anyhow!("{e}"))
+}
+
+pub fn run(opts: &RunOptions) -> Result<RunReport> {
+    let loaded = load(&opts.scene, &opts.set)?;
+    let mut sim = AnySimulation::new(&loaded).map_err(|e| anyhow::anyhow!("{e}"))?;
+    std::fs::create_dir_all(&opts.out)
+        .with_context(|| format!("cannot create output directory {}", opts.out.display()))?;
+    std::fs::write(opts.out.join("scene.toml"), &loaded.text)?;
+    let dim = sim.dimension();
+    let sim_spec = &loaded.scene.simulation;
+    let end = sim_spec.end_time;
+    let stem = opts
+        .scene
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("scene")
+        .to_string();
+    let mut vtk = opts.vtk.then(|| VtkSeries::new(&opts.out, &stem));
+    let mut csv = CsvSeries::create(
+        &opts.out.join("series.csv"),
+        series::header(dim, &sim.barrier_names(), &sim.probe_names()),
+    )?;
+
+    let bar = if opts.interactive {
+        let b = ProgressBar::new((end * 1e6).round() as u64);
+        b.set_style(
+            ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] {bar:32} t = {msg} ETA {eta}",
+            )
+            .expect("valid template")
+            .progress_chars("=> "),
+        );
+        b
+    } else {
+        ProgressBar::hidden()
+    };
+
+    let mut samples: Vec<Sample> = Vec::new();
+    let mut io_error: Option<anyhow::Error> = None;
+    let start = Instant::now();
+    let mut last_ui = Instant::now();
+    let mut ke_peak: f64 = 0.0;
+    let ended = runner::run(
+        &mut sim,
+        sim_spec,
+        |sim, s| {
+            let t = Instant::now();
+            ke_peak = ke_peak.max(s.kinetic_energy);
+            let res = csv
+                .write(&series::row(dim, s))
+                .map_err(anyhow::Error::from)
+                .and_then(|_| match vtk.as_mut() {
+                    Some(v) => v.write(&sim.frame()).context("writing VTK snapshot"),
+                    None => Ok(()),
+                });
+            sim.timers_mut()
+                .add(Stage::Observe, t.elapsed().as_secs_f64());
+            samples.push(s.clone());
+            match res {
+                Ok(()) => true,
+                Err(e) => {
+                    io_error = Some(e);
+                    false
+                }
+            }
+        },
+        |sim| {
+            if last_ui.elapsed().as_millis() > 200 {
+                last_ui = Instant::now();
+                let el = start.elapsed().as_secs_f64();
+                bar.set_position((sim.time() * 1e6) as u64);
+                bar.set_message(format!(
+                    "{:.4} s / {end} s, {:.0} steps/s",
+                    sim.time(),
+                    sim.steps() as f64 / el.max(1e-9)
+                ));
+            }
+        },
+    );
+    if let Some(e) = io_error {
+        return Err(e);
+    }
+    let blowup = match &ended {
+        RunEnd::Blowup(b) => Some(b.clone()),
+        _ => None,
+    };
+    bar.finish_and_clear();
+    let wall = start.elapsed().as_secs_f64();
+    let n = sim.fine_count();
+    let pss = n as f64 * sim.steps() as f64 / wall.max(1e-12);
+
+    let mut stages = Map::new();
+    for (name, secs) in sim.timers().entries() {
+        stages.insert(name.to_string(), json!(secs));
+    }
+    let mut skipped = Map::new();
+    for (name, why) in sim.skipped() {
+        skipped.insert(name, json!(why));
+    }
+    let last = samples.last().cloned().unwrap_or_default();
+    let mut obs = Map::new();
+    obs.insert("time".into(), json!(last.time));
+    obs.insert("runout".into(), json!(last.runout));
+    obs.insert("kinetic_energy".into(), json!(last.kinetic_energy));
+    obs.insert("kinetic_energy_peak".into(), json!(ke_peak));
+    obs.insert("max_speed".into(), json!(last.max_speed));
+    let ax = ["x", "y", "z"];
+    for b in &last.barriers {
+        for (a, v) in ax.iter().zip(b.force.iter()).take(dim) {
+            obs.insert(format!("{}.force.{a}", b.name), json!(v));
+        }
+    }
+    let summary = json!({
+        "scene": opts.scene.display().to_string(),
+        "name": sim_spec.name,
+        "dimension": dim,
+        "status": match &ended { RunEnd::Blowup(_) => "blowup", RunEnd::Settled => "settled", _ => "ok" },
+        "blowup": blowup.as_ref().map(|b| b.to_string()),
+        "particles": n,
+        "wall_particles": sim.wall_count(),
+        "steps_fine": sim.steps(),
+        "neighbor_builds": sim.neighbor_builds(),
+        "threads": rayon::current_num_threads(),
+        "wall_time_s": wall,
+        "particle_steps_per_s": pss,
+        "stages": stages,
+        "skipped": skipped,
+        "observables": obs,
+    });
+    std::fs::write(
+        opts.out.join("summary.json"),
+        serde_json::to_string_pretty(&summary)?,
+    )?;
+    if opts.interactive {
+        print_table(&sim, wall, n, pss, &opts.out);
+    }
+    Ok(RunReport {
+        summary,
+        samples,
+        blowup,
+        particles: n,
+        wall_time: wall,
+        particle_steps_per_s: pss,
+    })
+}
+
+fn print_table(sim: &AnySimulation, wall: f64, n: usize, pss: f64, out: &Path) {
+    println!(
+        "\n{} fine particles, {} steps in {:.2} s: {:.3} M particle-steps/s",
+        n,
+        sim.steps(),
+        wall,
+        pss / 1e6
+    );
+    println!("{:<22} {:>10} {:>7}", "stage", "seconds", "share");
+    for (name, secs) in sim.timers().entries() {
+        println!(
+            "{:<22} {:>10.3} {:>6.1}%",
+            name,
+            secs,
+            100.0 * secs / wall.max(1e-12)
+        );
+    }
+    let skipped = sim.skipped();
+    if !skipped.is_empty() {
+        println!("skipped for this scene:");
+        for (name, why) in skipped {
+            println!("  {name:<20} {why}");
+        }
+    }
+    println!("outputs in {}", out.display());
+}
