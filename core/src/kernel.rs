@@ -85,8 +85,12 @@ mod tests {
                     }
                 }
             }
-            assert!((s0 - 1.0).abs() < 0.01, "dim {dim}: ΣWV = {s0}");
-            assert!((sxx - 1.0).abs() < 0.01, "dim {dim}: −Σ x∂W V = {sxx}");
+            // The lattice sum is a quadrature of ∫W dV = 1 (tested exactly below); at
+            // h = 1.3 dp its error is about 1 %.
+            assert!((s0 - 1.0).abs() < 0.02, "dim {dim}: ΣWV = {s0}");
+            // Same quadrature error for the first moment (2.6 % in 2D at h = 1.3 dp); a
+            // sign error in ∇W or a wrong α_d would be off by 100 % or a dimension factor.
+            assert!((sxx - 1.0).abs() < 0.03, "dim {dim}: −Σ x∂W V = {sxx}");
             assert!(sxy.abs() < 1e-12);
         }
     }

@@ -11,7 +11,7 @@ use crate::AnySimulation;
 pub enum RunEnd {
     /// Reached `end_time`.
     EndTime,
-    /// Kinetic energy fell below `settle_ratio` × its peak.
+    /// Kinetic energy stayed below `settle_ratio` × its peak for `settle_window`.
     Settled,
     /// The stability guard stopped the run.
     Blowup(Blowup),
@@ -33,6 +33,8 @@ pub fn run(
         return RunEnd::Stopped;
     }
     let mut ke_peak: f64 = 0.0;
+    // time since which the kinetic energy has stayed below the settle threshold
+    let mut quiet_since: Option<f64> = None;
     let mut k = 1u64;
     loop {
         let target = (k as f64 * spec.output_interval).min(end);
@@ -52,8 +54,13 @@ pub fn run(
         }
         ke_peak = ke_peak.max(s.kinetic_energy);
         if let Some(r) = spec.settle_ratio {
-            if s.time >= spec.settle_min_time && ke_peak > 0.0 && s.kinetic_energy < r * ke_peak {
-                return RunEnd::Settled;
+            if ke_peak > 0.0 && s.kinetic_energy < r * ke_peak {
+                let since = *quiet_since.get_or_insert(s.time);
+                if s.time >= spec.settle_min_time && s.time - since >= spec.settle_window {
+                    return RunEnd::Settled;
+                }
+            } else {
+                quiet_since = None;
             }
         }
         if target >= end {

@@ -159,7 +159,8 @@ mod tests {
         let mut l = Matrix3::zeros();
         l[(0, 1)] = 1.0;
         let mut acc = 0.0;
-        for _ in 0..2000 {
+        // elastic until γ = τ_y / G ≈ 0.025; shear to γ = 0.06
+        for _ in 0..6000 {
             let u = update_stress(&m, &l, &s, &Sym::ZERO, 1e-5);
             s = u.stress;
             acc += u.plastic_strain;

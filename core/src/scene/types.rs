@@ -55,10 +55,17 @@ pub struct SimulationSpec {
     /// Earliest time (s) at which the settle criterion may stop the run. Default 0.
     #[serde(default)]
     pub settle_min_time: f64,
+    /// The kinetic energy must stay below `settle_ratio` × peak over this long (s)
+    /// before the run counts as settled. Default 0.1 s.
+    #[serde(default = "default_settle_window")]
+    pub settle_window: f64,
 }
 
 fn default_cfl() -> f64 {
     0.4
+}
+fn default_settle_window() -> f64 {
+    0.1
 }
 fn default_max_speed() -> f64 {
     100.0

@@ -144,6 +144,9 @@ pub fn validate(s: &Scene) -> Check {
             );
         }
     }
+    if sim.settle_window.is_nan() || sim.settle_window < 0.0 {
+        return fail("simulation.settle_window", "must be ≥ 0");
+    }
     if sim.settle_min_time.is_nan() || sim.settle_min_time < 0.0 {
         return fail("simulation.settle_min_time", "must be ≥ 0");
     }

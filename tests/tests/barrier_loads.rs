@@ -1,0 +1,76 @@
+//! Barrier scenes: load history of a flow hitting a barrier, and the earth pressure of a
+//! retained layer between the active and at-rest values.
+
+use granmix_core::runner::RunEnd;
+use granmix_tests::run;
+
+/// granular_barrier_2d: zero load before the front arrives, a peak after arrival, and a
+/// steady load once the deposit is at rest (kinetic energy < 1e-4 of its peak).
+#[test]
+fn barrier_load_history() {
+    let (s, end, _) = run(
+        "granular_barrier_2d.toml",
+        &["simulation.dp=0.005", "simulation.end_time=2.0"],
+    );
+    assert!(
+        matches!(end, RunEnd::Settled),
+        "deposit did not come to rest: {end:?}"
+    );
+    let barrier_x = 0.35;
+    let fx = |k: usize| s[k].barriers[0].force[0];
+    // arrival: first sample whose run-out reaches the barrier face (within 2h = 2.6 dp)
+    let arrival = s
+        .iter()
+        .position(|x| x.runout >= barrier_x - 2.6 * 0.005)
+        .expect("front reaches the barrier");
+    for k in 0..arrival.saturating_sub(1) {
+        assert_eq!(
+            s[k].barriers[0].peak_force, 0.0,
+            "load before arrival at t = {}",
+            s[k].time
+        );
+    }
+    let (kpeak, peak) =
+        (0..s.len())
+            .map(|k| (k, fx(k)))
+            .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
+    assert!(
+        peak > 0.0 && kpeak >= arrival,
+        "peak {peak} N/m at sample {kpeak}, arrival at {arrival}"
+    );
+    let n = s.len();
+    let steady = fx(n - 1);
+    assert!(steady > 0.0, "a deposit rests against the barrier");
+    assert!(
+        peak > 1.2 * steady,
+        "impact peak {peak:.1} N/m above the static load {steady:.1} N/m"
+    );
+    // steady: the last few samples agree within 2 %
+    for k in n.saturating_sub(4)..n {
+        assert!(
+            (fx(k) - steady).abs() <= 0.02 * steady,
+            "load still changing: {} vs {steady}",
+            fx(k)
+        );
+    }
+    let ke_peak = s.iter().map(|x| x.kinetic_energy).fold(0.0, f64::max);
+    assert!(s[n - 1].kinetic_energy < 1e-4 * ke_peak);
+}
+
+/// retained_layer_2d: ½ K_a ρ g H² ≤ F ≤ ½ K0 ρ g H² once settled.
+#[test]
+fn retained_layer_earth_pressure() {
+    let (s, end, _) = run("retained_layer_2d.toml", &["simulation.dp=0.0075"]);
+    assert!(!matches!(end, RunEnd::Blowup(_)), "{end:?}");
+    let (rho, g, h) = (2040.0, 9.81, 0.15);
+    let phi = 30f64.to_radians();
+    let ka = (1.0 - phi.sin()) / (1.0 + phi.sin());
+    let k0 = 1.0 - phi.sin();
+    let f = s.last().unwrap().barriers[0].force[0];
+    let (lo, hi) = (0.5 * ka * rho * g * h * h, 0.5 * k0 * rho * g * h * h);
+    assert!(
+        f >= lo && f <= hi,
+        "barrier load {f:.1} N/m outside [{lo:.1}, {hi:.1}] (K = {:.3})",
+        f / (0.5 * rho * g * h * h)
+    );
+}

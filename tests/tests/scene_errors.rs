@@ -1,0 +1,110 @@
+//! Bad scene input gets a clear error naming the file, key path and line.
+
+use granmix_core::scene::{load_scene_str, SceneError};
+
+const GOOD: &str = r#"
+[simulation]
+dimension = 2
+gravity = [0.0, -9.81]
+end_time = 0.1
+dp = 0.01
+output_interval = 0.01
+
+[[materials]]
+name = "sand"
+density = 2000.0
+youngs_modulus = 5e6
+poisson_ratio = 0.3
+friction_angle = 30.0
+
+[[regions]]
+name = "block"
+material = "sand"
+shape = { type = "box", min = [0.0, 0.0], max = [0.1, 0.1] }
+"#;
+
+fn err(text: &str, set: &[&str]) -> SceneError {
+    let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+    load_scene_str(text, "bad.toml", &set).expect_err("must be rejected")
+}
+
+#[test]
+fn good_scene_loads() {
+    load_scene_str(GOOD, "good.toml", &[]).unwrap();
+}
+
+#[test]
+fn unknown_key_names_path_and_line() {
+    let text = GOOD.replace("dp = 0.01", "dp = 0.01\ntimestep = 3");
+    let e = err(&text, &[]);
+    let msg = e.to_string();
+    assert!(msg.contains("timestep"), "{msg}");
+    assert!(msg.starts_with("bad.toml:7:"), "{msg}");
+    assert!(e.path.starts_with("simulation"), "{}", e.path);
+}
+
+#[test]
+fn unknown_key_in_array_of_tables() {
+    let text = GOOD.replace(
+        "friction_angle = 30.0",
+        "friction_angle = 30.0\nfriction = 0.5",
+    );
+    let e = err(&text, &[]);
+    assert!(e.to_string().contains("friction"), "{e}");
+    assert_eq!(e.line, Some(15), "{e}");
+    assert_eq!(e.path, "materials[0].friction");
+}
+
+#[test]
+fn invalid_values_name_key_and_line() {
+    let e = err(
+        &GOOD.replace("poisson_ratio = 0.3", "poisson_ratio = 0.7"),
+        &[],
+    );
+    assert_eq!(e.path, "materials[0].poisson_ratio");
+    assert_eq!(e.line, Some(13));
+    let e = err(
+        &GOOD.replace("material = \"sand\"", "material = \"clay\""),
+        &[],
+    );
+    assert_eq!(e.path, "regions[0].material");
+    assert!(e.message.contains("unknown material `clay`"), "{e}");
+    let e = err(
+        &GOOD.replace("gravity = [0.0, -9.81]", "gravity = [0.0, 0.0, -9.81]"),
+        &[],
+    );
+    assert_eq!(e.path, "simulation.gravity");
+    assert_eq!(e.line, Some(4));
+    let e = err(&GOOD.replace("dp = 0.01", "dp = \"fine\""), &[]);
+    assert_eq!(e.line, Some(6), "{e}");
+    let e = err(&GOOD.replace("type = \"box\"", "type = \"cube\""), &[]);
+    assert!(e.to_string().contains("cube"), "{e}");
+    assert_eq!(e.line, Some(19), "{e}");
+}
+
+#[test]
+fn overrides_apply_and_report_errors() {
+    let ok = load_scene_str(
+        GOOD,
+        "good.toml",
+        &[
+            "simulation.dp=0.02".into(),
+            "materials.0.friction_angle=25".into(),
+        ],
+    )
+    .unwrap();
+    assert_eq!(ok.scene.simulation.dp, 0.02);
+    assert_eq!(ok.scene.materials[0].friction_angle, 25.0);
+    let e = err(GOOD, &["materials.3.density=1"]);
+    assert!(e.to_string().contains("out of range"), "{e}");
+    let e = err(GOOD, &["simulation.dp"]);
+    assert!(e.to_string().contains("key.path=value"), "{e}");
+    let e = err(GOOD, &["simulation.bogus=1"]);
+    assert!(e.to_string().contains("bogus"), "{e}");
+}
+
+#[test]
+fn syntax_error_has_line() {
+    let e = err(&GOOD.replace("end_time = 0.1", "end_time = = 0.1"), &[]);
+    assert_eq!(e.line, Some(5), "{e}");
+}

@@ -1,0 +1,53 @@
+//! VALIDATION.md §3: 2D column collapse (plane strain).
+//! Run-out against Lube et al. (2005), (L∞ − L0)/L0 ≈ 1.2 a (±15 %), for a material in
+//! the range of Lube's (φ = 30°); deposit height = H0 for a = 0.5; no numerical
+//! energy gain after release.
+
+use granmix_tests::{rel, run};
+
+#[test]
+fn collapse_2d_runout_height_and_energy() {
+    let (samples, end, sim) = run(
+        "column_collapse_2d.toml",
+        &["simulation.dp=0.004", "materials.0.friction_angle=30.0"],
+    );
+    assert!(
+        !matches!(end, granmix_core::runner::RunEnd::Blowup(_)),
+        "{end:?}"
+    );
+    let (l0, a) = (0.2, 0.5);
+    let last = samples.last().unwrap();
+    let reference = l0 * (1.0 + 1.2 * a);
+    assert!(
+        rel(last.runout, reference) < 0.15,
+        "L∞ = {:.4} m vs {reference:.4} m",
+        last.runout
+    );
+
+    // Deposit height at the wall stays H0 (a < 0.65), within one particle spacing.
+    let frame = sim.frame();
+    let top = frame
+        .pos
+        .iter()
+        .filter(|p| p[0] < 0.02)
+        .map(|p| p[1] as f64)
+        .fold(0.0, f64::max)
+        + 0.002;
+    assert!(
+        (top - 0.1).abs() <= 0.004,
+        "deposit height at the wall {top:.4} m"
+    );
+
+    // Total mechanical energy (kinetic + potential) never grows beyond round-off of the
+    // elastic energy exchange: 0.1 % of the potential energy released.
+    let released = samples[0].potential_energy - last.potential_energy;
+    for w in samples.windows(2) {
+        let e0 = w[0].kinetic_energy + w[0].potential_energy;
+        let e1 = w[1].kinetic_energy + w[1].potential_energy;
+        assert!(
+            e1 <= e0 + 1e-3 * released,
+            "energy grew from {e0} to {e1} at t = {}",
+            w[1].time
+        );
+    }
+}
