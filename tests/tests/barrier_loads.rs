@@ -23,11 +23,11 @@ fn barrier_load_history() {
         .iter()
         .position(|x| x.runout >= barrier_x - 2.6 * 0.005)
         .expect("front reaches the barrier");
-    for k in 0..arrival.saturating_sub(1) {
+    for x in &s[..arrival.saturating_sub(1)] {
         assert_eq!(
-            s[k].barriers[0].peak_force, 0.0,
+            x.barriers[0].peak_force, 0.0,
             "load before arrival at t = {}",
-            s[k].time
+            x.time
         );
     }
     let (kpeak, peak) =
