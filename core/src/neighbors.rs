@@ -21,6 +21,7 @@ pub struct CellGrid<const D: usize> {
     start: Vec<u32>,
     items: Vec<u32>,
     cell_of: Vec<u32>,
+    fill: Vec<u32>,
 }
 
 impl<const D: usize> CellGrid<D> {
@@ -81,9 +82,10 @@ impl<const D: usize> CellGrid<D> {
         }
         self.items.clear();
         self.items.resize(n, 0);
-        let mut fill = self.start.clone();
+        self.fill.clear();
+        self.fill.extend_from_slice(&self.start);
         for (i, &c) in self.cell_of.iter().enumerate() {
-            let slot = &mut fill[c as usize];
+            let slot = &mut self.fill[c as usize];
             self.items[*slot as usize] = i as u32;
             *slot += 1;
         }

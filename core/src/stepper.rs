@@ -5,6 +5,7 @@ use crate::fine::artificial_stress::gray2001_artificial_stress;
 use crate::fine::continuity::{continuity_sweep, ContinuityOut, ContinuityParams};
 use crate::fine::momentum::{momentum_sweep, ArtificialStress, Load, MomentumParams};
 use crate::fine::riemann::Riemann;
+use crate::fine::source::{pack, update_velocity, Source};
 use crate::fine::state::PermuteScratch;
 use crate::guard::{Blowup, ChunkFailure};
 use crate::kernel::WendlandC2;
@@ -77,6 +78,7 @@ pub struct Stepper<const D: usize> {
     drho_new: Vec<Real>,
     eps_new: Vec<Real>,
     art: Vec<Sym>,
+    src: Vec<Source<D>>,
     chunk_loads: Vec<Load>,
     /// Load on each barrier during the last step.
     pub step_loads: Vec<Load>,
@@ -143,6 +145,7 @@ impl<const D: usize> Stepper<D> {
             drho_new: Vec::new(),
             eps_new: Vec::new(),
             art: Vec::new(),
+            src: Vec::new(),
             chunk_loads: Vec::new(),
             step_loads: vec![Load::default(); nb],
             permute: PermuteScratch::default(),
@@ -262,18 +265,10 @@ impl<const D: usize> Stepper<D> {
         };
         {
             let (fine, walls, lists, art) = (&world.fine, &world.walls, &self.lists, &self.art);
-            let (vel_new, loads) = (&mut self.vel_new, &mut self.chunk_loads);
+            let (vel_new, loads, src) = (&mut self.vel_new, &mut self.chunk_loads, &mut self.src);
             self.timers.time(Stage::Momentum, || {
-                momentum_sweep(
-                    fine,
-                    &world.materials,
-                    walls,
-                    lists,
-                    art,
-                    &mprm,
-                    vel_new,
-                    loads,
-                )
+                pack(fine, &world.materials, src);
+                momentum_sweep(fine, src, walls, lists, art, &mprm, vel_new, loads)
             });
         }
         std::mem::swap(&mut world.fine.vel, &mut self.vel_new);
@@ -300,8 +295,10 @@ impl<const D: usize> Stepper<D> {
                 stress: &mut self.stress_new,
                 plastic_strain: &mut self.eps_new,
             };
+            let src = &mut self.src;
             self.timers.time(Stage::ContinuityStress, || {
-                continuity_sweep(fine, &world.materials, walls, lists, &cprm, out)
+                update_velocity(&fine.vel, src);
+                continuity_sweep(fine, src, &world.materials, walls, lists, &cprm, out)
             });
         }
         self.geostatic = cprm.geostatic;

@@ -11,6 +11,7 @@
 use super::material::FineMaterial;
 use super::plasticity::update_stress;
 use super::riemann::{Riemann, Side};
+use super::source::Source;
 use super::state::FineParticles;
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Sym, Vect};
@@ -39,9 +40,10 @@ pub struct ContinuityOut<'a, const D: usize> {
     pub plastic_strain: &'a mut [Real],
 }
 
-/// Sweep with v_{n+1} already in `p.vel`.
+/// Sweep with v_{n+1} already in `src` (and `p.vel`).
 pub fn continuity_sweep<const D: usize>(
     p: &FineParticles<D>,
+    src: &[Source<D>],
     mats: &[FineMaterial],
     walls: &Walls<D>,
     lists: &NeighborLists,
@@ -63,43 +65,41 @@ pub fn continuity_sweep<const D: usize>(
             for k in 0..drho_out.len() {
                 let i = c * CHUNK + k;
                 let mi = &mats[p.material[i] as usize];
-                let xi = p.pos[i];
-                let vi = p.vel[i];
+                let si = &src[i];
+                let (xi, vi) = (si.pos, si.vel);
                 let rhoi = p.rho[i];
                 let sig_i = p.stress[i];
-                let pi = -sig_i.trace() / 3.0;
-                let zi = rhoi * mi.c0;
                 let geo = prm.geostatic[p.material[i] as usize];
                 let mut drho = 0.0;
                 let mut grad = SMatrix::<Real, D, D>::zeros();
                 let mut diff = Sym::ZERO;
                 for &j in &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize] {
-                    let j = j as usize;
-                    let rij = xi - p.pos[j];
+                    let sj = &src[j as usize];
+                    let rij = xi - sj.pos;
                     let r2 = rij.norm_squared();
                     if r2 >= cut2 {
                         continue;
                     }
                     let r = r2.sqrt();
                     let e = rij / r;
-                    let dw = prm.kernel.dw(r);
-                    let mj = &mats[p.material[j] as usize];
-                    let rhoj = p.rho[j];
-                    let vj = p.mass[j] / rhoj;
-                    let dwv = dw * vj;
-                    let zj = rhoj * mj.c0;
-                    let pj = -p.stress[j].trace() / 3.0;
+                    let dwv = prm.kernel.dw(r) * sj.vol;
                     let ul = -vi.dot(&e);
-                    let ur = -p.vel[j].dot(&e);
-                    let ustar = Riemann::u_star(Side::new(zi, ul, pi), Side::new(zj, ur, pj));
+                    let ustar = Riemann::u_star(
+                        Side::new(si.z, ul, si.p),
+                        Side::new(sj.z, -sj.vel.dot(&e), sj.p),
+                    );
                     // (v_i − v*)·e_ij = U* − U_L (U measured along −e_ij)
                     drho += 2.0 * (ustar - ul) * dwv;
-                    let vij = vi - p.vel[j];
+                    let vij = vi - sj.vel;
                     grad -= vij * e.transpose() * dwv;
                     if prm.zeta > 0.0 {
-                        let zij = rij.dot(&prm.up);
-                        let mut psi = sig_i.sub(&p.stress[j]);
-                        psi.axpy(-zij, &geo);
+                        // Ψ_ij of Eq. (26): σ_i − σ_j minus the geostatic gradient
+                        let mut psi = si.dev.sub(&sj.dev);
+                        let dp = sj.p - si.p;
+                        psi.0[0] += dp;
+                        psi.0[1] += dp;
+                        psi.0[2] += dp;
+                        psi.axpy(-rij.dot(&prm.up), &geo);
                         diff.axpy(r * dwv / (r2 + reg), &psi);
                     }
                 }
@@ -115,8 +115,8 @@ pub fn continuity_sweep<const D: usize>(
                     let e = rij / r;
                     let dwv = prm.kernel.dw(r) * vw;
                     let rel = (vi - walls.velocity(w)) * 2.0;
-                    let pw = pi + rhoi * r * prm.gravity.dot(&(-e)).max(0.0);
-                    drho += (rel.dot(&e) + (pi - pw) / zi) * dwv;
+                    let pw = si.p + rhoi * r * prm.gravity.dot(&(-e)).max(0.0);
+                    drho += (rel.dot(&e) + (si.p - pw) / si.z) * dwv;
                     grad -= rel * e.transpose() * dwv;
                 }
                 drho_out[k] = rhoi * drho;

@@ -6,4 +6,5 @@ pub mod material;
 pub mod momentum;
 pub mod plasticity;
 pub mod riemann;
+pub mod source;
 pub mod state;

@@ -7,8 +7,8 @@
 //! (σ_w = σ_i, no-slip); P*_w solves the one-sided Riemann problem along the wall
 //! normal of Eq. (33). The reaction on barrier particles is summed per chunk.
 
-use super::material::FineMaterial;
 use super::riemann::{Riemann, Side};
+use super::source::Source;
 use super::state::FineParticles;
 use crate::kernel::WendlandC2;
 use crate::math::{to3, Real, Sym, Vect};
@@ -55,7 +55,7 @@ pub struct MomentumParams<const D: usize> {
 #[allow(clippy::too_many_arguments)]
 pub fn momentum_sweep<const D: usize>(
     p: &FineParticles<D>,
-    mats: &[FineMaterial],
+    src: &[Source<D>],
     walls: &Walls<D>,
     lists: &NeighborLists,
     art: &[Sym],
@@ -78,17 +78,15 @@ pub fn momentum_sweep<const D: usize>(
             }
             for (k, vo) in vout.iter_mut().enumerate() {
                 let i = c * CHUNK + k;
-                let mi = &mats[p.material[i] as usize];
-                let xi = p.pos[i];
-                let vi = p.vel[i];
+                let si = &src[i];
+                let (xi, vi) = (si.pos, si.vel);
                 let rhoi = p.rho[i];
-                let si = p.stress[i].dev();
-                let pi = -p.stress[i].trace() / 3.0;
-                let zi = rhoi * mi.c0;
+                let inv_rho2 = 2.0 / rhoi;
+                let left = |u: Real| Side::new(si.z, u, si.p);
                 let mut acc = Vect::<D>::zeros();
                 for &j in &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize] {
-                    let j = j as usize;
-                    let rij = xi - p.pos[j];
+                    let sj = &src[j as usize];
+                    let rij = xi - sj.pos;
                     let r2 = rij.norm_squared();
                     if r2 >= cut2 {
                         continue;
@@ -96,28 +94,21 @@ pub fn momentum_sweep<const D: usize>(
                     let r = r2.sqrt();
                     let e = rij / r;
                     let dw = prm.kernel.dw(r);
-                    let mj = &mats[p.material[j] as usize];
-                    let rhoj = p.rho[j];
-                    let zj = rhoj * mj.c0;
-                    let pj = -p.stress[j].trace() / 3.0;
-                    let ul = -vi.dot(&e);
-                    let ur = -p.vel[j].dot(&e);
                     let pstar = prm.riemann.p_star(
-                        Side::new(zi, ul, pi),
-                        Side::new(zj, ur, pj),
-                        0.5 * (mi.c0 + mj.c0),
+                        left(-vi.dot(&e)),
+                        Side::new(sj.z, -sj.vel.dot(&e), sj.p),
+                        0.5 * (si.c + sj.c),
                     );
                     // σ* = σ̄ˢ − P* I, Eq. (18)
-                    let mut sstar = si.add(&p.stress[j].dev()).scale(0.5);
+                    let mut sstar = si.dev.add(&sj.dev).scale(0.5);
                     sstar.0[0] -= pstar;
                     sstar.0[1] -= pstar;
                     sstar.0[2] -= pstar;
                     if let Some(a) = &prm.artificial {
                         let f = (prm.kernel.w(r) / a.w_dp).powf(a.exponent);
-                        sstar.axpy(0.5 * f, &art[i].add(&art[j]));
+                        sstar.axpy(0.5 * f, &art[i].add(&art[j as usize]));
                     }
-                    let vj = p.mass[j] / rhoj;
-                    acc += sstar.dot_vec(&e) * (2.0 * dw * vj / rhoi);
+                    acc += sstar.dot_vec(&e) * (inv_rho2 * dw * sj.vol);
                 }
                 let (w0, w1) = (cl.woff[k] as usize, cl.woff[k + 1] as usize);
                 if w1 > w0 {
@@ -150,14 +141,14 @@ pub fn momentum_sweep<const D: usize>(
                         // Eq. (34): U_R = −U_L + 2u_w, so U_L − U_R = 2(U_L − u_w).
                         let du = 2.0 * (ul - uw);
                         // Eq. (35): hydrostatic increase towards the wall.
-                        let pr = pi + rhoi * r * prm.gravity.dot(&(-e)).max(0.0);
-                        let beta = prm.riemann.limiter(du, mi.c0);
-                        let pstar = 0.5 * (pi + pr) + 0.5 * beta * zi * du;
-                        let mut sstar = si;
+                        let pr = si.p + rhoi * r * prm.gravity.dot(&(-e)).max(0.0);
+                        let beta = prm.riemann.limiter(du, si.c);
+                        let pstar = 0.5 * (si.p + pr) + 0.5 * beta * si.z * du;
+                        let mut sstar = si.dev;
                         sstar.0[0] -= pstar;
                         sstar.0[1] -= pstar;
                         sstar.0[2] -= pstar;
-                        let a = sstar.dot_vec(&e) * (2.0 * dw * vw / rhoi);
+                        let a = sstar.dot_vec(&e) * (inv_rho2 * dw * vw);
                         acc += a;
                         if let Some(b) = walls.objects[walls.object[w] as usize].barrier {
                             let f = to3(&a) * (-p.mass[i]);
