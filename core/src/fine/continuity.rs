@@ -10,7 +10,7 @@
 
 use super::material::FineMaterial;
 use super::plasticity::update_stress;
-use super::riemann::{Riemann, Side};
+use super::riemann::{pair_reciprocals, Riemann, Side};
 use super::source::Source;
 use super::state::FineParticles;
 use crate::kernel::WendlandC2;
@@ -81,12 +81,18 @@ pub fn continuity_sweep<const D: usize>(
                         continue;
                     }
                     let r = r2.sqrt();
-                    let e = rij / r;
+                    // one division for both 1/r and 1/(r² + 0.01h²) of Eq. (25)
+                    let den = r2 + reg;
+                    let inv = 1.0 / (r * den);
+                    let e = rij * (den * inv);
                     let dwv = prm.kernel.dw(r) * sj.vol;
                     let ul = -vi.dot(&e);
+                    let (inv_z, _) =
+                        pair_reciprocals(si.z, sj.z, si.c, sj.c, si.half_inv_z, si.inv_c);
                     let ustar = Riemann::u_star(
                         Side::new(si.z, ul, si.p),
                         Side::new(sj.z, -sj.vel.dot(&e), sj.p),
+                        inv_z,
                     );
                     // (v_i − v*)·e_ij = U* − U_L (U measured along −e_ij)
                     drho += 2.0 * (ustar - ul) * dwv;
@@ -100,7 +106,7 @@ pub fn continuity_sweep<const D: usize>(
                         psi.0[1] += dp;
                         psi.0[2] += dp;
                         psi.axpy(-rij.dot(&prm.up), &geo);
-                        diff.axpy(r * dwv / (r2 + reg), &psi);
+                        diff.axpy(r * r * dwv * inv, &psi);
                     }
                 }
                 let (w0, w1) = (cl.woff[k] as usize, cl.woff[k + 1] as usize);
@@ -112,11 +118,11 @@ pub fn continuity_sweep<const D: usize>(
                         continue;
                     }
                     let r = r2.sqrt();
-                    let e = rij / r;
+                    let e = rij * (1.0 / r);
                     let dwv = prm.kernel.dw(r) * vw;
                     let rel = (vi - walls.velocity(w)) * 2.0;
                     let pw = si.p + rhoi * r * prm.gravity.dot(&(-e)).max(0.0);
-                    drho += (rel.dot(&e) + (si.p - pw) / si.z) * dwv;
+                    drho += (rel.dot(&e) + (si.p - pw) * 2.0 * si.half_inv_z) * dwv;
                     grad -= rel * e.transpose() * dwv;
                 }
                 drho_out[k] = rhoi * drho;

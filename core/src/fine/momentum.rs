@@ -7,7 +7,7 @@
 //! (σ_w = σ_i, no-slip); P*_w solves the one-sided Riemann problem along the wall
 //! normal of Eq. (33). The reaction on barrier particles is summed per chunk.
 
-use super::riemann::{Riemann, Side};
+use super::riemann::{pair_reciprocals, Riemann, Side};
 use super::source::Source;
 use super::state::FineParticles;
 use crate::kernel::WendlandC2;
@@ -92,12 +92,15 @@ pub fn momentum_sweep<const D: usize>(
                         continue;
                     }
                     let r = r2.sqrt();
-                    let e = rij / r;
+                    let e = rij * (1.0 / r);
                     let dw = prm.kernel.dw(r);
+                    let (inv_z, inv_c) =
+                        pair_reciprocals(si.z, sj.z, si.c, sj.c, si.half_inv_z, si.inv_c);
                     let pstar = prm.riemann.p_star(
                         left(-vi.dot(&e)),
                         Side::new(sj.z, -sj.vel.dot(&e), sj.p),
-                        0.5 * (si.c + sj.c),
+                        inv_z,
+                        inv_c,
                     );
                     // σ* = σ̄ˢ − P* I, Eq. (18)
                     let mut sstar = si.dev.add(&sj.dev).scale(0.5);
@@ -135,14 +138,14 @@ pub fn momentum_sweep<const D: usize>(
                             continue;
                         }
                         let r = r2.sqrt();
-                        let e = rij / r;
+                        let e = rij * (1.0 / r);
                         let dw = prm.kernel.dw(r);
                         let uw = -n.dot(&walls.velocity(w));
                         // Eq. (34): U_R = −U_L + 2u_w, so U_L − U_R = 2(U_L − u_w).
                         let du = 2.0 * (ul - uw);
                         // Eq. (35): hydrostatic increase towards the wall.
                         let pr = si.p + rhoi * r * prm.gravity.dot(&(-e)).max(0.0);
-                        let beta = prm.riemann.limiter(du, si.c);
+                        let beta = prm.riemann.limiter(du, si.inv_c);
                         let pstar = 0.5 * (si.p + pr) + 0.5 * beta * si.z * du;
                         let mut sstar = si.dev;
                         sstar.0[0] -= pstar;

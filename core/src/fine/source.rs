@@ -18,10 +18,13 @@ pub struct Source<const D: usize> {
     pub p: Real,
     /// Volume m/ρ.
     pub vol: Real,
-    /// Acoustic impedance ρ c0 (Eq. 21).
+    /// Acoustic impedance ρ0 c0 (Eq. 21, reference density).
     pub z: Real,
     /// Sound speed c0 (Eq. 22).
     pub c: Real,
+    /// 1/(2 z), 1/c: the pair reciprocals when both particles share a material.
+    pub half_inv_z: Real,
+    pub inv_c: Real,
 }
 
 /// Fill `out` from the particle state (positions at the half step, stress σ_n).
@@ -36,8 +39,10 @@ pub fn pack<const D: usize>(p: &FineParticles<D>, mats: &[FineMaterial], out: &m
             dev: s.dev(),
             p: -s.trace() / 3.0,
             vol: p.mass[i] / p.rho[i],
-            z: p.rho[i] * m.c0,
+            z: m.rho0 * m.c0,
             c: m.c0,
+            half_inv_z: 0.5 / (m.rho0 * m.c0),
+            inv_c: 1.0 / m.c0,
         }
     }));
 }
