@@ -69,18 +69,28 @@ fn cases() -> Vec<Case> {
             note: "Lube et al. 2004: r∞ = r0 (1 + 1.24 a)",
         });
     }
-    v.push(Case {
-        name: "collapse_2d".into(),
-        scene: "column_collapse_2d.toml",
-        levels: vec![
-            ("dp=4mm".into(), vec!["simulation.dp=0.004".into()]),
-            ("dp=2mm".into(), vec!["simulation.dp=0.002".into()]),
-        ],
-        common: vec![],
-        metric: Metric::Runout(0.2 * (1.0 + 1.2 * 0.5)),
-        tolerance: Some(0.15),
-        note: "Lube et al. 2005 (quasi-2D): L∞ = L0 (1 + 1.2 a), ±15 %",
-    });
+    for (name, phi, tol, note) in [
+        ("collapse_2d", 30.0, Some(0.15), "Lube et al. 2005 (quasi-2D), φ = 30° as Lube's sands: L∞ = L0 (1 + 1.2 a), ±15 %"),
+        (
+            "collapse_2d_aluminium",
+            21.9,
+            None,
+            "VALIDATION §3 material (φ = 21.9°) against Lube 2005; outside Lube's material range, reported only",
+        ),
+    ] {
+        v.push(Case {
+            name: name.into(),
+            scene: "column_collapse_2d.toml",
+            levels: vec![
+                ("dp=4mm".into(), vec!["simulation.dp=0.004".into()]),
+                ("dp=2mm".into(), vec!["simulation.dp=0.002".into()]),
+            ],
+            common: vec![format!("materials.0.friction_angle={phi}")],
+            metric: Metric::Runout(0.2 * (1.0 + 1.2 * 0.5)),
+            tolerance: tol,
+            note,
+        });
+    }
     v.push(Case {
         name: "geostatic".into(),
         scene: "geostatic_layer.toml",
