@@ -186,7 +186,13 @@ impl<const D: usize> Stepper<D> {
         self.fine_grid.bin(&world.fine.pos);
         self.pos_at_build.clear();
         self.pos_at_build.extend_from_slice(&world.fine.pos);
-        if !self.walls_binned || world.walls.any_moving() {
+        let walls_moved = world
+            .walls
+            .objects
+            .iter()
+            .zip(&self.wall_disp_at_build)
+            .any(|(o, d)| o.displacement != *d);
+        if !self.walls_binned || walls_moved {
             self.wall_grid.bin(&world.walls.pos);
             self.walls_binned = true;
         }
@@ -208,6 +214,7 @@ impl<const D: usize> Stepper<D> {
     pub fn step(&mut self, world: &mut World<D>, dt: Real) -> Result<StepStats, Blowup> {
         let n = world.fine.len();
         let half = 0.5 * dt;
+        world.walls.set_time(world.time);
         // Eq. (54): positions and density to the half step.
         self.timers.time(Stage::Drift, || {
             let f = &mut world.fine;

@@ -7,8 +7,12 @@ use crate::math::{Real, Vect};
 #[derive(Clone, Debug)]
 pub struct WallObject<const D: usize> {
     pub name: String,
-    /// Prescribed rigid velocity (m/s).
+    /// Current rigid velocity (m/s): `prescribed` inside the motion window, else zero.
     pub velocity: Vect<D>,
+    /// Prescribed rigid velocity (m/s).
+    pub prescribed: Vect<D>,
+    /// The object moves for start ≤ t < stop.
+    pub window: (Real, Real),
     /// Index into the barrier list when this object reports its load.
     pub barrier: Option<usize>,
     /// Rigid displacement since the start (m).
@@ -50,6 +54,13 @@ impl<const D: usize> Walls<D> {
     #[inline(always)]
     pub fn velocity(&self, w: usize) -> Vect<D> {
         self.objects[self.object[w] as usize].velocity
+    }
+    /// Set the current velocities for a step that starts at time `t`.
+    pub fn set_time(&mut self, t: Real) {
+        for o in &mut self.objects {
+            let on = t >= o.window.0 && t < o.window.1;
+            o.velocity = if on { o.prescribed } else { Vect::<D>::zeros() };
+        }
     }
     /// Move moving objects rigidly by their velocity over `dt`.
     pub fn advance(&mut self, dt: Real) {

@@ -113,6 +113,7 @@ impl<const D: usize> World<D> {
                           name: &str,
                           pts: Vec<Vect<D>>,
                           vel: Vect<D>,
+                          window: (Real, Real),
                           barrier: Option<Vect<D>>| {
             let o = walls.objects.len() as u16;
             let b = barrier.map(|reference| {
@@ -126,6 +127,8 @@ impl<const D: usize> World<D> {
             walls.objects.push(WallObject {
                 name: name.to_string(),
                 velocity: vel,
+                prescribed: vel,
+                window,
                 barrier: b,
                 displacement: Vect::<D>::zeros(),
             });
@@ -160,11 +163,16 @@ impl<const D: usize> World<D> {
                             ShapeSpec::Plane { point, .. } => v::<D>(point),
                             _ => shape.center(),
                         });
+                let window = match w.move_between.as_deref() {
+                    Some([t0, t1]) => (*t0, *t1),
+                    _ => (Real::NEG_INFINITY, Real::INFINITY),
+                };
                 add_object(
                     &mut walls,
                     &w.name,
                     pts,
                     vel,
+                    window,
                     is_barrier.then_some(reference),
                 );
             }
@@ -209,6 +217,7 @@ impl<const D: usize> World<D> {
                         &name,
                         pts,
                         Vect::<D>::zeros(),
+                        (Real::NEG_INFINITY, Real::INFINITY),
                         c.report_loads.then_some(reference),
                     );
                 }

@@ -74,3 +74,41 @@ fn retained_layer_earth_pressure() {
         f / (0.5 * rho * g * h * h)
     );
 }
+
+/// active_earth_pressure_2d: once the barrier yields outward (≥ 1 mm), the load drops
+/// from the at-rest value to the active one, ½ K ρ g H² with K between Coulomb
+/// (δ = φ, horizontal component K_a cos δ) and Rankine (δ = 0), ±10 %.
+#[test]
+fn yielding_barrier_reaches_active_pressure() {
+    let (s, end, _) = run("active_earth_pressure_2d.toml", &[]);
+    assert!(!matches!(end, RunEnd::Blowup(_)), "{end:?}");
+    let (rho, g, h) = (2040.0, 9.81, 0.15);
+    let phi: f64 = 30f64.to_radians();
+    let unit = 0.5 * rho * g * h * h;
+    let delta = phi;
+    let coulomb = phi.cos().powi(2)
+        / (delta.cos() * (1.0 + ((phi + delta).sin() * phi.sin() / delta.cos()).sqrt()).powi(2));
+    let (lo, hi) = (
+        0.9 * coulomb * delta.cos(),
+        1.1 * (1.0 - phi.sin()) / (1.0 + phi.sin()),
+    );
+    let k = |t: f64| {
+        let x = s
+            .iter()
+            .min_by(|a, b| (a.time - t).abs().total_cmp(&(b.time - t).abs()))
+            .unwrap();
+        x.barriers[0].force[0] / unit
+    };
+    let at_rest = k(0.6);
+    assert!(
+        at_rest > hi,
+        "before yielding K = {at_rest:.3} should exceed the active range"
+    );
+    for t in [0.72, 0.8, 0.9] {
+        let kt = k(t);
+        assert!(
+            kt >= lo && kt <= hi,
+            "t = {t}: K = {kt:.3} outside the active range [{lo:.3}, {hi:.3}]"
+        );
+    }
+}

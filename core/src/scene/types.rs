@@ -213,6 +213,10 @@ pub struct WallSpec {
     /// Prescribed rigid velocity (m/s). Default fixed.
     #[serde(default)]
     pub velocity: Option<Vec<f64>>,
+    /// `[start, stop]` (s): the wall moves with `velocity` only for start ≤ t < stop.
+    /// Default: always.
+    #[serde(default)]
+    pub move_between: Option<Vec<f64>>,
     /// Point about which the moment is reported (barriers). Default: shape centre.
     #[serde(default)]
     pub reference_point: Option<Vec<f64>>,

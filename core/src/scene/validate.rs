@@ -279,6 +279,20 @@ pub fn validate(s: &Scene) -> Check {
             if let Some(v) = &w.velocity {
                 vec_len(&format!("{p}.velocity"), v, d)?;
             }
+            if let Some(m) = &w.move_between {
+                if m.len() != 2 || m.iter().any(|t| !t.is_finite()) || m[0] >= m[1] {
+                    return fail(
+                        format!("{p}.move_between"),
+                        "expected [start, stop] with start < stop (s)",
+                    );
+                }
+                if w.velocity.is_none() {
+                    return fail(
+                        format!("{p}.move_between"),
+                        "needs a `velocity` to move with",
+                    );
+                }
+            }
             if let Some(v) = &w.reference_point {
                 vec_len(&format!("{p}.reference_point"), v, d)?;
             }
