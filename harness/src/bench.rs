@@ -253,12 +253,24 @@ pub fn bench(a: &BenchArgs) -> Result<ExitCode> {
     println!("wrote {}", jpath.display());
     if !curves.is_empty() {
         let png = a.out.join("bench.png");
+        let mut tols: Vec<f64> = all
+            .iter()
+            .filter(|c| a.cases.is_empty() || a.cases.contains(&c.name))
+            .filter_map(|c| c.tolerance)
+            .collect();
+        tols.sort_by(f64::total_cmp);
+        tols.dedup();
+        let hlines: Vec<(f64, String)> = tols
+            .iter()
+            .map(|t| (*t, format!("tolerance {:.0} %", 100.0 * t)))
+            .collect();
         loglog(
             &png,
             "granmix bench: error against run time",
             "wall time [s]",
             "relative error",
             &curves,
+            &hlines,
         )?;
         println!("wrote {}", png.display());
     }

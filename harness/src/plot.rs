@@ -19,13 +19,14 @@ pub struct Curve {
     pub points: Vec<(f64, f64)>,
 }
 
-/// Log–log plot of several curves.
+/// Log–log plot of several curves; `hlines` are dashed reference levels (value, label).
 pub fn loglog(
     path: &Path,
     title: &str,
     xlabel: &str,
     ylabel: &str,
     curves: &[Curve],
+    hlines: &[(f64, String)],
 ) -> Result<()> {
     register_font();
     let pts: Vec<(f64, f64)> = curves
@@ -39,9 +40,11 @@ pub fn loglog(
     let (x0, x1) = pts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), (x, _)| {
         (a.min(*x), b.max(*x))
     });
-    let (y0, y1) = pts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), (_, y)| {
-        (a.min(*y), b.max(*y))
-    });
+    let (y0, y1) = pts
+        .iter()
+        .map(|p| p.1)
+        .chain(hlines.iter().map(|h| h.0))
+        .fold((f64::INFINITY, 0.0f64), |(a, b), y| (a.min(y), b.max(y)));
     let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
     let mut chart = ChartBuilder::on(&root)
@@ -81,6 +84,27 @@ pub fn loglog(
                 p.iter()
                     .map(|&(x, y)| Circle::new((x, y), 4, color.filled())),
             )
+            .map_err(|e| anyhow!("{e}"))?;
+    }
+    for (y, label) in hlines {
+        let (xa, xb) = (x0 / 1.5, x1 * 1.5);
+        let dashes: Vec<(f64, f64)> = (0..40)
+            .map(|k| xa * (xb / xa).powf(k as f64 / 40.0))
+            .map(|x| (x, *y))
+            .collect();
+        chart
+            .draw_series(
+                dashes
+                    .chunks(2)
+                    .map(|c| PathElement::new(c.to_vec(), BLACK.stroke_width(1))),
+            )
+            .map_err(|e| anyhow!("{e}"))?;
+        chart
+            .draw_series(std::iter::once(Text::new(
+                label.clone(),
+                (xa * 1.05, *y * 1.08),
+                ("sans-serif", 13),
+            )))
             .map_err(|e| anyhow!("{e}"))?;
     }
     chart
