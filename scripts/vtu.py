@@ -10,8 +10,6 @@ def read_vtu(path):
     blob = rest[rest.index(b"_") + 1:]
     arrays = {}
     fmt = {"Float32": "f", "Int64": "q", "UInt8": "B", "UInt16": "H", "UInt32": "I"}
-    for m in re.finditer(rb'<DataArray type="(\w+)"(?: Name="(\w+)")? NumberOfComponents="(\d+)"|<DataArray type="(\w+)" Name="(\w+)" format', head):
-        pass
     for m in re.finditer(rb'<DataArray ([^>]*)/>', head):
         attrs = dict(re.findall(rb'(\w+)="([^"]*)"', m.group(1)))
         kind = attrs[b"type"].decode()

@@ -5,7 +5,7 @@ use crate::fine::artificial_stress::gray2001_artificial_stress;
 use crate::fine::continuity::{continuity_sweep, ContinuityOut, ContinuityParams};
 use crate::fine::momentum::{momentum_sweep, ArtificialStress, Load, MomentumParams};
 use crate::fine::riemann::Riemann;
-use crate::fine::source::{pack, update_velocity, Source};
+use crate::fine::source::{drift_and_pack, pack, update_velocity, Source};
 use crate::fine::state::PermuteScratch;
 use crate::guard::{Blowup, ChunkFailure};
 use crate::kernel::WendlandC2;
@@ -215,23 +215,20 @@ impl<const D: usize> Stepper<D> {
         let n = world.fine.len();
         let half = 0.5 * dt;
         world.walls.set_time(world.time);
-        // Eq. (54): positions and density to the half step.
-        self.timers.time(Stage::Drift, || {
-            let f = &mut world.fine;
-            f.pos
-                .par_iter_mut()
-                .zip(f.vel.par_iter())
-                .for_each(|(x, v)| *x += v * half);
-            f.rho
-                .par_iter_mut()
-                .zip(f.drho.par_iter())
-                .for_each(|(r, d)| *r += d * half);
-            world.walls.advance(half);
-        });
+        // Eq. (54): positions and density to the half step, packed for the sweeps.
+        {
+            let (fine, mats, src) = (&mut world.fine, &world.materials, &mut self.src);
+            let walls = &mut world.walls;
+            self.timers.time(Stage::Drift, || {
+                drift_and_pack(fine, mats, half, src);
+                walls.advance(half);
+            });
+        }
         let mut rebuilt = false;
         if self.needs_rebuild(world, dt) {
             let t = std::time::Instant::now();
             self.rebuild(world);
+            pack(&world.fine, &world.materials, &mut self.src);
             self.timers.add(Stage::Neighbors, t.elapsed().as_secs_f64());
             rebuilt = true;
         }
@@ -274,7 +271,6 @@ impl<const D: usize> Stepper<D> {
             let (fine, walls, lists, art) = (&world.fine, &world.walls, &self.lists, &self.art);
             let (vel_new, loads, src) = (&mut self.vel_new, &mut self.chunk_loads, &mut self.src);
             self.timers.time(Stage::Momentum, || {
-                pack(fine, &world.materials, src);
                 momentum_sweep(fine, src, walls, lists, art, &mprm, vel_new, loads)
             });
         }

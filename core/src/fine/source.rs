@@ -54,3 +54,62 @@ pub fn update_velocity<const D: usize>(vel: &[Vect<D>], out: &mut [Source<D>]) {
         .with_min_len(CHUNK)
         .for_each(|(s, v)| s.vel = *v);
 }
+
+/// Eq. (54) fused with [`pack`]: move positions and densities to the half step and fill
+/// `out` in the same pass.
+pub fn drift_and_pack<const D: usize>(
+    p: &mut FineParticles<D>,
+    mats: &[FineMaterial],
+    half: Real,
+    out: &mut Vec<Source<D>>,
+) {
+    out.resize(
+        p.len(),
+        Source {
+            pos: Vect::<D>::zeros(),
+            vel: Vect::<D>::zeros(),
+            dev: Sym::ZERO,
+            p: 0.0,
+            vol: 0.0,
+            z: 0.0,
+            c: 0.0,
+            half_inv_z: 0.0,
+            inv_c: 0.0,
+        },
+    );
+    let FineParticles {
+        pos,
+        vel,
+        rho,
+        drho,
+        stress,
+        mass,
+        material,
+        ..
+    } = p;
+    out.par_chunks_mut(CHUNK)
+        .zip(pos.par_chunks_mut(CHUNK))
+        .zip(rho.par_chunks_mut(CHUNK))
+        .enumerate()
+        .for_each(|(c, ((o, x), r))| {
+            let base = c * CHUNK;
+            for k in 0..o.len() {
+                let i = base + k;
+                x[k] += vel[i] * half;
+                r[k] += drho[i] * half;
+                let m = &mats[material[i] as usize];
+                let s = stress[i];
+                o[k] = Source {
+                    pos: x[k],
+                    vel: vel[i],
+                    dev: s.dev(),
+                    p: -s.trace() / 3.0,
+                    vol: mass[i] / r[k],
+                    z: m.rho0 * m.c0,
+                    c: m.c0,
+                    half_inv_z: 0.5 / (m.rho0 * m.c0),
+                    inv_c: 1.0 / m.c0,
+                };
+            }
+        });
+}
