@@ -107,6 +107,10 @@ impl AnySimulation {
     pub fn skipped(&self) -> Vec<(String, String)> {
         dispatch!(self, s => s.stepper.skipped.clone())
     }
+    /// Bytes held by the fine particles and the stepper's scratch (walls excluded).
+    pub fn fine_bytes(&self) -> usize {
+        dispatch!(self, s => s.world.fine.bytes() + s.stepper.bytes())
+    }
     pub fn neighbor_builds(&self) -> usize {
         dispatch!(self, s => s.stepper.lists.builds)
     }

@@ -41,6 +41,14 @@ impl<const D: usize> CellGrid<D> {
         }
     }
 
+    /// Bytes held by the grid.
+    pub fn bytes(&self) -> usize {
+        4 * (self.start.capacity()
+            + self.items.capacity()
+            + self.cell_of.capacity()
+            + self.fill.capacity())
+    }
+
     pub fn cell_count(&self) -> usize {
         self.dims[0] * self.dims[1] * self.dims[2]
     }

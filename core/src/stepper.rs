@@ -163,6 +163,21 @@ impl<const D: usize> Stepper<D> {
         self.params.cfl * self.params.h / (world.max_c0() + self.vmax)
     }
 
+    /// Bytes of scratch memory held by the stepper (lists, buffers, grids).
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.lists.bytes()
+            + self.pos_at_build.capacity() * size_of::<Vect<D>>()
+            + self.vel_new.capacity() * size_of::<Vect<D>>()
+            + self.stress_new.capacity() * size_of::<Sym>()
+            + (self.drho_new.capacity() + self.eps_new.capacity()) * size_of::<Real>()
+            + self.art.capacity() * size_of::<Sym>()
+            + self.src.capacity() * size_of::<Source<D>>()
+            + self.order.capacity() * 4
+            + self.fine_grid.bytes()
+            + self.wall_grid.bytes()
+    }
+
     /// Largest particle speed at the end of the last step.
     pub fn vmax(&self) -> Real {
         self.vmax

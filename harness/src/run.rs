@@ -161,6 +161,8 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         "wall_particles": sim.wall_count(),
         "steps_fine": sim.steps(),
         "neighbor_builds": sim.neighbor_builds(),
+        "memory_bytes_fine": sim.fine_bytes(),
+        "bytes_per_particle": sim.fine_bytes() as f64 / n.max(1) as f64,
         "threads": rayon::current_num_threads(),
         "wall_time_s": wall,
         "particle_steps_per_s": pss,

@@ -49,6 +49,21 @@ impl<const D: usize> FineParticles<D> {
         self.material.push(material);
     }
 
+    /// Bytes held by the particle arrays.
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.pos.capacity() * size_of::<Vect<D>>()
+            + self.vel.capacity() * size_of::<Vect<D>>()
+            + (self.rho.capacity()
+                + self.drho.capacity()
+                + self.plastic_strain.capacity()
+                + self.mass.capacity())
+                * size_of::<Real>()
+            + self.stress.capacity() * size_of::<Sym>()
+            + self.material.capacity() * 2
+            + self.id.capacity() * 4
+    }
+
     /// Reorder every array by `order` (new index k holds old particle order[k]).
     /// `scratch` buffers are reused so that no allocation happens after warm-up.
     pub fn permute(&mut self, order: &[u32], scratch: &mut PermuteScratch<D>) {
