@@ -192,10 +192,6 @@ impl NeighborLists {
         });
     }
 
-    /// Total number of stored fine–fine pairs.
-    pub fn pair_count(&self) -> usize {
-        self.chunks.iter().map(|c| c.fine.len()).sum()
-    }
     /// Bytes held by the lists.
     pub fn bytes(&self) -> usize {
         self.chunks

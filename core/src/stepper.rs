@@ -303,7 +303,7 @@ impl<const D: usize> Stepper<D> {
             gravity: world.gravity,
             dt,
             zeta: self.params.zeta,
-            geostatic: std::mem::take(&mut self.geostatic),
+            geostatic: &self.geostatic,
             up: self.up,
         };
         {
@@ -319,7 +319,6 @@ impl<const D: usize> Stepper<D> {
                 continuity_sweep(fine, src, &world.materials, walls, lists, &cprm, out)
             });
         }
-        self.geostatic = cprm.geostatic;
         std::mem::swap(&mut world.fine.drho, &mut self.drho_new);
         std::mem::swap(&mut world.fine.stress, &mut self.stress_new);
         std::mem::swap(&mut world.fine.plastic_strain, &mut self.eps_new);

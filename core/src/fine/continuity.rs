@@ -21,14 +21,14 @@ use nalgebra::{Matrix3, SMatrix};
 use rayon::prelude::*;
 
 /// Inputs of the continuity/stress sweep that are not particle arrays.
-pub struct ContinuityParams<const D: usize> {
+pub struct ContinuityParams<'a, const D: usize> {
     pub kernel: WendlandC2,
     pub gravity: Vect<D>,
     pub dt: Real,
     /// ζ of Eq. (25); 0 disables stress diffusion.
     pub zeta: Real,
     /// Per material: ρ0 |g| (K0 (I − n n) + n n), the geostatic gradient of Eq. (26).
-    pub geostatic: Vec<Sym>,
+    pub geostatic: &'a [Sym],
     /// Unit vector opposite to gravity (zero without gravity).
     pub up: Vect<D>,
 }
@@ -47,7 +47,7 @@ pub fn continuity_sweep<const D: usize>(
     mats: &[FineMaterial],
     walls: &Walls<D>,
     lists: &NeighborLists,
-    prm: &ContinuityParams<D>,
+    prm: &ContinuityParams<'_, D>,
     out: ContinuityOut<'_, D>,
 ) {
     let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;

@@ -27,24 +27,36 @@ pub struct Source<const D: usize> {
     pub inv_c: Real,
 }
 
-/// Fill `out` from the particle state (positions at the half step, stress σ_n).
-pub fn pack<const D: usize>(p: &FineParticles<D>, mats: &[FineMaterial], out: &mut Vec<Source<D>>) {
-    out.clear();
-    out.par_extend((0..p.len()).into_par_iter().with_min_len(CHUNK).map(|i| {
+impl<const D: usize> Source<D> {
+    /// The record of particle `i` at position `pos` and density `rho`.
+    #[inline(always)]
+    fn of(p: &FineParticles<D>, mats: &[FineMaterial], i: usize, pos: Vect<D>, rho: Real) -> Self {
         let m = &mats[p.material[i] as usize];
         let s = p.stress[i];
+        let z = m.rho0 * m.c0;
         Source {
-            pos: p.pos[i],
+            pos,
             vel: p.vel[i],
             dev: s.dev(),
             p: -s.trace() / 3.0,
-            vol: p.mass[i] / p.rho[i],
-            z: m.rho0 * m.c0,
+            vol: p.mass[i] / rho,
+            z,
             c: m.c0,
-            half_inv_z: 0.5 / (m.rho0 * m.c0),
+            half_inv_z: 0.5 / z,
             inv_c: 1.0 / m.c0,
         }
-    }));
+    }
+}
+
+/// Fill `out` from the particle state (positions at the half step, stress σ_n).
+pub fn pack<const D: usize>(p: &FineParticles<D>, mats: &[FineMaterial], out: &mut Vec<Source<D>>) {
+    out.clear();
+    out.par_extend(
+        (0..p.len())
+            .into_par_iter()
+            .with_min_len(CHUNK)
+            .map(|i| Source::of(p, mats, i, p.pos[i], p.rho[i])),
+    );
 }
 
 /// Refresh the velocities (after the momentum sweep).
@@ -63,53 +75,23 @@ pub fn drift_and_pack<const D: usize>(
     half: Real,
     out: &mut Vec<Source<D>>,
 ) {
-    out.resize(
-        p.len(),
-        Source {
-            pos: Vect::<D>::zeros(),
-            vel: Vect::<D>::zeros(),
-            dev: Sym::ZERO,
-            p: 0.0,
-            vol: 0.0,
-            z: 0.0,
-            c: 0.0,
-            half_inv_z: 0.0,
-            inv_c: 0.0,
-        },
+    let n = p.len();
+    let mut pos = std::mem::take(&mut p.pos);
+    let mut rho = std::mem::take(&mut p.rho);
+    let state = &*p;
+    out.clear();
+    out.par_extend(
+        pos.par_iter_mut()
+            .zip(rho.par_iter_mut())
+            .enumerate()
+            .with_min_len(CHUNK)
+            .map(|(i, (x, r))| {
+                *x += state.vel[i] * half;
+                *r += state.drho[i] * half;
+                Source::of(state, mats, i, *x, *r)
+            }),
     );
-    let FineParticles {
-        pos,
-        vel,
-        rho,
-        drho,
-        stress,
-        mass,
-        material,
-        ..
-    } = p;
-    out.par_chunks_mut(CHUNK)
-        .zip(pos.par_chunks_mut(CHUNK))
-        .zip(rho.par_chunks_mut(CHUNK))
-        .enumerate()
-        .for_each(|(c, ((o, x), r))| {
-            let base = c * CHUNK;
-            for k in 0..o.len() {
-                let i = base + k;
-                x[k] += vel[i] * half;
-                r[k] += drho[i] * half;
-                let m = &mats[material[i] as usize];
-                let s = stress[i];
-                o[k] = Source {
-                    pos: x[k],
-                    vel: vel[i],
-                    dev: s.dev(),
-                    p: -s.trace() / 3.0,
-                    vol: mass[i] / r[k],
-                    z: m.rho0 * m.c0,
-                    c: m.c0,
-                    half_inv_z: 0.5 / (m.rho0 * m.c0),
-                    inv_c: 1.0 / m.c0,
-                };
-            }
-        });
+    debug_assert_eq!(out.len(), n);
+    p.pos = pos;
+    p.rho = rho;
 }
