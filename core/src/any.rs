@@ -111,6 +111,16 @@ impl AnySimulation {
     pub fn fine_bytes(&self) -> usize {
         dispatch!(self, s => s.world.fine.bytes() + s.stepper.bytes())
     }
+    pub fn body_names(&self) -> Vec<String> {
+        dispatch!(self, s => s.world.coarse.bodies.iter().map(|b| b.name.clone()).collect())
+    }
+    pub fn coarse_count(&self) -> usize {
+        dispatch!(self, s => s.world.coarse.particles.len())
+    }
+    /// Coarse sub-steps so far.
+    pub fn coarse_steps(&self) -> u64 {
+        dispatch!(self, s => s.stepper.coarse.as_ref().map(|c| c.steps).unwrap_or(0))
+    }
     pub fn neighbor_builds(&self) -> usize {
         dispatch!(self, s => s.stepper.lists.builds)
     }

@@ -22,6 +22,12 @@ pub enum Shape<const D: usize> {
         center: Vect<D>,
         radius: Real,
     },
+    /// Annulus (2D) or spherical shell (3D).
+    Ring {
+        center: Vect<D>,
+        inner: Real,
+        radius: Real,
+    },
     /// 2D polygon.
     Polygon {
         vertices: Vec<[Real; 2]>,
@@ -54,6 +60,15 @@ impl<const D: usize> Shape<D> {
                 base: v(base),
                 radius: *radius,
                 height: *height,
+            },
+            ShapeSpec::Ring {
+                center,
+                inner_radius,
+                radius,
+            } => Shape::Ring {
+                center: v(center),
+                inner: *inner_radius,
+                radius: *radius,
             },
             ShapeSpec::Sphere { center, radius } => Shape::Sphere {
                 center: v(center),
@@ -105,6 +120,14 @@ impl<const D: usize> Shape<D> {
                 out + dr.max(dz).min(0.0)
             }
             Shape::Sphere { center, radius } => (p - center).norm() - radius,
+            Shape::Ring {
+                center,
+                inner,
+                radius,
+            } => {
+                let r = (p - center).norm();
+                (r - radius).max(inner - r)
+            }
             Shape::Polygon { vertices } => polygon_sdf(vertices, p[0], p[1]),
             Shape::Plane { point, normal, .. } => (p - point).dot(normal),
         }
@@ -128,7 +151,7 @@ impl<const D: usize> Shape<D> {
                 hi[D - 1] += height;
                 (lo, hi)
             }
-            Shape::Sphere { center, radius } => {
+            Shape::Sphere { center, radius } | Shape::Ring { center, radius, .. } => {
                 (center.add_scalar(-radius), center.add_scalar(*radius))
             }
             Shape::Polygon { vertices } => {
@@ -162,6 +185,32 @@ impl<const D: usize> Shape<D> {
             _ => Vect::<D>::zeros(),
         };
         lattice_in(&lo, &hi, &anchor, dp, |p| self.sdf(p) < 0.0)
+    }
+
+    /// Lattice points inside the shape for a coarse-grain body, anchored at the lower
+    /// corner of the bounding box so that symmetric shapes fill symmetrically.
+    pub fn body_fill(&self, dp: Real) -> Vec<Vect<D>> {
+        let (lo, hi) = self.bounds();
+        lattice_in(&lo, &hi, &lo, dp, |p| self.sdf(p) < 0.0)
+    }
+
+    /// Outward unit normal, the normalised gradient of the signed distance (central
+    /// differences with step `eps`); zero where the gradient vanishes.
+    pub fn normal(&self, p: &Vect<D>, eps: Real) -> Vect<D> {
+        let mut g = Vect::<D>::zeros();
+        for k in 0..D {
+            let mut a = *p;
+            let mut b = *p;
+            a[k] += eps;
+            b[k] -= eps;
+            g[k] = self.sdf(&a) - self.sdf(&b);
+        }
+        let n = g.norm();
+        if n > 0.0 {
+            g / n
+        } else {
+            g
+        }
     }
 
     /// Wall particles: `layers` lattice layers on the wall side of the surface.

@@ -8,8 +8,10 @@ use std::fmt;
 pub struct Blowup {
     pub step: u64,
     pub time: f64,
-    /// Stable particle id.
+    /// Stable particle id (fine grains), or the particle index within `body`.
     pub particle: u32,
+    /// The coarse grain the particle belongs to, if any.
+    pub body: Option<String>,
     pub position: Vec<f64>,
     /// Quantity that failed, e.g. `velocity`, `stress`, `speed`.
     pub quantity: String,
@@ -22,8 +24,17 @@ impl fmt::Display for Blowup {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "numerical blow-up at step {} (t = {:.6e} s): fine particle {} at {:?}: {} = {:e}",
-            self.step, self.time, self.particle, self.position, self.quantity, self.value
+            "numerical blow-up at step {} (t = {:.6e} s): ",
+            self.step, self.time
+        )?;
+        match &self.body {
+            Some(b) => write!(f, "particle {} of body `{b}`", self.particle)?,
+            None => write!(f, "fine particle {}", self.particle)?,
+        }
+        write!(
+            f,
+            " at {:?}: {} = {:e}",
+            self.position, self.quantity, self.value
         )?;
         if let Some(l) = self.limit {
             write!(f, " exceeds the bound simulation.max_speed = {l} m/s")?;

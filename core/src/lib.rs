@@ -4,6 +4,7 @@
 //! [`stepper::Stepper`] → observations ([`simulation::Sample`], [`simulation::Frame`]).
 //! [`AnySimulation`] dispatches on the scene's dimension once, at the top.
 
+pub mod coarse;
 pub mod fine;
 pub mod geometry;
 pub mod guard;

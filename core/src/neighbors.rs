@@ -129,7 +129,8 @@ impl<const D: usize> CellGrid<D> {
     }
 }
 
-/// Verlet lists of one chunk of particles: fine–fine and fine–wall neighbours.
+/// Verlet lists of one chunk of particles: fine–fine, fine–wall and fine–coarse
+/// neighbours.
 #[derive(Clone, Debug, Default)]
 pub struct ChunkList {
     /// `fine[off[k]..off[k+1]]` are the fine neighbours of particle `start + k`.
@@ -137,6 +138,14 @@ pub struct ChunkList {
     pub fine: Vec<u32>,
     pub woff: Vec<u32>,
     pub wall: Vec<u32>,
+    pub coff: Vec<u32>,
+    pub coarse: Vec<u32>,
+}
+
+/// Binned positions of a second particle set (walls, coarse grains).
+pub struct Binned<'a, const D: usize> {
+    pub pos: &'a [Vect<D>],
+    pub grid: &'a CellGrid<D>,
 }
 
 /// Neighbour lists of all fine particles within the list radius (cut-off + skin).
@@ -154,10 +163,12 @@ impl NeighborLists {
         &mut self,
         pos: &[Vect<D>],
         fine_grid: &CellGrid<D>,
-        wall_pos: &[Vect<D>],
-        wall_grid: &CellGrid<D>,
+        walls: Binned<'_, D>,
+        coarse: Binned<'_, D>,
         radius: Real,
     ) {
+        let (wall_pos, wall_grid) = (walls.pos, walls.grid);
+        let (coarse_pos, coarse_grid) = (coarse.pos, coarse.grid);
         self.radius = radius;
         self.builds += 1;
         let r2 = radius * radius;
@@ -170,8 +181,11 @@ impl NeighborLists {
             cl.fine.clear();
             cl.woff.clear();
             cl.wall.clear();
+            cl.coff.clear();
+            cl.coarse.clear();
             cl.off.push(0);
             cl.woff.push(0);
+            cl.coff.push(0);
             for i in start..end {
                 let xi = pos[i];
                 fine_grid.for_each_near(&xi, |j| {
@@ -188,6 +202,14 @@ impl NeighborLists {
                     });
                 }
                 cl.woff.push(cl.wall.len() as u32);
+                if !coarse_pos.is_empty() {
+                    coarse_grid.for_each_near(&xi, |w| {
+                        if (xi - coarse_pos[w as usize]).norm_squared() < r2 {
+                            cl.coarse.push(w);
+                        }
+                    });
+                }
+                cl.coff.push(cl.coarse.len() as u32);
             }
         });
     }
@@ -197,7 +219,12 @@ impl NeighborLists {
         self.chunks
             .iter()
             .map(|c| {
-                4 * (c.off.capacity() + c.fine.capacity() + c.woff.capacity() + c.wall.capacity())
+                4 * (c.off.capacity()
+                    + c.fine.capacity()
+                    + c.woff.capacity()
+                    + c.wall.capacity()
+                    + c.coff.capacity()
+                    + c.coarse.capacity())
             })
             .sum()
     }
@@ -231,7 +258,20 @@ mod tests {
         let mut gw = CellGrid::new(&lo, &hi, r);
         gw.bin(&walls);
         let mut nl = NeighborLists::default();
-        nl.build(&pos, &g, &walls, &gw, r);
+        let gc = CellGrid::new(&lo, &hi, r);
+        nl.build(
+            &pos,
+            &g,
+            Binned {
+                pos: &walls,
+                grid: &gw,
+            },
+            Binned {
+                pos: &[],
+                grid: &gc,
+            },
+            r,
+        );
         for i in 0..pos.len() {
             let cl = &nl.chunks[i / CHUNK];
             let k = i % CHUNK;

@@ -3,10 +3,10 @@
 
 use crate::fine::momentum::Load;
 use crate::guard::Blowup;
-use crate::math::{Real, Vect};
+use crate::math::{to3, Real, Vect};
 use crate::observe::{self, ProbeValue, RunoutSpec};
 use crate::scene::Scene;
-use crate::stepper::{StepParams, StepStats, Stepper};
+use crate::stepper::{choose_step, StepParams, StepStats, Stepper};
 use crate::world::{BuildError, World};
 
 /// Barrier load over a sampling interval.
@@ -23,6 +23,27 @@ pub struct BarrierSample {
     pub last_force: [Real; 3],
 }
 
+/// State of one coarse grain (3D layout; z = 0 in 2D, rotation about z).
+#[derive(Clone, Debug, Default)]
+pub struct BodySample {
+    pub name: String,
+    /// Centre of mass (m).
+    pub position: [Real; 3],
+    /// Orientation quaternion (w, x, y, z).
+    pub orientation: [Real; 4],
+    pub velocity: [Real; 3],
+    pub angular_velocity: [Real; 3],
+    /// Force from fine grains and contacts over the last fine step, gravity excluded
+    /// (N, or N/m in 2D).
+    pub force: [Real; 3],
+    /// Torque about the centre of mass (N·m, or N·m/m in 2D).
+    pub torque: [Real; 3],
+    /// The fine grains' part of `force` (Eq. 50).
+    pub fine_force: [Real; 3],
+    /// Active contacts in the last sub-step.
+    pub contacts: usize,
+}
+
 /// Observations at one sampling time.
 #[derive(Clone, Debug, Default)]
 pub struct Sample {
@@ -35,6 +56,23 @@ pub struct Sample {
     pub max_speed: Real,
     pub barriers: Vec<BarrierSample>,
     pub probes: Vec<(String, ProbeValue)>,
+    /// Coarse sub-steps so far and κ of the last step.
+    pub steps_coarse: u64,
+    pub kappa: usize,
+    /// Fine step Δt_f (Eq. 51) and coarse sub-step Δt_c of the last step.
+    pub dt_fine: Real,
+    pub dt_coarse: Real,
+    /// Kinetic energy of the coarse grains (J, or J/m in 2D).
+    pub coarse_kinetic_energy: Real,
+    /// Elastic strain energy of elastic coarse grains, Eq. (39).
+    pub strain_energy: Real,
+    /// Energy stored in the contact springs.
+    pub contact_energy: Real,
+    /// Potential energy of the coarse grains in gravity.
+    pub coarse_potential_energy: Real,
+    /// Total linear momentum of fine and coarse grains.
+    pub momentum: [Real; 3],
+    pub bodies: Vec<BodySample>,
 }
 
 /// A particle snapshot in 3D layout (z = 0 in 2D), for writers.
@@ -51,6 +89,12 @@ pub struct Frame {
     pub material: Vec<u16>,
     pub wall_pos: Vec<[f32; 3]>,
     pub wall_object: Vec<u16>,
+    /// Coarse-grain particles.
+    pub coarse_pos: Vec<[f32; 3]>,
+    pub coarse_vel: Vec<[f32; 3]>,
+    pub coarse_body: Vec<u32>,
+    /// Force from the fine grains on each coarse particle (Eq. 50).
+    pub coarse_fine_force: Vec<[f32; 3]>,
 }
 
 /// One simulation in `D` dimensions.
@@ -62,6 +106,11 @@ pub struct Simulation<const D: usize> {
     peak: Vec<Real>,
     interval_start: Real,
     last_dt: Real,
+    /// No step is longer than this (the scene's output interval).
+    dt_cap: Real,
+    /// Stable Δt_f (Eq. 51) and Δt_c (Eq. 52 and contacts) of the last step.
+    last_dt_f: Real,
+    last_dt_c: Real,
 }
 
 fn arr<const D: usize>(v: &Vect<D>) -> [f32; 3] {
@@ -75,7 +124,7 @@ fn arr<const D: usize>(v: &Vect<D>) -> [f32; 3] {
 impl<const D: usize> Simulation<D> {
     pub fn new(scene: &Scene) -> Result<Self, BuildError> {
         let world = World::<D>::build(scene)?;
-        let stepper = Stepper::new(&world, StepParams::from_scene(scene));
+        let stepper = Stepper::new(&world, scene, StepParams::from_scene(scene));
         let origin = scene.observe.runout_origin.clone().unwrap_or_else(|| {
             // default: the horizontal centre of the initial particles (3D) or min x (2D)
             let n = world.fine.len().max(1) as Real;
@@ -104,6 +153,9 @@ impl<const D: usize> Simulation<D> {
             peak: vec![0.0; nb],
             interval_start: 0.0,
             last_dt: 0.0,
+            dt_cap: scene.simulation.output_interval,
+            last_dt_f: 0.0,
+            last_dt_c: 0.0,
         })
     }
 
@@ -113,8 +165,13 @@ impl<const D: usize> Simulation<D> {
 
     /// Take one step no longer than `max_dt`.
     pub fn step(&mut self, max_dt: Real) -> Result<StepStats, Blowup> {
-        let dt = self.stepper.stable_dt(&self.world).min(max_dt);
-        let st = self.stepper.step(&mut self.world, dt)?;
+        let max_dt = max_dt.min(self.dt_cap);
+        let dt_f = self.stepper.stable_dt(&self.world);
+        let dt_c = self.stepper.coarse_dt(&self.world, dt_f.min(max_dt));
+        let (dt, kappa) = choose_step(dt_f, dt_c, max_dt, self.stepper.params.scheme);
+        self.last_dt_f = dt_f;
+        self.last_dt_c = dt_c;
+        let st = self.stepper.step(&mut self.world, dt, kappa)?;
         for (b, l) in self.stepper.step_loads.iter().enumerate() {
             self.impulse[b].force += l.force * dt;
             self.impulse[b].moment += l.moment * dt;
@@ -171,6 +228,49 @@ impl<const D: usize> Simulation<D> {
                 )
             })
             .collect();
+        let bodies = w
+            .coarse
+            .bodies
+            .iter()
+            .map(|b| {
+                let q = b.orientation.quaternion();
+                BodySample {
+                    name: b.name.clone(),
+                    position: b.com.into(),
+                    orientation: [q.w, q.i, q.j, q.k],
+                    velocity: b.vel.into(),
+                    angular_velocity: b.omega.into(),
+                    force: b.force.into(),
+                    torque: b.torque.into(),
+                    fine_force: b.fine_force.into(),
+                    contacts: b.contacts,
+                }
+            })
+            .collect();
+        let cp = &w.coarse.particles;
+        let coarse_ke: Real = (0..cp.len())
+            .map(|i| 0.5 * cp.mass[i] * cp.vel[i].norm_squared())
+            .sum();
+        let coarse_pe: Real = (0..cp.len())
+            .map(|i| -cp.mass[i] * cp.pos[i].dot(&w.gravity))
+            .sum();
+        let mut momentum = nalgebra::Vector3::<Real>::zeros();
+        for i in 0..w.fine.len() {
+            momentum += to3(&w.fine.vel[i]) * w.fine.mass[i];
+        }
+        for i in 0..cp.len() {
+            momentum += to3(&cp.vel[i]) * cp.mass[i];
+        }
+        let (steps_coarse, kappa, strain, contact) = match &self.stepper.coarse {
+            Some(c) => (
+                c.steps,
+                c.kappa,
+                c.tlsph
+                    .strain_energy(cp, &w.coarse.bodies, &w.coarse.solids, w.dp.powi(D as i32)),
+                c.contacts.energy,
+            ),
+            None => (0, 1, 0.0, 0.0),
+        };
         let s = Sample {
             time: w.time,
             steps: w.steps,
@@ -181,6 +281,16 @@ impl<const D: usize> Simulation<D> {
             max_speed: self.stepper.vmax(),
             barriers,
             probes,
+            steps_coarse,
+            kappa,
+            dt_fine: self.last_dt_f,
+            dt_coarse: self.last_dt_c,
+            coarse_kinetic_energy: coarse_ke,
+            strain_energy: strain,
+            contact_energy: contact,
+            coarse_potential_energy: coarse_pe,
+            momentum: momentum.into(),
+            bodies,
         };
         for l in &mut self.impulse {
             *l = Load::default();
@@ -207,6 +317,10 @@ impl<const D: usize> Simulation<D> {
             material: f.material.clone(),
             wall_pos: self.world.walls.pos.iter().map(arr).collect(),
             wall_object: self.world.walls.object.clone(),
+            coarse_pos: self.world.coarse.particles.pos.iter().map(arr).collect(),
+            coarse_vel: self.world.coarse.particles.vel.iter().map(arr).collect(),
+            coarse_body: self.world.coarse.particles.body.clone(),
+            coarse_fine_force: self.world.coarse.particles.f_fine.iter().map(arr).collect(),
         }
     }
 }

@@ -1,17 +1,19 @@
 //! The fine-grain step: position-based Verlet (Eqs. 54–56) assembled from the stages
 //! this scene needs. The stepper holds scratch memory; the world holds state.
 
+use crate::coarse::coupling::{self, CoarseSource, Coupling};
+use crate::coarse::stepper::CoarseStepper;
 use crate::fine::artificial_stress::gray2001_artificial_stress;
 use crate::fine::continuity::{continuity_sweep, ContinuityOut, ContinuityParams};
-use crate::fine::momentum::{momentum_sweep, ArtificialStress, Load, MomentumParams};
+use crate::fine::momentum::{momentum_sweep, ArtificialStress, CoarseSide, Load, MomentumParams};
 use crate::fine::riemann::Riemann;
 use crate::fine::source::{drift_and_pack, pack, update_velocity, Source};
 use crate::fine::state::PermuteScratch;
 use crate::guard::{Blowup, ChunkFailure};
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Sym, Vect};
-use crate::neighbors::{CellGrid, NeighborLists, CHUNK};
-use crate::scene::Scene;
+use crate::neighbors::{Binned, CellGrid, NeighborLists, CHUNK};
+use crate::scene::{Scene, TimeStepping};
 use crate::timers::{Stage, StageTimers};
 use crate::world::{geostatic_tensor, World};
 use rayon::prelude::*;
@@ -33,6 +35,12 @@ pub struct StepParams {
     pub max_speed: Real,
     /// Artificial stress (n, ε), only with cohesive materials.
     pub artificial: Option<(Real, Real)>,
+    /// Coulomb coefficient between coarse and fine grains, μ_cf.
+    pub mu_cf: Real,
+    /// Coulomb coefficient of fine grains on walls (0: off).
+    pub wall_friction: Real,
+    /// Multi-rate (κ coarse sub-steps per fine step) or single-rate.
+    pub scheme: TimeStepping,
 }
 
 impl StepParams {
@@ -49,6 +57,9 @@ impl StepParams {
             max_speed: s.simulation.max_speed,
             artificial: cohesive
                 .then_some((n.artificial_stress_exponent, n.artificial_stress_epsilon)),
+            mu_cf: s.contact.mu_cf,
+            wall_friction: n.wall_friction,
+            scheme: s.simulation.time_stepping,
         }
     }
 }
@@ -58,6 +69,28 @@ impl StepParams {
 pub struct StepStats {
     pub vmax: Real,
     pub rebuilt: bool,
+    /// Coarse sub-steps in this step.
+    pub kappa: usize,
+}
+
+/// Step size and sub-step count of one fine step (Eqs. 51–53).
+///
+/// Multi-rate: Δt = min(Δt_f, `max_dt`) and κ = ⌈Δt/Δt_c⌉; when the two steps are
+/// within 25 % of each other, κ = 1 and Δt = min(Δt, Δt_c) instead. Single-rate:
+/// Δt = min(Δt_f, Δt_c, `max_dt`), κ = 1 (Eq. 53). Without fine grains the step is the
+/// coarse one.
+pub fn choose_step(dt_f: Real, dt_c: Real, max_dt: Real, scheme: TimeStepping) -> (Real, usize) {
+    let single = dt_f.min(dt_c).min(max_dt);
+    if scheme == TimeStepping::SingleRate || !dt_f.is_finite() || !dt_c.is_finite() {
+        return (single, 1);
+    }
+    let dt = dt_f.min(max_dt);
+    let r = dt / dt_c;
+    if r <= 1.25 {
+        (single, 1)
+    } else {
+        (dt, r.ceil() as usize)
+    }
 }
 
 /// Scratch memory and stage assembly for the fine step.
@@ -90,10 +123,17 @@ pub struct Stepper<const D: usize> {
     /// Stages left out for this scene, with the reason.
     pub skipped: Vec<(String, String)>,
     failures: Vec<(Real, Real, ChunkFailure)>,
+    /// Coarse grains: sub-stepper (None without bodies).
+    pub coarse: Option<CoarseStepper<D>>,
+    csrc: Vec<CoarseSource<D>>,
+    coarse_grid: CellGrid<D>,
+    coarse_at_build: Vec<Vect<D>>,
+    reactions: Vec<Vec<(u32, Vect<D>)>>,
+    coarse_vol: Real,
 }
 
 impl<const D: usize> Stepper<D> {
-    pub fn new(world: &World<D>, params: StepParams) -> Self {
+    pub fn new(world: &World<D>, scene: &Scene, params: StepParams) -> Self {
         let kernel = WendlandC2::new(params.h, D);
         let g = world.gravity.norm();
         let up = if g > 0.0 {
@@ -125,9 +165,24 @@ impl<const D: usize> Stepper<D> {
         } else if world.walls.barriers.is_empty() {
             skipped.push(("barrier_loads".into(), "scene has no barriers".into()));
         }
-        skipped.push(("coarse_grains".into(), "scene has no coarse grains".into()));
-        skipped.push(("coupling".into(), "no coarse grains to couple".into()));
-        skipped.push(("coarse_substeps".into(), "no coarse grains (κ = 1)".into()));
+        let coarse = (!world.coarse.is_empty())
+            .then(|| CoarseStepper::new(&world.coarse, scene, &world.gravity));
+        if coarse.is_none() {
+            skipped.push((
+                "coarse_substeps".into(),
+                "scene has no coarse grains".into(),
+            ));
+            skipped.push(("contact".into(), "scene has no coarse grains".into()));
+        }
+        if coarse.is_none() || world.fine.is_empty() {
+            skipped.push((
+                "coupling".into(),
+                "needs both fine and coarse grains".into(),
+            ));
+        }
+        if world.fine.is_empty() {
+            skipped.push(("fine_grains".into(), "scene has no fine grains".into()));
+        }
         let nb = world.walls.barriers.len();
         Stepper {
             fine_grid: CellGrid::new(&world.domain.0, &world.domain.1, cell),
@@ -155,11 +210,34 @@ impl<const D: usize> Stepper<D> {
             timers: StageTimers::default(),
             skipped,
             failures: Vec::new(),
+            coarse,
+            csrc: Vec::new(),
+            coarse_grid: CellGrid::new(&world.domain.0, &world.domain.1, cell),
+            coarse_at_build: Vec::new(),
+            reactions: Vec::new(),
+            coarse_vol: world.dp.powi(D as i32),
+        }
+    }
+
+    /// Find the coarse contact candidates for a step of about `dt`, then return Δt_c
+    /// (infinite without coarse grains).
+    pub fn coarse_dt(&mut self, world: &World<D>, dt: Real) -> Real {
+        match &mut self.coarse {
+            Some(c) => {
+                let t = std::time::Instant::now();
+                c.prepare(&world.coarse, &world.walls, dt);
+                self.timers.add(Stage::Contact, t.elapsed().as_secs_f64());
+                c.stable_dt(&world.coarse)
+            }
+            None => Real::INFINITY,
         }
     }
 
     /// Δt of Eq. (51) for the current state: CFL · h / (c0 + |v|max).
     pub fn stable_dt(&self, world: &World<D>) -> Real {
+        if world.fine.is_empty() {
+            return Real::INFINITY;
+        }
         self.params.cfl * self.params.h / (world.max_c0() + self.vmax)
     }
 
@@ -187,9 +265,22 @@ impl<const D: usize> Stepper<D> {
         if self.lists.chunks.is_empty() && !world.fine.is_empty() {
             return true;
         }
+        if world.fine.is_empty() {
+            return false;
+        }
         let fine = self.max_disp + 0.5 * dt * self.vmax;
         let wall = world.walls.max_displacement_since(&self.wall_disp_at_build);
-        2.0 * fine > self.params.skin || fine + wall > self.params.skin
+        let coarse = self
+            .csrc
+            .iter()
+            .zip(&self.coarse_at_build)
+            .map(|(c, b)| (c.pos - b).norm_squared())
+            .fold(0.0, Real::max)
+            .sqrt();
+        2.0 * fine > self.params.skin
+            || fine + wall > self.params.skin
+            || fine + coarse > self.params.skin
+            || self.coarse_at_build.len() != self.csrc.len()
     }
 
     /// Re-sort particles by cell and rebuild the Verlet lists.
@@ -214,22 +305,52 @@ impl<const D: usize> Stepper<D> {
         self.wall_disp_at_build.clear();
         self.wall_disp_at_build
             .extend(world.walls.objects.iter().map(|o| o.displacement));
+        self.coarse_at_build.clear();
+        self.coarse_at_build.extend(self.csrc.iter().map(|c| c.pos));
+        self.coarse_grid.bin(&self.coarse_at_build);
         let radius = self.kernel.cutoff + self.params.skin;
         self.lists.build(
             &world.fine.pos,
             &self.fine_grid,
-            &world.walls.pos,
-            &self.wall_grid,
+            Binned {
+                pos: &world.walls.pos,
+                grid: &self.wall_grid,
+            },
+            Binned {
+                pos: &self.coarse_at_build,
+                grid: &self.coarse_grid,
+            },
             radius,
         );
+        self.reactions
+            .resize_with(self.lists.chunks.len(), Vec::new);
         self.max_disp = 0.0;
     }
 
-    /// Advance the world by one fine step of size `dt`.
-    pub fn step(&mut self, world: &mut World<D>, dt: Real) -> Result<StepStats, Blowup> {
+    /// Advance the world by one fine step of size `dt` with `kappa` coarse sub-steps.
+    pub fn step(
+        &mut self,
+        world: &mut World<D>,
+        dt: Real,
+        kappa: usize,
+    ) -> Result<StepStats, Blowup> {
         let n = world.fine.len();
         let half = 0.5 * dt;
         world.walls.set_time(world.time);
+        if let Some(c) = self.coarse.as_ref().filter(|_| n > 0) {
+            let t = std::time::Instant::now();
+            c.update_normals(&mut world.coarse);
+            let wc = &world.coarse;
+            coupling::pack(
+                &wc.particles,
+                &wc.bodies,
+                &wc.solids,
+                dt,
+                self.coarse_vol,
+                &mut self.csrc,
+            );
+            self.timers.add(Stage::Coupling, t.elapsed().as_secs_f64());
+        }
         // Eq. (54): positions and density to the half step, packed for the sweeps.
         {
             let (fine, mats, src) = (&mut world.fine, &world.materials, &mut self.src);
@@ -281,13 +402,29 @@ impl<const D: usize> Stepper<D> {
             gravity: world.gravity,
             dt,
             artificial,
+            wall_friction: self.params.wall_friction,
         };
         {
             let (fine, walls, lists, art) = (&world.fine, &world.walls, &self.lists, &self.art);
             let (vel_new, loads, src) = (&mut self.vel_new, &mut self.chunk_loads, &mut self.src);
+            let side = CoarseSide {
+                src: &self.csrc,
+                coupling: Coupling {
+                    kernel: self.kernel,
+                    riemann: mprm.riemann,
+                    mu_cf: self.params.mu_cf,
+                    dt,
+                },
+                reactions: &mut self.reactions,
+            };
             self.timers.time(Stage::Momentum, || {
-                momentum_sweep(fine, src, walls, lists, art, &mprm, vel_new, loads)
+                momentum_sweep(fine, src, walls, lists, art, &mprm, vel_new, loads, side)
             });
+        }
+        if self.coarse.is_some() {
+            let t = std::time::Instant::now();
+            coupling::gather_reactions(&self.reactions, &mut world.coarse.particles.f_fine);
+            self.timers.add(Stage::Coupling, t.elapsed().as_secs_f64());
         }
         std::mem::swap(&mut world.fine.vel, &mut self.vel_new);
         for (b, l) in self.step_loads.iter_mut().enumerate() {
@@ -314,9 +451,10 @@ impl<const D: usize> Stepper<D> {
                 plastic_strain: &mut self.eps_new,
             };
             let src = &mut self.src;
+            let csrc = &self.csrc;
             self.timers.time(Stage::ContinuityStress, || {
                 update_velocity(&fine.vel, src);
-                continuity_sweep(fine, src, &world.materials, walls, lists, &cprm, out)
+                continuity_sweep(fine, src, &world.materials, walls, lists, &cprm, csrc, out)
             });
         }
         std::mem::swap(&mut world.fine.drho, &mut self.drho_new);
@@ -367,6 +505,20 @@ impl<const D: usize> Stepper<D> {
                 .collect_into_vec(failures);
             world.walls.advance(half);
         });
+        if let Some(c) = &mut self.coarse {
+            let t = std::time::Instant::now();
+            let (step, time) = (world.steps + 1, world.time + dt);
+            c.advance(&mut world.coarse, &world.walls, dt, kappa, step, time)?;
+            let secs = t.elapsed().as_secs_f64();
+            let contact = std::mem::take(&mut c.contact_secs);
+            self.timers.add(Stage::Contact, contact);
+            self.timers.add(Stage::CoarseSubsteps, secs - contact);
+            for (b, bar) in world.walls.barriers.iter().enumerate() {
+                if let Some(l) = c.wall_loads.get(bar.object) {
+                    self.step_loads[b].add(l);
+                }
+            }
+        }
         world.time += dt;
         world.steps += 1;
         let mut vmax2: Real = 0.0;
@@ -380,6 +532,7 @@ impl<const D: usize> Stepper<D> {
                     step: world.steps,
                     time: world.time,
                     particle: f.id[*i],
+                    body: None,
                     position: f.pos[*i].iter().copied().collect(),
                     quantity: q.to_string(),
                     value: *val,
@@ -392,6 +545,7 @@ impl<const D: usize> Stepper<D> {
         Ok(StepStats {
             vmax: self.vmax,
             rebuilt,
+            kappa,
         })
     }
 }

@@ -11,17 +11,23 @@ pub enum Stage {
     Momentum,
     ContinuityStress,
     Finalize,
+    Coupling,
+    Contact,
+    CoarseSubsteps,
     Observe,
 }
 
 impl Stage {
-    pub const ALL: [Stage; 7] = [
+    pub const ALL: [Stage; 10] = [
         Stage::Drift,
         Stage::Neighbors,
         Stage::ArtificialStress,
         Stage::Momentum,
         Stage::ContinuityStress,
         Stage::Finalize,
+        Stage::Coupling,
+        Stage::Contact,
+        Stage::CoarseSubsteps,
         Stage::Observe,
     ];
     pub fn name(self) -> &'static str {
@@ -32,6 +38,9 @@ impl Stage {
             Stage::Momentum => "momentum",
             Stage::ContinuityStress => "continuity_stress",
             Stage::Finalize => "finalize_guard",
+            Stage::Coupling => "coupling",
+            Stage::Contact => "contact",
+            Stage::CoarseSubsteps => "coarse_substeps",
             Stage::Observe => "observe",
         }
     }
@@ -40,7 +49,7 @@ impl Stage {
 /// Accumulated seconds per stage.
 #[derive(Clone, Debug, Default)]
 pub struct StageTimers {
-    secs: [f64; 7],
+    secs: [f64; 10],
 }
 
 impl StageTimers {

@@ -1,6 +1,7 @@
 //! Wall boundaries: layers of dummy particles (seed 000 §2.4) grouped into objects.
 //! An object is a wall, a barrier or one face of a container; barriers report loads.
 
+use crate::geometry::Shape;
 use crate::math::{Real, Vect};
 
 /// One rigid wall object.
@@ -17,6 +18,9 @@ pub struct WallObject<const D: usize> {
     pub barrier: Option<usize>,
     /// Rigid displacement since the start (m).
     pub displacement: Vect<D>,
+    /// The solid shape at t = 0 (coarse grains contact it exactly; shifted by
+    /// `displacement`).
+    pub shape: Option<Shape<D>>,
 }
 
 /// A barrier: a wall object whose load is summed every step.

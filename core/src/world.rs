@@ -1,5 +1,6 @@
 //! The simulated world built from a scene: particles, materials, walls and probes.
 
+use crate::coarse::build::Coarse;
 use crate::fine::material::FineMaterial;
 use crate::fine::state::FineParticles;
 use crate::geometry::Shape;
@@ -20,6 +21,8 @@ pub struct World<const D: usize> {
     pub fine: FineParticles<D>,
     pub materials: Vec<FineMaterial>,
     pub walls: Walls<D>,
+    /// Coarse grains (boulders): bodies, their particles and solids.
+    pub coarse: Coarse<D>,
     pub gravity: Vect<D>,
     pub dp: Real,
     pub time: Real,
@@ -114,7 +117,8 @@ impl<const D: usize> World<D> {
                           pts: Vec<Vect<D>>,
                           vel: Vect<D>,
                           window: (Real, Real),
-                          barrier: Option<Vect<D>>| {
+                          barrier: Option<Vect<D>>,
+                          shape: Shape<D>| {
             let o = walls.objects.len() as u16;
             let b = barrier.map(|reference| {
                 walls.barriers.push(Barrier {
@@ -131,6 +135,7 @@ impl<const D: usize> World<D> {
                 window,
                 barrier: b,
                 displacement: Vect::<D>::zeros(),
+                shape: Some(shape),
             });
             for p in pts {
                 walls.pos.push(p);
@@ -174,6 +179,7 @@ impl<const D: usize> World<D> {
                     vel,
                     window,
                     is_barrier.then_some(reference),
+                    shape,
                 );
             }
         }
@@ -210,6 +216,7 @@ impl<const D: usize> World<D> {
                     };
                     let pts = shape.fill(dp);
                     let name = format!("{}.{}", c.name, face_name(&face, D));
+                    let solid = shape.clone();
                     let mut reference = (lo + hi) * 0.5;
                     reference[a] = if sign < 0.0 { lo[a] } else { hi[a] };
                     add_object(
@@ -219,15 +226,25 @@ impl<const D: usize> World<D> {
                         Vect::<D>::zeros(),
                         (Real::NEG_INFINITY, Real::INFINITY),
                         c.report_loads.then_some(reference),
+                        solid,
                     );
                 }
             }
         }
 
+        let n = &scene.numerics;
+        let trim = (2.0 * n.smoothing_ratio + n.neighbor_skin + 1.0) * dp;
+        let coarse = Coarse::<D>::build(scene, trim)?;
+
         // Domain: everything, plus a margin for the flow to spread into.
         let mut lo = Vect::<D>::repeat(Real::INFINITY);
         let mut hi = Vect::<D>::repeat(Real::NEG_INFINITY);
-        for p in fine.pos.iter().chain(walls.pos.iter()) {
+        for p in fine
+            .pos
+            .iter()
+            .chain(walls.pos.iter())
+            .chain(coarse.particles.pos.iter())
+        {
             lo = lo.inf(p);
             hi = hi.sup(p);
         }
@@ -246,6 +263,7 @@ impl<const D: usize> World<D> {
             fine,
             materials,
             walls,
+            coarse,
             gravity,
             dp,
             time: 0.0,
@@ -256,7 +274,7 @@ impl<const D: usize> World<D> {
         })
     }
 
-    /// Largest sound speed over materials.
+    /// Largest sound speed over fine materials.
     pub fn max_c0(&self) -> Real {
         self.materials.iter().map(|m| m.c0).fold(0.0, Real::max)
     }

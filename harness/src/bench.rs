@@ -35,8 +35,47 @@ enum Metric {
     Runout(f64),
     /// Mid-depth vertical stress against −ρ g H/2 (Pa) from the probe `mid`.
     ProbeSigmaYy(f64),
+    /// Crater depth of the first body (ball) against Eq. (62) of seed 000.
+    Crater(CraterRef),
     /// Throughput only (short run).
     Speed,
+}
+
+/// Eq. (62): D = (0.14/μ) (ρ_b/ρ_g)^½ (2R)^⅔ (H + D)^⅓, with the initial bed surface.
+#[derive(Clone, Copy)]
+struct CraterRef {
+    radius: f64,
+    mu: f64,
+    height: f64,
+    surface: f64,
+}
+
+impl CraterRef {
+    const RHO_BALL: f64 = 2200.0;
+    const RHO_BED: f64 = 1510.0;
+
+    /// Fixed point of Eq. (62) (a contraction: D^⅓ grows slowly).
+    fn depth(&self) -> f64 {
+        let a = 0.14 / self.mu
+            * (Self::RHO_BALL / Self::RHO_BED).sqrt()
+            * (2.0 * self.radius).powf(2.0 / 3.0);
+        let mut d = 0.0;
+        for _ in 0..100 {
+            d = a * (self.height + d).cbrt();
+        }
+        d
+    }
+
+    /// Scene overrides of this run.
+    fn overrides(&self) -> Vec<String> {
+        let v0 = (2.0 * 9.81 * self.height).sqrt();
+        vec![
+            format!("bodies.0.shape.radius={}", self.radius),
+            format!("bodies.0.shape.center.2={}", self.surface + self.radius),
+            format!("bodies.0.velocity.2={}", -v0),
+            format!("materials.0.friction_angle={}", self.mu.atan().to_degrees()),
+        ]
+    }
 }
 
 struct Case {
@@ -104,6 +143,68 @@ fn cases() -> Vec<Case> {
         tolerance: Some(0.03),
         note: "σ_v = −ρ g (H − z) at mid-depth",
     });
+    for radius in [0.0125, 0.02] {
+        for mu in [0.3, 0.5] {
+            for height in [0.05, 0.1, 0.2] {
+                let r = CraterRef {
+                    radius,
+                    mu,
+                    height,
+                    surface: 0.1,
+                };
+                v.push(Case {
+                    name: format!("crater_R{radius}_mu{mu}_H{height}"),
+                    scene: "impact_crater.toml",
+                    levels: vec![("dp=4mm".into(), vec!["simulation.dp=0.004".into()])],
+                    common: r.overrides(),
+                    metric: Metric::Crater(r),
+                    tolerance: Some(0.15),
+                    note: "Uehara et al. 2003, seed 000 Eq. (62); grid mean within 7 %",
+                });
+            }
+        }
+    }
+    let crater = CraterRef {
+        radius: 0.02,
+        mu: 0.3,
+        height: 0.2,
+        surface: 0.1,
+    };
+    for (name, over, note) in [
+        (
+            "crater_schemes",
+            "simulation.time_stepping",
+            "multi-rate against single-rate, seed 000 Table 3 (6.5× at κ = 9, dp = 4 mm)",
+        ),
+        (
+            "crater_models",
+            "bodies.0.model",
+            "rigid against elastic ball: depth within 3 %",
+        ),
+    ] {
+        let vals: [&str; 2] = if name == "crater_schemes" {
+            ["multi-rate", "single-rate"]
+        } else {
+            ["elastic", "rigid"]
+        };
+        v.push(Case {
+            name: name.into(),
+            scene: "impact_crater.toml",
+            levels: vals
+                .iter()
+                .map(|x| {
+                    (
+                        x.to_string(),
+                        vec!["simulation.dp=0.004".into(), format!("{over}=\"{x}\"")],
+                    )
+                })
+                .collect(),
+            common: crater.overrides(),
+            metric: Metric::Crater(crater),
+            tolerance: Some(0.15),
+            note,
+        });
+    }
     v.push(Case {
         name: "speed_2d".into(),
         scene: "column_collapse_2d.toml",
@@ -196,6 +297,12 @@ pub fn bench(a: &BenchArgs) -> Result<ExitCode> {
                         .map(|p| p.1.stress.0[1]),
                     Some(r),
                 ),
+                Metric::Crater(r) => (
+                    last.bodies
+                        .first()
+                        .map(|b| r.surface - (b.position[2] - r.radius)),
+                    Some(r.depth()),
+                ),
                 Metric::Speed => (None, None),
             };
             let err = match (value, reference) {
@@ -235,6 +342,8 @@ pub fn bench(a: &BenchArgs) -> Result<ExitCode> {
                 "wall_time_s": rep.wall_time, "particle_steps_per_s": rep.particle_steps_per_s,
                 "stages": stages, "value": value, "reference": reference, "rel_error": err,
                 "tolerance": c.tolerance, "status": rep.summary["status"],
+                "steps_coarse": rep.summary["steps_coarse"], "kappa": rep.summary["kappa"],
+                "dt_fine": rep.summary["dt_fine"], "dt_coarse": rep.summary["dt_coarse"],
             }));
         }
         if !pts.is_empty() {
@@ -244,9 +353,20 @@ pub fn bench(a: &BenchArgs) -> Result<ExitCode> {
             });
         }
     }
+    let comparisons = compare(&records);
+    for line in comparisons.iter().filter_map(|c| c["text"].as_str()) {
+        println!("{line}");
+    }
+    if comparisons
+        .iter()
+        .any(|c| c["pass"].as_bool() == Some(false))
+    {
+        failed = true;
+    }
     let doc = json!({
         "threads": rayon::current_num_threads(),
         "runs": records,
+        "comparisons": comparisons,
     });
     let jpath = a.out.join("bench.json");
     std::fs::write(&jpath, serde_json::to_string_pretty(&doc)?)?;
@@ -294,4 +414,90 @@ fn print_stages(stages: &Value, wall: f64) {
             .collect();
         println!("{:<27} stages: {}", "", parts.join(", "));
     }
+}
+
+/// Cross-run checks: the crater grid mean, multi-rate against single-rate, rigid
+/// against elastic.
+fn compare(records: &[Value]) -> Vec<Value> {
+    let mut out = Vec::new();
+    let find = |case: &str, level: &str| {
+        records
+            .iter()
+            .find(|r| r["case"] == case && r["level"] == level)
+    };
+    let grid: Vec<f64> = records
+        .iter()
+        .filter(|r| {
+            r["case"]
+                .as_str()
+                .is_some_and(|c| c.starts_with("crater_R"))
+        })
+        .filter_map(|r| r["rel_error"].as_f64())
+        .collect();
+    if !grid.is_empty() {
+        let mean = grid.iter().sum::<f64>() / grid.len() as f64;
+        let full = grid.len() == 12;
+        out.push(json!({
+            "name": "crater_grid_mean",
+            "runs": grid.len(),
+            "mean_rel_error": mean,
+            "tolerance": 0.07,
+            "pass": !full || mean <= 0.07,
+            "text": format!(
+                "crater grid: {} run(s), mean |error| {:.2} % (tolerance 7 % over the 12 runs)",
+                grid.len(),
+                100.0 * mean
+            ),
+        }));
+    }
+    if let (Some(m), Some(s)) = (
+        find("crater_schemes", "multi-rate"),
+        find("crater_schemes", "single-rate"),
+    ) {
+        let (dm, ds) = (m["value"].as_f64(), s["value"].as_f64());
+        let (tm, ts) = (m["wall_time_s"].as_f64(), s["wall_time_s"].as_f64());
+        if let (Some(dm), Some(ds), Some(tm), Some(ts)) = (dm, ds, tm, ts) {
+            let diff = (dm - ds).abs() / ds;
+            let speedup = ts / tm;
+            out.push(json!({
+                "name": "multi_rate_vs_single_rate",
+                "depth_multi": dm, "depth_single": ds, "depth_rel_diff": diff,
+                "wall_multi_s": tm, "wall_single_s": ts, "speedup": speedup,
+                "kappa": m["kappa"], "dt_fine": m["dt_fine"], "dt_coarse": m["dt_coarse"],
+                "reference": "seed 000 Table 3: κ = 9, 9.7 min → 1.5 min (6.5×) on 32 cores",
+                "pass": diff <= 0.02 && speedup >= 6.5,
+                "text": format!(
+                    "multi-rate vs single-rate: depth {:.4} vs {:.4} m ({:.2} %, tolerance 2 %), \
+                     wall {:.1} s vs {:.1} s, speed-up {:.2}× (≥ 6.5×), κ = {}, Δt_f = {:.3e} s, Δt_c = {:.3e} s",
+                    dm, ds, 100.0 * diff, tm, ts, speedup, m["kappa"],
+                    m["dt_fine"].as_f64().unwrap_or(0.0), m["dt_coarse"].as_f64().unwrap_or(0.0)
+                ),
+            }));
+        }
+    }
+    if let (Some(e), Some(r)) = (
+        find("crater_models", "elastic"),
+        find("crater_models", "rigid"),
+    ) {
+        if let (Some(de), Some(dr), Some(te), Some(tr)) = (
+            e["value"].as_f64(),
+            r["value"].as_f64(),
+            e["wall_time_s"].as_f64(),
+            r["wall_time_s"].as_f64(),
+        ) {
+            let diff = (dr - de).abs() / de;
+            out.push(json!({
+                "name": "rigid_vs_elastic",
+                "depth_elastic": de, "depth_rigid": dr, "depth_rel_diff": diff,
+                "wall_elastic_s": te, "wall_rigid_s": tr, "speed_ratio": te / tr,
+                "pass": diff <= 0.03,
+                "text": format!(
+                    "rigid vs elastic ball: depth {:.4} vs {:.4} m ({:.2} %, tolerance 3 %), \
+                     wall {:.1} s vs {:.1} s (rigid {:.2}× faster)",
+                    dr, de, 100.0 * diff, tr, te, te / tr
+                ),
+            }));
+        }
+    }
+    out
 }

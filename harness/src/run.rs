@@ -59,7 +59,12 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
     let mut vtk = opts.vtk.then(|| VtkSeries::new(&opts.out, &stem));
     let mut csv = CsvSeries::create(
         &opts.out.join("series.csv"),
-        series::header(dim, &sim.barrier_names(), &sim.probe_names()),
+        series::header(
+            dim,
+            &sim.barrier_names(),
+            &sim.probe_names(),
+            &sim.body_names(),
+        ),
     )?;
 
     let bar = if opts.interactive {
@@ -128,7 +133,10 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
     bar.finish_and_clear();
     let wall = start.elapsed().as_secs_f64();
     let n = sim.fine_count();
-    let pss = n as f64 * sim.steps() as f64 / wall.max(1e-12);
+    // fine particle-steps plus coarse particle-sub-steps
+    let pss = (n as f64 * sim.steps() as f64
+        + sim.coarse_count() as f64 * sim.coarse_steps() as f64)
+        / wall.max(1e-12);
 
     let mut stages = Map::new();
     for (name, secs) in sim.timers().entries() {
@@ -151,6 +159,25 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
             obs.insert(format!("{}.force.{a}", b.name), json!(v));
         }
     }
+    let mut bodies = Map::new();
+    for b in &last.bodies {
+        bodies.insert(
+            b.name.clone(),
+            json!({
+                "position": &b.position[..dim],
+                "orientation_wxyz": b.orientation,
+                "velocity": &b.velocity[..dim],
+                "angular_velocity": if dim == 2 { b.angular_velocity[2..].to_vec() } else { b.angular_velocity.to_vec() },
+                "force": &b.force[..dim],
+                "torque": if dim == 2 { b.torque[2..].to_vec() } else { b.torque.to_vec() },
+                "fine_force": &b.fine_force[..dim],
+                "contacts": b.contacts,
+            }),
+        );
+    }
+    if !last.bodies.is_empty() {
+        write_bodies_json(&opts.out.join("bodies.json"), dim, &samples)?;
+    }
     let summary = json!({
         "scene": opts.scene.display().to_string(),
         "name": sim_spec.name,
@@ -160,6 +187,12 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         "particles": n,
         "wall_particles": sim.wall_count(),
         "steps_fine": sim.steps(),
+        "steps_coarse": last.steps_coarse,
+        "kappa": last.kappa,
+        "dt_fine": last.dt_fine,
+        "dt_coarse": last.dt_coarse,
+        "particles_coarse": sim.coarse_count(),
+        "bodies": bodies,
         "neighbor_builds": sim.neighbor_builds(),
         "memory_bytes_fine": sim.fine_bytes(),
         "bytes_per_particle": sim.fine_bytes() as f64 / n.max(1) as f64,
@@ -185,6 +218,32 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         wall_time: wall,
         particle_steps_per_s: pss,
     })
+}
+
+/// Body time series as JSON: one record per output time and body.
+fn write_bodies_json(path: &Path, dim: usize, samples: &[Sample]) -> Result<()> {
+    let rows: Vec<Value> = samples
+        .iter()
+        .map(|s| {
+            json!({
+                "time": s.time,
+                "kappa": s.kappa,
+                "bodies": s.bodies.iter().map(|b| json!({
+                    "name": b.name,
+                    "position": &b.position[..dim],
+                    "orientation_wxyz": b.orientation,
+                    "velocity": &b.velocity[..dim],
+                    "angular_velocity": b.angular_velocity,
+                    "force": &b.force[..dim],
+                    "torque": b.torque,
+                    "fine_force": &b.fine_force[..dim],
+                    "contacts": b.contacts,
+                })).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    std::fs::write(path, serde_json::to_string(&json!({ "series": rows }))?)?;
+    Ok(())
 }
 
 fn print_table(sim: &AnySimulation, wall: f64, n: usize, pss: f64, out: &Path) {

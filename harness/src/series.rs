@@ -7,7 +7,12 @@ const AX: [&str; 3] = ["x", "y", "z"];
 const SIG: [&str; 6] = ["xx", "yy", "zz", "xy", "xz", "yz"];
 
 /// Column names for a scene of dimension `dim`.
-pub fn header(dim: usize, barriers: &[String], probes: &[String]) -> Vec<String> {
+pub fn header(
+    dim: usize,
+    barriers: &[String],
+    probes: &[String],
+    bodies: &[String],
+) -> Vec<String> {
     let mut h: Vec<String> = [
         "time",
         "steps",
@@ -20,6 +25,21 @@ pub fn header(dim: usize, barriers: &[String], probes: &[String]) -> Vec<String>
     .iter()
     .map(|s| s.to_string())
     .collect();
+    if !bodies.is_empty() {
+        for c in [
+            "kinetic_energy_coarse",
+            "potential_energy_coarse",
+            "strain_energy",
+            "contact_energy",
+            "steps_coarse",
+            "kappa",
+        ] {
+            h.push(c.to_string());
+        }
+        for a in AX.iter().take(dim) {
+            h.push(format!("momentum.{a}"));
+        }
+    }
     for b in barriers {
         for a in AX.iter().take(dim) {
             h.push(format!("{b}.force.{a}"));
@@ -42,7 +62,44 @@ pub fn header(dim: usize, barriers: &[String], probes: &[String]) -> Vec<String>
             h.push(format!("{p}.velocity.{a}"));
         }
     }
+    for b in bodies {
+        for q in ["position", "velocity"] {
+            for a in AX.iter().take(dim) {
+                h.push(format!("{b}.{q}.{a}"));
+            }
+        }
+        for q in ["w", "x", "y", "z"] {
+            h.push(format!("{b}.orientation.{q}"));
+        }
+        rot_cols(&mut h, dim, b, "angular_velocity");
+        for q in ["force", "fine_force"] {
+            for a in AX.iter().take(dim) {
+                h.push(format!("{b}.{q}.{a}"));
+            }
+        }
+        rot_cols(&mut h, dim, b, "torque");
+        h.push(format!("{b}.contacts"));
+    }
     h
+}
+
+/// Rotational columns: z only in 2D.
+fn rot_cols(h: &mut Vec<String>, dim: usize, b: &str, q: &str) {
+    if dim == 2 {
+        h.push(format!("{b}.{q}.z"));
+    } else {
+        for a in AX {
+            h.push(format!("{b}.{q}.{a}"));
+        }
+    }
+}
+
+fn rot_vals(r: &mut Vec<f64>, dim: usize, v: &[f64; 3]) {
+    if dim == 2 {
+        r.push(v[2]);
+    } else {
+        r.extend_from_slice(v);
+    }
 }
 
 /// Values of one row, matching [`header`].
@@ -56,6 +113,17 @@ pub fn row(dim: usize, s: &Sample) -> Vec<f64> {
         s.runout,
         s.max_speed,
     ];
+    if !s.bodies.is_empty() {
+        r.extend_from_slice(&[
+            s.coarse_kinetic_energy,
+            s.coarse_potential_energy,
+            s.strain_energy,
+            s.contact_energy,
+            s.steps_coarse as f64,
+            s.kappa as f64,
+        ]);
+        r.extend_from_slice(&s.momentum[..dim]);
+    }
     for b in &s.barriers {
         r.extend_from_slice(&b.force[..dim]);
         if dim == 2 {
@@ -69,6 +137,16 @@ pub fn row(dim: usize, s: &Sample) -> Vec<f64> {
         r.extend_from_slice(&p.stress.0[..if dim == 2 { 4 } else { 6 }]);
         r.push(-p.stress.trace() / 3.0);
         r.extend_from_slice(&p.velocity[..dim]);
+    }
+    for b in &s.bodies {
+        r.extend_from_slice(&b.position[..dim]);
+        r.extend_from_slice(&b.velocity[..dim]);
+        r.extend_from_slice(&b.orientation);
+        rot_vals(&mut r, dim, &b.angular_velocity);
+        r.extend_from_slice(&b.force[..dim]);
+        r.extend_from_slice(&b.fine_force[..dim]);
+        rot_vals(&mut r, dim, &b.torque);
+        r.push(b.contacts as f64);
     }
     r
 }

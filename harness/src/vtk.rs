@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 pub struct VtkSeries {
     dir: PathBuf,
     stem: String,
-    entries: Vec<(f64, String)>,
+    entries: Vec<(f64, String, Option<String>)>,
 }
 
 struct Arrays {
@@ -150,7 +150,28 @@ impl VtkSeries {
                 w,
             )?;
         }
-        self.entries.push((frame.time, name));
+        let bodies = if frame.coarse_pos.is_empty() {
+            None
+        } else {
+            let bname = format!("{}_bodies_{k:05}.vtu", self.stem);
+            let mut b = Arrays::new();
+            b.push("velocity", "Float32", 3, &bytes_f32_3(&frame.coarse_vel));
+            b.push(
+                "fine_force",
+                "Float32",
+                3,
+                &bytes_f32_3(&frame.coarse_fine_force),
+            );
+            let ids: Vec<u8> = frame
+                .coarse_body
+                .iter()
+                .flat_map(|i| i.to_le_bytes())
+                .collect();
+            b.push("body", "UInt32", 1, &ids);
+            write_vtu(&self.dir.join(&bname), &frame.coarse_pos, b)?;
+            Some(bname)
+        };
+        self.entries.push((frame.time, name, bodies));
         self.write_pvd()
     }
 
@@ -158,11 +179,17 @@ impl VtkSeries {
         let mut s = String::from(
             "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n",
         );
-        for (t, f) in &self.entries {
+        for (t, f, b) in &self.entries {
             let _ = writeln!(
                 s,
                 "    <DataSet timestep=\"{t:.9e}\" group=\"\" part=\"0\" file=\"{f}\"/>"
             );
+            if let Some(b) = b {
+                let _ = writeln!(
+                    s,
+                    "    <DataSet timestep=\"{t:.9e}\" group=\"\" part=\"1\" file=\"{b}\"/>"
+                );
+            }
         }
         s.push_str("  </Collection>\n</VTKFile>\n");
         std::fs::write(self.dir.join(format!("{}.pvd", self.stem)), s)

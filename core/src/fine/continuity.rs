@@ -13,6 +13,7 @@ use super::plasticity::update_stress;
 use super::riemann::{pair_reciprocals, Riemann, Side};
 use super::source::Source;
 use super::state::FineParticles;
+use crate::coarse::coupling::CoarseSource;
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Sym, Vect};
 use crate::neighbors::{NeighborLists, CHUNK};
@@ -41,6 +42,7 @@ pub struct ContinuityOut<'a, const D: usize> {
 }
 
 /// Sweep with v_{n+1} already in `src` (and `p.vel`).
+#[allow(clippy::too_many_arguments)]
 pub fn continuity_sweep<const D: usize>(
     p: &FineParticles<D>,
     src: &[Source<D>],
@@ -48,6 +50,7 @@ pub fn continuity_sweep<const D: usize>(
     walls: &Walls<D>,
     lists: &NeighborLists,
     prm: &ContinuityParams<'_, D>,
+    coarse: &[CoarseSource<D>],
     out: ContinuityOut<'_, D>,
 ) {
     let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
@@ -123,6 +126,21 @@ pub fn continuity_sweep<const D: usize>(
                     let rel = (vi - walls.velocity(w)) * 2.0;
                     let pw = si.p + rhoi * r * prm.gravity.dot(&(-e)).max(0.0);
                     drho += (rel.dot(&e) + (si.p - pw) * 2.0 * si.half_inv_z) * dwv;
+                    grad -= rel * e.transpose() * dwv;
+                }
+                // coarse grains: no-slip mirrors moving with v̄ (Eqs. 48, 60)
+                for &j in &cl.coarse[cl.coff[k] as usize..cl.coff[k + 1] as usize] {
+                    let cj = &coarse[j as usize];
+                    let rij = xi - cj.pos;
+                    let r2 = rij.norm_squared();
+                    if r2 >= cut2 || r2 == 0.0 {
+                        continue;
+                    }
+                    let r = r2.sqrt();
+                    let e = rij * (1.0 / r);
+                    let dwv = prm.kernel.dw(r) * cj.vol;
+                    let rel = (vi - cj.vel) * 2.0;
+                    drho += rel.dot(&e) * dwv;
                     grad -= rel * e.transpose() * dwv;
                 }
                 drho_out[k] = rhoi * drho;

@@ -10,6 +10,7 @@
 use super::riemann::{pair_reciprocals, Riemann, Side};
 use super::source::Source;
 use super::state::FineParticles;
+use crate::coarse::coupling::{CoarseSource, Coupling, FineSide};
 use crate::kernel::WendlandC2;
 use crate::math::{to3, Real, Sym, Vect};
 use crate::neighbors::{NeighborLists, CHUNK};
@@ -48,6 +49,16 @@ pub struct MomentumParams<const D: usize> {
     pub gravity: Vect<D>,
     pub dt: Real,
     pub artificial: Option<ArtificialStress>,
+    /// Coulomb coefficient of fine grains on walls (0: off).
+    pub wall_friction: Real,
+}
+
+/// Coarse grains seen by the fine sweep: their packed records, the coupling law, and
+/// one reaction buffer per chunk that receives `(coarse particle, force)` records.
+pub struct CoarseSide<'a, const D: usize> {
+    pub src: &'a [CoarseSource<D>],
+    pub coupling: Coupling,
+    pub reactions: &'a mut [Vec<(u32, Vect<D>)>],
 }
 
 /// Compute v_{n+1} into `vel_new` and per-chunk barrier loads into `loads`
@@ -62,7 +73,9 @@ pub fn momentum_sweep<const D: usize>(
     prm: &MomentumParams<D>,
     vel_new: &mut [Vect<D>],
     loads: &mut [Load],
+    coarse: CoarseSide<'_, D>,
 ) {
+    let (csrc, coupling) = (coarse.src, coarse.coupling);
     let nbs = walls.barriers.len().max(1);
     let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
     let vw = walls.volume;
@@ -71,11 +84,13 @@ pub fn momentum_sweep<const D: usize>(
         .par_iter()
         .zip(vel_new.par_chunks_mut(CHUNK))
         .zip(loads.par_chunks_mut(nbs))
+        .zip(coarse.reactions.par_iter_mut())
         .enumerate()
-        .for_each(|(c, ((cl, vout), lout))| {
+        .for_each(|(c, (((cl, vout), lout), react))| {
             for l in lout.iter_mut() {
                 *l = Load::default();
             }
+            react.clear();
             for (k, vo) in vout.iter_mut().enumerate() {
                 let i = c * CHUNK + k;
                 let si = &src[i];
@@ -130,6 +145,7 @@ pub fn momentum_sweep<const D: usize>(
                     let nrm = phi.norm();
                     let n = if nrm > 0.0 { phi / nrm } else { phi };
                     let ul = -n.dot(&vi); // Eq. (32)
+                    let share = 1.0 / wl.len() as Real;
                     for &w in wl {
                         let w = w as usize;
                         let rij = xi - walls.pos[w];
@@ -151,13 +167,43 @@ pub fn momentum_sweep<const D: usize>(
                         sstar.0[0] -= pstar;
                         sstar.0[1] -= pstar;
                         sstar.0[2] -= pstar;
-                        let a = sstar.dot_vec(&e) * (inv_rho2 * dw * vw);
+                        let mut a = sstar.dot_vec(&e) * (inv_rho2 * dw * vw);
+                        if prm.wall_friction > 0.0 {
+                            let an = a.dot(&n);
+                            if an > 0.0 {
+                                let vrel = vi - walls.velocity(w);
+                                let vt = vrel - n * vrel.dot(&n);
+                                let s = vt.norm();
+                                if s > 0.0 {
+                                    let mag = (prm.wall_friction * an).min(s / prm.dt * share);
+                                    a -= vt * (mag / s);
+                                }
+                            }
+                        }
                         acc += a;
                         if let Some(b) = walls.objects[walls.object[w] as usize].barrier {
                             let f = to3(&a) * (-p.mass[i]);
                             let arm = to3(&(walls.pos[w] - walls.barriers[b].reference));
                             lout[b].force += f;
                             lout[b].moment += arm.cross(&f);
+                        }
+                    }
+                }
+                let (c0, c1) = (cl.coff[k] as usize, cl.coff[k + 1] as usize);
+                if c1 > c0 {
+                    let fs = FineSide {
+                        pos: xi,
+                        vel: vi,
+                        rho: rhoi,
+                        stress: &p.stress[i],
+                        z: si.z,
+                        inv_c: si.inv_c,
+                    };
+                    let share = 1.0 / (c1 - c0) as Real;
+                    for &j in &cl.coarse[c0..c1] {
+                        if let Some(a) = coupling.acceleration(&fs, &csrc[j as usize], share) {
+                            acc += a;
+                            react.push((j, a * (-p.mass[i])));
                         }
                     }
                 }

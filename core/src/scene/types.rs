@@ -10,9 +10,18 @@ pub struct Scene {
     pub simulation: SimulationSpec,
     #[serde(default)]
     pub numerics: NumericsSpec,
+    #[serde(default)]
     pub materials: Vec<MaterialSpec>,
     #[serde(default)]
     pub regions: Vec<RegionSpec>,
+    /// Coarse-grain (boulder) materials.
+    #[serde(default)]
+    pub solids: Vec<SolidSpec>,
+    /// Coarse grains: rigid or elastic bodies.
+    #[serde(default)]
+    pub bodies: Vec<BodySpec>,
+    #[serde(default)]
+    pub contact: ContactSpec,
     #[serde(default)]
     pub walls: Vec<WallSpec>,
     #[serde(default)]
@@ -59,6 +68,22 @@ pub struct SimulationSpec {
     /// before the run counts as settled. Default 0.1 s.
     #[serde(default = "default_settle_window")]
     pub settle_window: f64,
+    /// `"multi-rate"` (κ coarse sub-steps per fine step, Eqs. 51–60) or `"single-rate"`
+    /// (one Δt = min(Δt_f, Δt_c) for all, Eq. 53). Default multi-rate.
+    #[serde(default)]
+    pub time_stepping: TimeStepping,
+    /// CFL number of the coarse step, Eq. (52). Default 0.4.
+    #[serde(default = "default_cfl")]
+    pub cfl_coarse: f64,
+}
+
+/// Time-stepping scheme of fine and coarse grains.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum TimeStepping {
+    #[default]
+    MultiRate,
+    SingleRate,
 }
 
 fn default_cfl() -> f64 {
@@ -96,6 +121,10 @@ pub struct NumericsSpec {
     /// Layers of dummy wall particles. Default 4.
     #[serde(default = "default_layers")]
     pub wall_layers: usize,
+    /// Coulomb friction coefficient of fine grains sliding on walls, bounding the
+    /// tangential wall force by μ_w times the normal one. Default 0 (seed 000's walls).
+    #[serde(default)]
+    pub wall_friction: f64,
 }
 
 impl Default for NumericsSpec {
@@ -108,6 +137,7 @@ impl Default for NumericsSpec {
             artificial_stress_epsilon: default_as_eps(),
             neighbor_skin: default_skin(),
             wall_layers: default_layers(),
+            wall_friction: 0.0,
         }
     }
 }
@@ -191,6 +221,13 @@ pub enum ShapeSpec {
     },
     /// Sphere (3D) or disc (2D).
     Sphere { center: Vec<f64>, radius: f64 },
+    /// Ring (2D annulus) or hollow ball (3D spherical shell) between `inner_radius` and
+    /// `radius`.
+    Ring {
+        center: Vec<f64>,
+        inner_radius: f64,
+        radius: f64,
+    },
     /// Simple polygon (2D), vertices in order.
     Polygon { vertices: Vec<Vec<f64>> },
     /// A plane through `point` with outward `normal` (pointing into the material side);
@@ -257,4 +294,104 @@ pub struct ObserveSpec {
     /// 2D only: +1 measures towards +x, −1 towards −x. Default +1.
     #[serde(default)]
     pub runout_direction: Option<f64>,
+}
+
+/// `[[solids]]`: a coarse-grain material (Neo-Hookean, Eqs. 39–40; also the contact
+/// stiffness of rigid bodies).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolidSpec {
+    pub name: String,
+    /// Density ρ0 (kg/m³).
+    pub density: f64,
+    /// Young's modulus E (Pa).
+    pub youngs_modulus: f64,
+    /// Poisson's ratio ν.
+    pub poisson_ratio: f64,
+}
+
+/// How a coarse grain deforms.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum BodyModel {
+    /// Total-Lagrangian SPH, Neo-Hookean with Kelvin–Voigt damping (Eqs. 36–47).
+    Elastic,
+    /// Six degrees of freedom (three in 2D), mass and inertia from its particles.
+    Rigid,
+}
+
+/// `[[bodies]]`: one coarse grain (boulder, block, ring), filled with particles.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    pub name: String,
+    /// A `[[solids]]` name.
+    pub material: String,
+    pub model: BodyModel,
+    pub shape: ShapeSpec,
+    /// Rotation of the shape about its centre: an angle in 2D (degrees, counter-clockwise),
+    /// or `[rx, ry, rz]` in 3D (degrees, applied about x, then y, then z). Default none.
+    #[serde(default)]
+    pub rotation: Option<Vec<f64>>,
+    /// Initial velocity (m/s). Default at rest.
+    #[serde(default)]
+    pub velocity: Option<Vec<f64>>,
+    /// Initial angular velocity (rad/s): one value in 2D, three in 3D. Default none.
+    #[serde(default)]
+    pub angular_velocity: Option<Vec<f64>>,
+    /// Rigid bodies only: held in place (still takes loads and contacts). Default false.
+    #[serde(default)]
+    pub fixed: bool,
+}
+
+/// Contact force law between coarse grains, and between coarse grains and walls.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum ContactModel {
+    /// Linear spring–dashpot normal force with a Coulomb-capped tangential spring.
+    #[default]
+    SpringDashpot,
+    /// Hertz normal force (k ∝ √δ) with Mindlin tangential stiffness.
+    HertzMindlin,
+}
+
+/// `[contact]`: contact and coarse–fine friction.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    #[serde(default)]
+    pub model: ContactModel,
+    /// Coulomb friction coefficient between coarse grains, and with walls. Default 0.5.
+    #[serde(default = "default_mu")]
+    pub friction: f64,
+    /// Coefficient of restitution of a binary collision. Default 0.5.
+    #[serde(default = "default_restitution")]
+    pub restitution: f64,
+    /// Normal stiffness override (N/m in 3D, N/m per metre in 2D). Default from the
+    /// solids' Young's moduli: k = E* dp^(d−2).
+    #[serde(default)]
+    pub stiffness: Option<f64>,
+    /// Coulomb friction coefficient between coarse and fine grains, μ_cf. Default 0
+    /// (seed 000's frictionless coupling).
+    #[serde(default)]
+    pub mu_cf: f64,
+}
+
+impl Default for ContactSpec {
+    fn default() -> Self {
+        ContactSpec {
+            model: ContactModel::default(),
+            friction: default_mu(),
+            restitution: default_restitution(),
+            stiffness: None,
+            mu_cf: 0.0,
+        }
+    }
+}
+
+fn default_mu() -> f64 {
+    0.5
+}
+fn default_restitution() -> f64 {
+    0.5
 }

@@ -62,6 +62,20 @@ pub fn validate_shape(path: &str, s: &ShapeSpec, d: usize) -> Check {
             positive(&format!("{path}.radius"), *radius)?;
             positive(&format!("{path}.height"), *height)?;
         }
+        ShapeSpec::Ring {
+            center,
+            inner_radius,
+            radius,
+        } => {
+            vec_len(&format!("{path}.center"), center, d)?;
+            positive(&format!("{path}.inner_radius"), *inner_radius)?;
+            if !(radius.is_finite() && radius > inner_radius) {
+                return fail(
+                    format!("{path}.radius"),
+                    format!("must exceed inner_radius = {inner_radius}, found {radius}"),
+                );
+            }
+        }
         ShapeSpec::Sphere { center, radius } => {
             vec_len(&format!("{path}.center"), center, d)?;
             positive(&format!("{path}.radius"), *radius)?;
@@ -194,8 +208,20 @@ pub fn validate(s: &Scene) -> Check {
         );
     }
 
-    if s.materials.is_empty() {
+    if s.regions.is_empty() && s.bodies.is_empty() {
+        return fail(
+            "regions",
+            "the scene holds nothing to simulate: add [[regions]] (fine grains) or [[bodies]] (coarse grains)",
+        );
+    }
+    if !s.regions.is_empty() && s.materials.is_empty() {
         return fail("materials", "at least one [[materials]] entry is required");
+    }
+    if !(sim.cfl_coarse > 0.0 && sim.cfl_coarse <= 1.0) {
+        return fail(
+            "simulation.cfl_coarse",
+            format!("must lie in (0, 1], found {}", sim.cfl_coarse),
+        );
     }
     let mut names = HashSet::new();
     for (i, m) in s.materials.iter().enumerate() {
@@ -237,9 +263,6 @@ pub fn validate(s: &Scene) -> Check {
         }
     }
 
-    if s.regions.is_empty() {
-        return fail("regions", "at least one [[regions]] entry is required");
-    }
     for (i, r) in s.regions.iter().enumerate() {
         let p = format!("regions[{i}]");
         if !names.contains(r.material.as_str()) {
@@ -331,6 +354,7 @@ pub fn validate(s: &Scene) -> Check {
             }
         }
     }
+    validate_coarse(s, &names)?;
     for (i, pr) in s.probes.iter().enumerate() {
         vec_len(&format!("probes[{i}].position"), &pr.position, d)?;
     }
@@ -344,6 +368,106 @@ pub fn validate(s: &Scene) -> Check {
                 "only for 2D scenes, and must be 1 or -1",
             );
         }
+    }
+    Ok(())
+}
+
+/// Solids, bodies and contact settings.
+fn validate_coarse(s: &Scene, fine_names: &HashSet<&str>) -> Check {
+    let d = s.simulation.dimension;
+    let mut solids = HashSet::new();
+    for (i, m) in s.solids.iter().enumerate() {
+        let p = format!("solids[{i}]");
+        if !solids.insert(m.name.as_str()) || fine_names.contains(m.name.as_str()) {
+            return fail(
+                format!("{p}.name"),
+                format!("duplicate material name `{}`", m.name),
+            );
+        }
+        positive(&format!("{p}.density"), m.density)?;
+        positive(&format!("{p}.youngs_modulus"), m.youngs_modulus)?;
+        if !(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5) {
+            return fail(
+                format!("{p}.poisson_ratio"),
+                format!("must lie in (−1, 0.5), found {}", m.poisson_ratio),
+            );
+        }
+    }
+    let mut names = HashSet::new();
+    for (i, b) in s.bodies.iter().enumerate() {
+        let p = format!("bodies[{i}]");
+        if !names.insert(b.name.as_str()) {
+            return fail(
+                format!("{p}.name"),
+                format!("duplicate body name `{}`", b.name),
+            );
+        }
+        if !solids.contains(b.material.as_str()) {
+            let known: Vec<_> = s.solids.iter().map(|m| m.name.as_str()).collect();
+            let hint = if fine_names.contains(b.material.as_str()) {
+                " (it is a fine-grain [[materials]] entry; bodies take a [[solids]] entry)"
+                    .to_string()
+            } else {
+                String::new()
+            };
+            return fail(
+                format!("{p}.material"),
+                format!(
+                    "unknown solid `{}`{hint} (known solids: {})",
+                    b.material,
+                    if known.is_empty() {
+                        "none".to_string()
+                    } else {
+                        known.join(", ")
+                    }
+                ),
+            );
+        }
+        validate_shape(&format!("{p}.shape"), &b.shape, d)?;
+        if matches!(b.shape, ShapeSpec::Plane { .. }) {
+            return fail(
+                format!("{p}.shape.type"),
+                "a plane cannot be a body; use box, cylinder, sphere or polygon",
+            );
+        }
+        if let Some(r) = &b.rotation {
+            vec_len(&format!("{p}.rotation"), r, if d == 2 { 1 } else { 3 })?;
+        }
+        if let Some(v) = &b.velocity {
+            vec_len(&format!("{p}.velocity"), v, d)?;
+        }
+        if let Some(w) = &b.angular_velocity {
+            vec_len(
+                &format!("{p}.angular_velocity"),
+                w,
+                if d == 2 { 1 } else { 3 },
+            )?;
+        }
+        if b.fixed && b.model == BodyModel::Elastic {
+            return fail(
+                format!("{p}.fixed"),
+                "only rigid bodies can be fixed; use model = \"rigid\" or a wall",
+            );
+        }
+    }
+    let c = &s.contact;
+    if !(c.friction >= 0.0 && c.friction.is_finite()) {
+        return fail(
+            "contact.friction",
+            format!("must be ≥ 0, found {}", c.friction),
+        );
+    }
+    if !(c.mu_cf >= 0.0 && c.mu_cf.is_finite()) {
+        return fail("contact.mu_cf", format!("must be ≥ 0, found {}", c.mu_cf));
+    }
+    if !(c.restitution > 0.0 && c.restitution <= 1.0) {
+        return fail(
+            "contact.restitution",
+            format!("must lie in (0, 1], found {}", c.restitution),
+        );
+    }
+    if let Some(k) = c.stiffness {
+        positive("contact.stiffness", k)?;
     }
     Ok(())
 }

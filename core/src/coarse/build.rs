@@ -1,0 +1,180 @@
+//! Building coarse grains from the scene: lattice fill of each body's shape, rotation,
+//! mass properties, surface normals, and trimming of rigid interiors.
+
+use super::body::Body;
+use super::material::SolidMaterial;
+use super::particles::CoarseParticles;
+use crate::geometry::Shape;
+use crate::math::{from3, to3, Real, Vect};
+use crate::scene::{BodyModel, BodySpec, Scene};
+use crate::world::BuildError;
+use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
+
+/// Coarse grains of a scene.
+#[derive(Clone, Debug, Default)]
+pub struct Coarse<const D: usize> {
+    pub solids: Vec<SolidMaterial>,
+    pub particles: CoarseParticles<D>,
+    pub bodies: Vec<Body<D>>,
+}
+
+/// Rotation of a body spec: an angle about z in 2D, x-then-y-then-z angles in 3D.
+pub fn spec_rotation(b: &BodySpec, d: usize) -> Rotation3<Real> {
+    let r = b.rotation.as_deref().unwrap_or(&[]);
+    let deg = |k: usize| r.get(k).copied().unwrap_or(0.0).to_radians();
+    if d == 2 {
+        Rotation3::from_axis_angle(&Vector3::z_axis(), deg(0))
+    } else {
+        Rotation3::from_axis_angle(&Vector3::z_axis(), deg(2))
+            * Rotation3::from_axis_angle(&Vector3::y_axis(), deg(1))
+            * Rotation3::from_axis_angle(&Vector3::x_axis(), deg(0))
+    }
+}
+
+impl<const D: usize> Coarse<D> {
+    pub fn is_empty(&self) -> bool {
+        self.bodies.is_empty()
+    }
+
+    /// Build all bodies of `scene`. `trim_depth`: rigid-body particles deeper than
+    /// this below the surface are dropped after the mass properties are taken (they
+    /// never meet a fine particle or a contact).
+    pub fn build(scene: &Scene, trim_depth: Real) -> Result<Self, BuildError> {
+        let dp = scene.simulation.dp;
+        let solids: Vec<SolidMaterial> =
+            scene.solids.iter().map(SolidMaterial::from_spec).collect();
+        let mut particles = CoarseParticles::<D>::default();
+        let mut bodies = Vec::new();
+        let vol = dp.powi(D as i32);
+        for (bi, b) in scene.bodies.iter().enumerate() {
+            let mi = scene
+                .solids
+                .iter()
+                .position(|m| m.name == b.material)
+                .expect("validated");
+            let m = &solids[mi];
+            let shape = Shape::<D>::from_spec(&b.shape);
+            let pts = shape.body_fill(dp);
+            if pts.len() < 2 {
+                return Err(BuildError {
+                    path: format!("bodies[{bi}].shape"),
+                    message: format!(
+                        "body `{}` holds {} particle(s) at dp = {dp} m; it needs at least 2 \
+                         (enlarge it or refine dp)",
+                        b.name,
+                        pts.len()
+                    ),
+                });
+            }
+            let centre = to3(&shape.center());
+            let rot = spec_rotation(b, D);
+            let pm = m.rho0 * vol;
+            let mass = pm * pts.len() as Real;
+            // centre of mass and inertia in the body frame (the unrotated shape about
+            // its centre of mass), each particle a cube/square of side dp
+            let com_local = pts
+                .iter()
+                .fold(Vector3::zeros(), |a, p| a + to3(p) - centre)
+                / pts.len() as Real;
+            let mut inertia = Matrix3::<Real>::zeros();
+            for p in &pts {
+                let r = to3(p) - centre - com_local;
+                inertia += (Matrix3::identity() * r.norm_squared() - r * r.transpose()) * pm;
+            }
+            inertia += Matrix3::identity() * (pm * dp * dp / 6.0);
+            let com = centre + rot * com_local;
+            let mut vel = b.velocity.as_deref().map(v3).unwrap_or_else(Vector3::zeros);
+            let mut omega = match b.angular_velocity.as_deref() {
+                Some([w]) => Vector3::new(0.0, 0.0, *w),
+                Some(w) => v3(w),
+                None => Vector3::zeros(),
+            };
+            if b.fixed {
+                vel = Vector3::zeros();
+                omega = Vector3::zeros();
+            }
+            let start = particles.len();
+            for p in &pts {
+                let depth = -shape.sdf(p);
+                let rigid = b.model == BodyModel::Rigid;
+                if rigid && depth > trim_depth {
+                    continue;
+                }
+                let surface = depth < dp;
+                let n_local = if surface {
+                    shape.normal(p, 1e-3 * dp)
+                } else {
+                    Vect::<D>::zeros()
+                };
+                let off = to3(p) - centre - com_local;
+                let x = com + rot * off;
+                let v = vel + omega.cross(&(x - com));
+                let n = from3::<D>(&(rot * to3(&n_local)));
+                let (local, local_normal) = if rigid {
+                    (from3::<D>(&off), n_local)
+                } else {
+                    (from3::<D>(&x), n)
+                };
+                particles.push(
+                    from3::<D>(&x),
+                    from3::<D>(&v),
+                    local,
+                    local_normal,
+                    n,
+                    pm,
+                    bi as u32,
+                    surface,
+                );
+            }
+            let orientation = UnitQuaternion::from_rotation_matrix(&rot);
+            let inv_inertia = inertia.try_inverse().ok_or_else(|| BuildError {
+                path: format!("bodies[{bi}].shape"),
+                message: format!("body `{}` has a singular inertia tensor", b.name),
+            })?;
+            let r = *rot.matrix();
+            let ang_mom = r * inertia * r.transpose() * omega;
+            bodies.push(Body {
+                name: b.name.clone(),
+                model: b.model,
+                material: mi,
+                start,
+                end: particles.len(),
+                fixed: b.fixed,
+                mass,
+                com,
+                vel,
+                orientation,
+                ang_mom,
+                omega,
+                inertia,
+                inv_inertia,
+                force: Vector3::zeros(),
+                torque: Vector3::zeros(),
+                fine_force: Vector3::zeros(),
+                contacts: 0,
+            });
+        }
+        Ok(Coarse {
+            solids,
+            particles,
+            bodies,
+        })
+    }
+
+    /// Largest sound speed of the solids of elastic bodies (0 without elastic bodies).
+    pub fn max_elastic_c0(&self) -> Real {
+        self.bodies
+            .iter()
+            .filter(|b| !b.is_rigid())
+            .map(|b| self.solids[b.material].c0)
+            .fold(0.0, Real::max)
+    }
+}
+
+fn v3(x: &[f64]) -> Vector3<Real> {
+    let mut o = Vector3::zeros();
+    for (k, v) in x.iter().enumerate().take(3) {
+        o[k] = *v;
+    }
+    o
+}

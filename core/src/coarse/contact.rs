@@ -1,0 +1,475 @@
+//! Contacts of coarse grains with each other and with walls (seeds 001 and 004):
+//! particle-level spring–dashpot or Hertz–Mindlin laws with a Coulomb-capped
+//! tangential spring (Cundall–Strack) and a restitution coefficient.
+//!
+//! Every surface particle of a body is a sphere (disc in 2D) of radius dp/2, so a body
+//! touches a wall when its shape does. Walls are exact: the overlap is taken from the
+//! wall shape's signed distance, so a flat wall is flat (no particle roughness).
+//! Candidates are found once per fine step with a margin covering the motion within
+//! it; the force is evaluated at every coarse sub-step.
+
+use super::body::Body;
+use super::material::SolidMaterial;
+use super::particles::CoarseParticles;
+use crate::fine::momentum::Load;
+use crate::math::{to3, Real, Vect};
+use crate::scene::{ContactModel, ContactSpec};
+use crate::walls::Walls;
+
+/// The contact law of a scene.
+#[derive(Clone, Debug)]
+pub struct ContactLaw {
+    pub model: ContactModel,
+    /// Coulomb coefficient μ.
+    pub mu: Real,
+    /// ln e / √(ln² e + π²) with its sign flipped (≥ 0): the damping ratio that gives
+    /// restitution e for a linear spring.
+    pub gamma: Real,
+    /// Normal stiffness override of the linear law.
+    pub stiffness: Option<Real>,
+    /// Particle spacing dp; contact radius dp/2.
+    pub dp: Real,
+    pub dim: usize,
+}
+
+/// Stiffness and damping of one contact at overlap δ.
+#[derive(Clone, Copy, Debug)]
+struct Springs {
+    kn: Real,
+    kt: Real,
+    cn: Real,
+    ct: Real,
+}
+
+/// Effective moduli of a contact kind: E*, G*, R*.
+#[derive(Clone, Copy, Debug)]
+pub struct Moduli {
+    pub e: Real,
+    pub g: Real,
+    pub r: Real,
+}
+
+impl Moduli {
+    /// A particle against a rigid wall.
+    pub fn wall(m: &SolidMaterial, dp: Real) -> Self {
+        Moduli {
+            e: m.youngs / (1.0 - m.poisson * m.poisson),
+            g: m.shear / (2.0 - m.poisson),
+            r: 0.5 * dp,
+        }
+    }
+    /// Two particles of solids a and b.
+    pub fn pair(a: &SolidMaterial, b: &SolidMaterial, dp: Real) -> Self {
+        let inv_e =
+            (1.0 - a.poisson * a.poisson) / a.youngs + (1.0 - b.poisson * b.poisson) / b.youngs;
+        let inv_g = (2.0 - a.poisson) / a.shear + (2.0 - b.poisson) / b.shear;
+        Moduli {
+            e: 1.0 / inv_e,
+            g: 1.0 / inv_g,
+            r: 0.25 * dp,
+        }
+    }
+}
+
+impl ContactLaw {
+    pub fn from_spec(c: &ContactSpec, dp: Real, dim: usize) -> Self {
+        let le = c.restitution.ln();
+        ContactLaw {
+            model: c.model,
+            mu: c.friction,
+            gamma: -le / (le * le + std::f64::consts::PI * std::f64::consts::PI).sqrt(),
+            stiffness: c.stiffness,
+            dp,
+            dim,
+        }
+    }
+
+    /// Out-of-plane scale: forces per unit depth in 2D are 3D forces over dp.
+    fn depth_scale(&self) -> Real {
+        if self.dim == 2 {
+            1.0 / self.dp
+        } else {
+            1.0
+        }
+    }
+
+    /// Linear normal stiffness k_n = E* dp^(d−2) (or the override).
+    pub fn linear_kn(&self, m: &Moduli) -> Real {
+        self.stiffness.unwrap_or(m.e * self.dp * self.depth_scale())
+    }
+
+    /// Normal stiffness used for the time-step bound (Hertz: at δ = 0.05 dp).
+    pub fn reference_kn(&self, m: &Moduli) -> Real {
+        match self.model {
+            ContactModel::SpringDashpot => self.linear_kn(m),
+            ContactModel::HertzMindlin => {
+                2.0 * m.e * (m.r * 0.05 * self.dp).sqrt() * self.depth_scale()
+            }
+        }
+    }
+
+    fn springs(&self, m: &Moduli, delta: Real, meff: Real) -> Springs {
+        match self.model {
+            ContactModel::SpringDashpot => {
+                let kn = self.linear_kn(m);
+                let kt = kn * (4.0 * m.g / m.e).min(1.0);
+                Springs {
+                    kn,
+                    kt,
+                    cn: 2.0 * self.gamma * (meff * kn).sqrt(),
+                    ct: 2.0 * self.gamma * (meff * kt).sqrt(),
+                }
+            }
+            ContactModel::HertzMindlin => {
+                // Tsuji et al.: F_n = 4/3 E* √R* δ^{3/2}, S_n = 2E*√(R*δ), S_t = 8G*√(R*δ)
+                let a = (m.r * delta).sqrt() * self.depth_scale();
+                let sn = 2.0 * m.e * a;
+                let st = 8.0 * m.g * a;
+                let c = 2.0 * (5.0_f64 / 6.0).sqrt() * self.gamma;
+                Springs {
+                    kn: 2.0 / 3.0 * sn,
+                    kt: st,
+                    cn: c * (meff * sn).sqrt(),
+                    ct: c * (meff * st).sqrt(),
+                }
+            }
+        }
+    }
+
+    /// Force on side 1 of a contact with overlap δ > 0, unit normal `n` (pointing to
+    /// side 1), relative velocity `vrel` = v1 − v2, effective mass `meff` and
+    /// tangential spring `xi` (updated).
+    #[allow(clippy::too_many_arguments)]
+    pub fn force<const D: usize>(
+        &self,
+        m: &Moduli,
+        delta: Real,
+        n: &Vect<D>,
+        vrel: &Vect<D>,
+        meff: Real,
+        xi: &mut Vect<D>,
+        dt: Real,
+    ) -> (Vect<D>, Real) {
+        let s = self.springs(m, delta, meff);
+        let vn = vrel.dot(n);
+        let fn_ = (s.kn * delta - s.cn * vn).max(0.0);
+        let vt = vrel - n * vn;
+        // keep the spring in the tangent plane, then stretch it
+        *xi -= n * xi.dot(n);
+        *xi += vt * dt;
+        let mut ft = -(*xi * s.kt) - vt * s.ct;
+        let cap = self.mu * fn_;
+        let ftn = ft.norm();
+        if ftn > cap {
+            ft *= if ftn > 0.0 { cap / ftn } else { 0.0 };
+            // sliding: the spring holds the Coulomb force
+            *xi = if s.kt > 0.0 {
+                -ft / s.kt
+            } else {
+                Vect::<D>::zeros()
+            };
+        }
+        // stored energy: normal spring (Hertz: 2/5 k δ², linear: 1/2 k δ²) + tangential
+        let en = match self.model {
+            ContactModel::SpringDashpot => 0.5,
+            ContactModel::HertzMindlin => 0.4,
+        } * s.kn
+            * delta
+            * delta;
+        let et = if s.kt > 0.0 {
+            0.5 * s.kt * xi.norm_squared()
+        } else {
+            0.0
+        };
+        (n * fn_ + ft, en + et)
+    }
+}
+
+/// Candidate contacts and their tangential springs.
+#[derive(Clone, Debug, Default)]
+pub struct Contacts<const D: usize> {
+    /// (particle, wall object), sorted.
+    pub wall: Vec<(u32, u32)>,
+    wall_xi: Vec<Vect<D>>,
+    /// (i, j), i < j, different bodies, sorted.
+    pub pair: Vec<(u32, u32)>,
+    pair_xi: Vec<Vect<D>>,
+    /// Active contacts per body in the last evaluation.
+    pub per_body: Vec<usize>,
+    /// Candidates per body.
+    pub candidates: Vec<usize>,
+    /// Energy stored in the contact springs at the last evaluation.
+    pub energy: Real,
+    /// Wall-object loads from contacts in the last evaluation.
+    pub wall_loads: Vec<Load>,
+    count: Vec<usize>,
+    old_keys: Vec<(u32, u32)>,
+    old_xi: Vec<Vect<D>>,
+    sorted: Vec<(u64, u32)>,
+}
+
+/// Keep the springs of contacts that persist from `old` into `new`.
+fn carry<const D: usize>(
+    old: &[(u32, u32)],
+    old_xi: &[Vect<D>],
+    new: &[(u32, u32)],
+    out: &mut Vec<Vect<D>>,
+) {
+    out.clear();
+    let mut a = 0;
+    for k in new {
+        while a < old.len() && old[a] < *k {
+            a += 1;
+        }
+        out.push(if a < old.len() && old[a] == *k {
+            old_xi[a]
+        } else {
+            Vect::<D>::zeros()
+        });
+    }
+}
+
+impl<const D: usize> Contacts<D> {
+    /// Find candidates within `margin` of touching.
+    pub fn find(
+        &mut self,
+        p: &CoarseParticles<D>,
+        bodies: &[Body<D>],
+        walls: &Walls<D>,
+        dp: Real,
+        margin: Real,
+    ) {
+        let rp = 0.5 * dp;
+        // particle–wall
+        self.old_keys.clear();
+        self.old_keys.extend_from_slice(&self.wall);
+        self.old_xi.clear();
+        self.old_xi.extend_from_slice(&self.wall_xi);
+        self.wall.clear();
+        for i in 0..p.len() {
+            if !p.surface[i] || bodies[p.body[i] as usize].fixed {
+                continue;
+            }
+            for (o, obj) in walls.objects.iter().enumerate() {
+                if let Some(shape) = &obj.shape {
+                    let d = shape.sdf(&(p.pos[i] - obj.displacement));
+                    if d < rp + margin {
+                        self.wall.push((i as u32, o as u32));
+                    }
+                }
+            }
+        }
+        let (ok, ox) = (
+            std::mem::take(&mut self.old_keys),
+            std::mem::take(&mut self.old_xi),
+        );
+        carry(&ok, &ox, &self.wall, &mut self.wall_xi);
+        self.old_keys = ok;
+        self.old_xi = ox;
+
+        // particle–particle, different bodies: sort surface particles by cell
+        let cell = dp + margin;
+        let key = |x: &Vect<D>, off: [i64; 3]| -> u64 {
+            let mut k = 0u64;
+            for a in 0..D {
+                let c = ((x[a] / cell).floor() as i64 + off[a]).rem_euclid(1 << 21) as u64;
+                k = (k << 21) | c;
+            }
+            k
+        };
+        self.sorted.clear();
+        for i in 0..p.len() {
+            if p.surface[i] {
+                self.sorted.push((key(&p.pos[i], [0; 3]), i as u32));
+            }
+        }
+        self.sorted.sort_unstable();
+        self.old_keys.clear();
+        self.old_keys.extend_from_slice(&self.pair);
+        self.old_xi.clear();
+        self.old_xi.extend_from_slice(&self.pair_xi);
+        self.pair.clear();
+        let r2 = cell * cell;
+        let zr = if D == 3 { -1..=1 } else { 0..=0 };
+        for &(_, i) in &self.sorted {
+            let xi = p.pos[i as usize];
+            let bi = p.body[i as usize];
+            for dz in zr.clone() {
+                for dy in -1..=1i64 {
+                    for dx in -1..=1i64 {
+                        let k = key(&xi, [dx, dy, dz]);
+                        let s = self.sorted.partition_point(|e| e.0 < k);
+                        for &(kk, j) in &self.sorted[s..] {
+                            if kk != k {
+                                break;
+                            }
+                            let bj = p.body[j as usize];
+                            if j <= i || bj == bi {
+                                continue;
+                            }
+                            if bodies[bi as usize].fixed && bodies[bj as usize].fixed {
+                                continue;
+                            }
+                            if (xi - p.pos[j as usize]).norm_squared() < r2 {
+                                self.pair.push((i, j));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        self.pair.sort_unstable();
+        let (ok, ox) = (
+            std::mem::take(&mut self.old_keys),
+            std::mem::take(&mut self.old_xi),
+        );
+        carry(&ok, &ox, &self.pair, &mut self.pair_xi);
+        self.old_keys = ok;
+        self.old_xi = ox;
+
+        self.candidates.clear();
+        self.candidates.resize(bodies.len(), 0);
+        for &(i, _) in &self.wall {
+            self.candidates[p.body[i as usize] as usize] += 1;
+        }
+        for &(i, j) in &self.pair {
+            self.candidates[p.body[i as usize] as usize] += 1;
+            self.candidates[p.body[j as usize] as usize] += 1;
+        }
+    }
+
+    /// Effective mass of particle `i` in a contact: a rigid body's mass shared by its
+    /// active contacts, or the particle's own mass in an elastic body.
+    fn meff(&self, p: &CoarseParticles<D>, bodies: &[Body<D>], i: usize) -> Real {
+        let b = &bodies[p.body[i] as usize];
+        if b.is_rigid() {
+            if b.fixed {
+                Real::INFINITY
+            } else {
+                b.mass / self.per_body[p.body[i] as usize].max(1) as Real
+            }
+        } else {
+            p.mass[i]
+        }
+    }
+
+    /// Contact forces into `p.f_contact`; loads on wall objects into `wall_loads`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn evaluate(
+        &mut self,
+        p: &mut CoarseParticles<D>,
+        bodies: &[Body<D>],
+        solids: &[SolidMaterial],
+        walls: &Walls<D>,
+        law: &ContactLaw,
+        dt: Real,
+    ) {
+        for f in &mut p.f_contact {
+            *f = Vect::<D>::zeros();
+        }
+        self.per_body.resize(bodies.len(), 0);
+        let mut count = std::mem::take(&mut self.count);
+        count.clear();
+        count.resize(bodies.len(), 0);
+        self.wall_loads.clear();
+        self.wall_loads.resize(walls.objects.len(), Load::default());
+        let rp = 0.5 * law.dp;
+        let mut energy = 0.0;
+        for (c, &(i, o)) in self.wall.iter().enumerate() {
+            let (i, o) = (i as usize, o as usize);
+            let obj = &walls.objects[o];
+            let Some(shape) = &obj.shape else { continue };
+            let x = p.pos[i] - obj.displacement;
+            let d = shape.sdf(&x);
+            let delta = rp - d;
+            if delta <= 0.0 {
+                self.wall_xi[c] = Vect::<D>::zeros();
+                continue;
+            }
+            let n = shape.normal(&x, 1e-4 * law.dp);
+            let m = Moduli::wall(&solids[bodies[p.body[i] as usize].material], law.dp);
+            let meff = self.meff(p, bodies, i);
+            let vrel = p.vel[i] - obj.velocity;
+            let (f, e) = law.force(&m, delta, &n, &vrel, meff, &mut self.wall_xi[c], dt);
+            energy += e;
+            p.f_contact[i] += f;
+            count[p.body[i] as usize] += 1;
+            if let Some(b) = obj.barrier {
+                let arm = to3(&(p.pos[i] - n * d - walls.barriers[b].reference));
+                let fw = -to3(&f);
+                self.wall_loads[o].force += fw;
+                self.wall_loads[o].moment += arm.cross(&fw);
+            }
+        }
+        for (c, &(i, j)) in self.pair.iter().enumerate() {
+            let (i, j) = (i as usize, j as usize);
+            let rij = p.pos[i] - p.pos[j];
+            let r = rij.norm();
+            let delta = law.dp - r;
+            if delta <= 0.0 || r == 0.0 {
+                self.pair_xi[c] = Vect::<D>::zeros();
+                continue;
+            }
+            let n = rij / r;
+            let (bi, bj) = (p.body[i] as usize, p.body[j] as usize);
+            let m = Moduli::pair(
+                &solids[bodies[bi].material],
+                &solids[bodies[bj].material],
+                law.dp,
+            );
+            let (mi, mj) = (self.meff(p, bodies, i), self.meff(p, bodies, j));
+            let meff = if mi.is_infinite() {
+                mj
+            } else if mj.is_infinite() {
+                mi
+            } else {
+                mi * mj / (mi + mj)
+            };
+            let vrel = p.vel[i] - p.vel[j];
+            let (f, e) = law.force(&m, delta, &n, &vrel, meff, &mut self.pair_xi[c], dt);
+            energy += e;
+            p.f_contact[i] += f;
+            p.f_contact[j] -= f;
+            count[bi] += 1;
+            count[bj] += 1;
+        }
+        self.energy = energy;
+        std::mem::swap(&mut self.per_body, &mut count);
+        self.count = count;
+    }
+
+    /// Largest stable sub-step for the candidate contacts: CFL / ω with
+    /// ω² = n k / M for a rigid body with n candidates (at least one, so that a body
+    /// in free flight never steps further than a first contact allows), 2k/m for an
+    /// elastic particle.
+    pub fn stable_dt(
+        &self,
+        p: &CoarseParticles<D>,
+        bodies: &[Body<D>],
+        solids: &[SolidMaterial],
+        law: &ContactLaw,
+        cfl: Real,
+    ) -> Real {
+        let mut w2max: Real = 0.0;
+        for (b, body) in bodies.iter().enumerate() {
+            let n = self.candidates.get(b).copied().unwrap_or(0);
+            if body.fixed || (n == 0 && !body.is_rigid()) {
+                continue;
+            }
+            let n = n.max(1);
+            let m = &solids[body.material];
+            let k = law.reference_kn(&Moduli::wall(m, law.dp));
+            let w2 = if body.is_rigid() {
+                n as Real * k / body.mass
+            } else {
+                2.0 * k / p.mass[body.start]
+            };
+            w2max = w2max.max(w2);
+        }
+        if w2max > 0.0 {
+            cfl / w2max.sqrt()
+        } else {
+            Real::INFINITY
+        }
+    }
+}

@@ -1,0 +1,76 @@
+//! Coarse-grain particle state: structure of arrays over all bodies.
+
+use crate::math::{Real, Vect};
+
+/// The particles of all coarse grains. Each body owns a contiguous range.
+#[derive(Clone, Debug, Default)]
+pub struct CoarseParticles<const D: usize> {
+    pub pos: Vec<Vect<D>>,
+    pub vel: Vec<Vect<D>>,
+    /// Rigid: offset from the centre of mass in the body frame. Elastic: the reference
+    /// position r⁰ (Eq. 36).
+    pub local: Vec<Vect<D>>,
+    /// Outward unit normal in the body frame (rigid) or the reference configuration
+    /// (elastic); zero away from the surface.
+    pub local_normal: Vec<Vect<D>>,
+    /// Current outward unit normal n^c of Eq. (48) (zero inside).
+    pub normal: Vec<Vect<D>>,
+    pub mass: Vec<Real>,
+    /// Owning body.
+    pub body: Vec<u32>,
+    /// Within one dp of the surface: takes part in contacts.
+    pub surface: Vec<bool>,
+    /// Force from the fine grains, Eq. (50), held over one fine step.
+    pub f_fine: Vec<Vect<D>>,
+    /// Contact force of the current sub-step.
+    pub f_contact: Vec<Vect<D>>,
+    /// Position at the start of the fine step (for Eq. 60).
+    pub pos_start: Vec<Vect<D>>,
+    /// Time-averaged velocity over the last fine step, Eq. (60).
+    pub vbar: Vec<Vect<D>>,
+}
+
+impl<const D: usize> CoarseParticles<D> {
+    pub fn len(&self) -> usize {
+        self.pos.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.pos.is_empty()
+    }
+
+    /// Append one particle.
+    #[allow(clippy::too_many_arguments)]
+    pub fn push(
+        &mut self,
+        pos: Vect<D>,
+        vel: Vect<D>,
+        local: Vect<D>,
+        local_normal: Vect<D>,
+        normal: Vect<D>,
+        mass: Real,
+        body: u32,
+        surface: bool,
+    ) {
+        self.pos.push(pos);
+        self.vel.push(vel);
+        self.local.push(local);
+        self.local_normal.push(local_normal);
+        self.normal.push(normal);
+        self.mass.push(mass);
+        self.body.push(body);
+        self.surface.push(surface);
+        self.f_fine.push(Vect::<D>::zeros());
+        self.f_contact.push(Vect::<D>::zeros());
+        self.pos_start.push(pos);
+        self.vbar.push(vel);
+    }
+
+    /// Bytes held.
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.pos.capacity() * size_of::<Vect<D>>() * 9
+            + self.mass.capacity() * size_of::<Real>()
+            + self.body.capacity() * 4
+            + self.surface.capacity()
+    }
+}
