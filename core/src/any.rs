@@ -114,6 +114,21 @@ impl AnySimulation {
     pub fn body_names(&self) -> Vec<String> {
         dispatch!(self, s => s.world.coarse.bodies.iter().map(|b| b.name.clone()).collect())
     }
+    /// (name, model, particles, mass) of every body.
+    pub fn body_summaries(&self) -> Vec<(String, String, usize, Real)> {
+        dispatch!(self, s => s.world.coarse.bodies.iter().map(|b| {
+            (b.name.clone(), format!("{:?}", b.model).to_lowercase(), b.len(), b.mass)
+        }).collect())
+    }
+    /// Δt_c and κ for the initial state.
+    pub fn coarse_estimate(&mut self) -> (Real, usize) {
+        dispatch!(self, s => {
+            let dt_f = s.stepper.stable_dt(&s.world);
+            let dt_c = s.stepper.coarse_dt(&s.world, dt_f);
+            let (_, k) = crate::stepper::choose_step(dt_f, dt_c, Real::INFINITY, s.stepper.params.scheme);
+            (dt_c, k)
+        })
+    }
     pub fn coarse_count(&self) -> usize {
         dispatch!(self, s => s.world.coarse.particles.len())
     }

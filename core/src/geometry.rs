@@ -2,8 +2,13 @@
 //! kept where a shape's signed distance says they belong (seed 000 §5.2: particles by
 //! lattice fill of a signed-distance shape).
 
-use crate::math::{Real, Vect};
+use crate::assets::Assets;
+use crate::heightmap::Heightmap;
+use crate::math::{to3, Real, Vect};
+use crate::mesh::TriMesh;
 use crate::scene::ShapeSpec;
+use nalgebra::Vector3;
+use std::sync::Arc;
 
 /// A shape in `D` dimensions with a signed distance (negative inside).
 #[derive(Clone, Debug)]
@@ -32,6 +37,19 @@ pub enum Shape<const D: usize> {
     Polygon {
         vertices: Vec<[Real; 2]>,
     },
+    /// Convex polyhedron (3D): intersection of half-spaces n·x ≤ d.
+    Convex {
+        planes: Vec<(Vector3<Real>, Real)>,
+        lo: Vect<D>,
+        hi: Vect<D>,
+    },
+    /// Closed triangle mesh (3D).
+    Mesh(Arc<TriMesh>),
+    /// Terrain (3D): the ground below a height field is solid.
+    Terrain {
+        grid: Arc<Heightmap>,
+        offset: Vector3<Real>,
+    },
     /// Half-space behind `point` with unit `normal`, limited to a patch of `half_extent`.
     Plane {
         point: Vect<D>,
@@ -45,9 +63,47 @@ fn v<const D: usize>(x: &[f64]) -> Vect<D> {
 }
 
 impl<const D: usize> Shape<D> {
-    /// Build from a validated scene shape.
-    pub fn from_spec(s: &ShapeSpec) -> Self {
+    /// Build from a validated scene shape; files come from `assets`.
+    pub fn from_spec(s: &ShapeSpec, assets: &Assets) -> Self {
         match s {
+            ShapeSpec::Polyhedron { vertices } => {
+                let pts: Vec<Vector3<Real>> = vertices
+                    .iter()
+                    .map(|p| Vector3::new(p[0], p[1], p[2]))
+                    .collect();
+                let mut lo = Vect::<D>::repeat(Real::INFINITY);
+                let mut hi = Vect::<D>::repeat(Real::NEG_INFINITY);
+                for p in &pts {
+                    for k in 0..D {
+                        lo[k] = lo[k].min(p[k]);
+                        hi[k] = hi[k].max(p[k]);
+                    }
+                }
+                Shape::Convex {
+                    planes: hull_planes(&pts),
+                    lo,
+                    hi,
+                }
+            }
+            ShapeSpec::Mesh {
+                file,
+                scale,
+                offset,
+            } => {
+                let m = &assets.meshes[file];
+                let o = offset
+                    .as_deref()
+                    .map(|o| Vector3::new(o[0], o[1], o[2]))
+                    .unwrap_or_else(Vector3::zeros);
+                Shape::Mesh(Arc::new(m.transformed(*scale, &o)))
+            }
+            ShapeSpec::Heightmap { file, offset } => Shape::Terrain {
+                grid: assets.grids[file].clone(),
+                offset: offset
+                    .as_deref()
+                    .map(|o| Vector3::new(o[0], o[1], o[2]))
+                    .unwrap_or_else(Vector3::zeros),
+            },
             ShapeSpec::Box { min, max } => Shape::Box {
                 min: v(min),
                 max: v(max),
@@ -130,12 +186,46 @@ impl<const D: usize> Shape<D> {
             }
             Shape::Polygon { vertices } => polygon_sdf(vertices, p[0], p[1]),
             Shape::Plane { point, normal, .. } => (p - point).dot(normal),
+            Shape::Convex { planes, .. } => {
+                let q = to3(p);
+                planes
+                    .iter()
+                    .map(|(n, d)| n.dot(&q) - d)
+                    .fold(Real::NEG_INFINITY, Real::max)
+            }
+            Shape::Mesh(m) => m.sdf(&to3(p)),
+            Shape::Terrain { grid, offset } => {
+                let q = to3(p) - offset;
+                grid.sdf(q.x, q.y, q.z)
+            }
         }
     }
 
     /// Axis-aligned bounding box.
     pub fn bounds(&self) -> (Vect<D>, Vect<D>) {
         match self {
+            Shape::Convex { lo, hi, .. } => (*lo, *hi),
+            Shape::Mesh(m) => {
+                let mut lo = Vect::<D>::zeros();
+                let mut hi = Vect::<D>::zeros();
+                for k in 0..D {
+                    lo[k] = m.lo[k];
+                    hi[k] = m.hi[k];
+                }
+                (lo, hi)
+            }
+            Shape::Terrain { grid, offset } => {
+                let (x0, x1, y0, y1) = grid.extent();
+                let mut lo = Vect::<D>::zeros();
+                let mut hi = Vect::<D>::zeros();
+                let l = [x0, y0, grid.zmin];
+                let h = [x1, y1, grid.zmax];
+                for k in 0..D {
+                    lo[k] = l[k] + offset[k];
+                    hi[k] = h[k] + offset[k];
+                }
+                (lo, hi)
+            }
             Shape::Box { min, max } => (*min, *max),
             Shape::Cylinder {
                 base,
@@ -187,11 +277,73 @@ impl<const D: usize> Shape<D> {
         lattice_in(&lo, &hi, &anchor, dp, |p| self.sdf(p) < 0.0)
     }
 
-    /// Lattice points inside the shape for a coarse-grain body, anchored at the lower
-    /// corner of the bounding box so that symmetric shapes fill symmetrically.
+    /// Lattice points inside the shape for a coarse-grain body. The lattice is
+    /// centred on the shape, at c + k dp or c + (k + ½) dp along each axis; of the
+    /// 2^d choices the one whose outermost particles lie closest to half a spacing
+    /// inside the surface wins (then the count closest to the volume), so that no
+    /// single particle sticks out, symmetric shapes fill symmetrically and a flat face
+    /// is a full layer half a spacing inside.
     pub fn body_fill(&self, dp: Real) -> Vec<Vect<D>> {
         let (lo, hi) = self.bounds();
-        lattice_in(&lo, &hi, &lo, dp, |p| self.sdf(p) < 0.0)
+        let c = self.center();
+        let target = self.volume().map(|v| v / dp.powi(D as i32));
+        let mut best: Option<(Real, Real, Vec<Vect<D>>)> = None;
+        for mask in 0..(1usize << D) {
+            let mut anchor = c;
+            for k in 0..D {
+                if mask & (1 << k) != 0 {
+                    anchor[k] -= 0.5 * dp;
+                }
+            }
+            let pts = lattice_in(&lo, &hi, &anchor, dp, |p| self.sdf(p) < 0.0);
+            if pts.len() < 2 {
+                continue;
+            }
+            let outer = pts
+                .iter()
+                .map(|p| self.sdf(p))
+                .fold(Real::NEG_INFINITY, Real::max);
+            let score = ((outer + 0.5 * dp).abs() / dp * 1e6).round();
+            let vol = target.map(|n| (pts.len() as Real - n).abs()).unwrap_or(0.0);
+            let better = match &best {
+                None => true,
+                Some((s0, v0, _)) => score < *s0 || (score == *s0 && vol < *v0),
+            };
+            if better {
+                best = Some((score, vol, pts));
+            }
+        }
+        best.map(|b| b.2).unwrap_or_default()
+    }
+
+    /// Exact volume (area in 2D) where it is known in closed form.
+    pub fn volume(&self) -> Option<Real> {
+        use std::f64::consts::PI;
+        let d3 = D == 3;
+        match self {
+            Shape::Box { min, max } => Some((max - min).iter().product()),
+            Shape::Sphere { radius, .. } => Some(if d3 {
+                4.0 / 3.0 * PI * radius.powi(3)
+            } else {
+                PI * radius * radius
+            }),
+            Shape::Ring { inner, radius, .. } => Some(if d3 {
+                4.0 / 3.0 * PI * (radius.powi(3) - inner.powi(3))
+            } else {
+                PI * (radius * radius - inner * inner)
+            }),
+            Shape::Cylinder { radius, height, .. } => Some(PI * radius * radius * height),
+            Shape::Polygon { vertices } => {
+                let mut a = 0.0;
+                for i in 0..vertices.len() {
+                    let (p, q) = (vertices[i], vertices[(i + 1) % vertices.len()]);
+                    a += p[0] * q[1] - q[0] * p[1];
+                }
+                Some(0.5 * a.abs())
+            }
+            Shape::Mesh(m) => Some(m.volume()),
+            Shape::Plane { .. } | Shape::Convex { .. } | Shape::Terrain { .. } => None,
+        }
     }
 
     /// Outward unit normal, the normalised gradient of the signed distance (central
@@ -258,7 +410,11 @@ impl<const D: usize> Shape<D> {
                 }
             }
             _ => {
-                let (lo, hi) = self.bounds();
+                let (mut lo, hi) = self.bounds();
+                if let Shape::Terrain { .. } = self {
+                    // the layers lie below the lowest ground point too
+                    lo[D - 1] -= depth + dp;
+                }
                 let anchor = match self {
                     Shape::Box { min, .. } => *min,
                     _ => Vect::<D>::zeros(),
@@ -349,6 +505,48 @@ fn polygon_sdf(v: &[[Real; 2]], x: Real, y: Real) -> Real {
     } else {
         d
     }
+}
+
+/// Outward face planes (n, d), n·x ≤ d inside, of the convex hull of `pts`: every
+/// plane through three points that has all points on one side.
+pub fn hull_planes(pts: &[Vector3<Real>]) -> Vec<(Vector3<Real>, Real)> {
+    let scale = pts
+        .iter()
+        .map(|p| p.norm())
+        .fold(0.0, Real::max)
+        .max(1e-300);
+    let eps = 1e-9 * scale;
+    let mut planes: Vec<(Vector3<Real>, Real)> = Vec::new();
+    let n = pts.len();
+    for i in 0..n {
+        for j in i + 1..n {
+            for k in j + 1..n {
+                let nrm = (pts[j] - pts[i]).cross(&(pts[k] - pts[i]));
+                let len = nrm.norm();
+                if len < eps * scale {
+                    continue;
+                }
+                let mut nv = nrm / len;
+                let mut d = nv.dot(&pts[i]);
+                let above = pts.iter().filter(|p| nv.dot(p) - d > eps).count();
+                let below = pts.iter().filter(|p| nv.dot(p) - d < -eps).count();
+                if above > 0 && below > 0 {
+                    continue;
+                }
+                if above > 0 {
+                    nv = -nv;
+                    d = -d;
+                }
+                if !planes
+                    .iter()
+                    .any(|(m, e)| (m - nv).norm() < 1e-9 && (e - d).abs() < eps)
+                {
+                    planes.push((nv, d));
+                }
+            }
+        }
+    }
+    planes
 }
 
 #[cfg(test)]

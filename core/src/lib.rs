@@ -4,12 +4,15 @@
 //! [`stepper::Stepper`] → observations ([`simulation::Sample`], [`simulation::Frame`]).
 //! [`AnySimulation`] dispatches on the scene's dimension once, at the top.
 
+pub mod assets;
 pub mod coarse;
 pub mod fine;
 pub mod geometry;
 pub mod guard;
+pub mod heightmap;
 pub mod kernel;
 pub mod math;
+pub mod mesh;
 pub mod neighbors;
 pub mod observe;
 pub mod scene;

@@ -403,6 +403,7 @@ impl<const D: usize> Stepper<D> {
             dt,
             artificial,
             wall_friction: self.params.wall_friction,
+            cohesive: self.params.artificial.is_some(),
         };
         {
             let (fine, walls, lists, art) = (&world.fine, &world.walls, &self.lists, &self.art);
@@ -414,6 +415,7 @@ impl<const D: usize> Stepper<D> {
                     riemann: mprm.riemann,
                     mu_cf: self.params.mu_cf,
                     dt,
+                    dp: world.dp,
                 },
                 reactions: &mut self.reactions,
             };

@@ -1,12 +1,17 @@
 //! The simulated world built from a scene: particles, materials, walls and probes.
 
+use crate::coarse::build::spec_rotation;
 use crate::coarse::build::Coarse;
 use crate::fine::material::FineMaterial;
 use crate::fine::state::FineParticles;
 use crate::geometry::Shape;
-use crate::math::{Real, Sym, Vect};
+use crate::math::{from3, to3, Real, Sym, Vect};
 use crate::scene::{InitialStress, Scene, ShapeSpec};
 use crate::walls::{Barrier, WallObject, Walls};
+use nalgebra::{Rotation3, Vector3};
+
+/// A body's rotation about a centre.
+type Pose = (Vector3<Real>, Rotation3<Real>);
 
 /// A probe point sampled into the time series.
 #[derive(Clone, Debug)]
@@ -64,6 +69,29 @@ impl<const D: usize> World<D> {
             .collect();
         let vol = dp.powi(D as i32);
 
+        // Solids that displace fine grains: walls and barriers (not planes, whose patch
+        // is not a solid) and bodies (buried boulders). Fine particles closer than dp/2
+        // to their surface (less than the lattice half-spacing) are not created.
+        let mut solids: Vec<(Shape<D>, Option<Pose>)> = Vec::new();
+        for w in scene.walls.iter().chain(&scene.barriers) {
+            if !matches!(w.shape, ShapeSpec::Plane { .. }) {
+                solids.push((Shape::<D>::from_spec(&w.shape, &scene.assets), None));
+            }
+        }
+        for b in &scene.bodies {
+            let shape = Shape::<D>::from_spec(&b.shape, &scene.assets);
+            let c = to3(&shape.center());
+            solids.push((shape, Some((c, spec_rotation(b, D)))));
+        }
+        let inside_solid = |p: &Vect<D>| {
+            solids.iter().any(|(shape, pose)| {
+                let q = match pose {
+                    Some((c, r)) => from3::<D>(&(c + r.inverse() * (to3(p) - c))),
+                    None => *p,
+                };
+                shape.sdf(&q) < 0.5 * dp * (1.0 - 1e-6)
+            })
+        };
         let mut fine = FineParticles::<D>::default();
         let mut region_counts = Vec::new();
         for (ri, r) in scene.regions.iter().enumerate() {
@@ -73,8 +101,11 @@ impl<const D: usize> World<D> {
                 .position(|m| m.name == r.material)
                 .expect("validated") as u16;
             let m = &materials[mi as usize];
-            let shape = Shape::<D>::from_spec(&r.shape);
-            let pts = shape.fill(dp);
+            let shape = Shape::<D>::from_spec(&r.shape, &scene.assets);
+            let mut pts = shape.fill(dp);
+            if !solids.is_empty() {
+                pts.retain(|p| !inside_solid(p));
+            }
             if pts.is_empty() {
                 return Err(BuildError {
                     path: format!("regions[{ri}].shape"),
@@ -147,7 +178,7 @@ impl<const D: usize> World<D> {
             (&scene.barriers, "barriers", true),
         ] {
             for (wi, w) in list.iter().enumerate() {
-                let shape = Shape::<D>::from_spec(&w.shape);
+                let shape = Shape::<D>::from_spec(&w.shape, &scene.assets);
                 let pts = shape.wall_fill(dp, layers);
                 if pts.is_empty() {
                     return Err(BuildError {

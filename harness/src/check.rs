@@ -11,7 +11,7 @@ const NOMINAL_PSS_PER_CORE: [f64; 2] = [1.5e6, 0.35e6];
 
 pub fn check(scene: &Path, set: &[String]) -> Result<()> {
     let loaded = load(scene, set)?;
-    let sim = AnySimulation::new(&loaded).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let mut sim = AnySimulation::new(&loaded).map_err(|e| anyhow::anyhow!("{e}"))?;
     let s = &loaded.scene.simulation;
     println!("{}: valid {}D scene", scene.display(), s.dimension);
     for (name, n) in sim.region_counts() {
@@ -21,7 +21,17 @@ pub fn check(scene: &Path, set: &[String]) -> Result<()> {
     for b in sim.barrier_names() {
         println!("  barrier {b}");
     }
+    for (name, model, n, mass) in sim.body_summaries() {
+        println!("  body {name:<22} {n:>10} particles  {model:<7}  mass {mass:.4e} kg");
+    }
     let dt = sim.stable_dt();
+    if sim.coarse_count() > 0 {
+        let (dt_c, kappa) = sim.coarse_estimate();
+        println!(
+            "  Δt_c (Eq. 52 and contacts, at rest) {dt_c:.3e} s → κ = {kappa} ({})",
+            loaded.scene.simulation.time_stepping_name()
+        );
+    }
     let steps = (s.end_time / dt).ceil();
     let n = sim.fine_count() as f64;
     let cores = rayon::current_num_threads() as f64;

@@ -27,6 +27,16 @@ fn run_with_threads(threads: usize, scene: &str, set: &[&str], steps: usize) -> 
                 .flat_map(|p| p.iter().map(|x| x.to_bits() as u64)),
         );
         bits.extend(f.id.iter().map(|&i| i as u64));
+        bits.extend(
+            f.coarse_pos
+                .iter()
+                .flat_map(|p| p.iter().map(|x| x.to_bits() as u64)),
+        );
+        bits.extend(
+            s.bodies
+                .iter()
+                .flat_map(|b| b.force.iter().chain(&b.velocity).map(|x| x.to_bits())),
+        );
         bits.push(s.kinetic_energy.to_bits());
         bits.extend(
             s.barriers
@@ -42,6 +52,10 @@ fn bitwise_identical_across_thread_counts() {
     for (scene, set, steps) in [
         ("granular_barrier_2d.toml", vec!["simulation.dp=0.005"], 600),
         ("column_collapse_3d.toml", vec!["simulation.dp=0.02"], 200),
+        // fine–coarse coupling, multi-rate sub-steps, TLSPH
+        ("impact_crater.toml", vec!["simulation.dp=0.008"], 150),
+        // rigid bodies with contacts
+        ("blocks_impact.toml", vec!["simulation.dp=0.005"], 400),
     ] {
         let a = run_with_threads(1, scene, &set, steps);
         let b = run_with_threads(2, scene, &set, steps);

@@ -108,3 +108,49 @@ fn syntax_error_has_line() {
     let e = err(&GOOD.replace("end_time = 0.1", "end_time = = 0.1"), &[]);
     assert_eq!(e.line, Some(5), "{e}");
 }
+
+const BODY: &str = r#"
+[[solids]]
+name = "rock"
+density = 2500.0
+youngs_modulus = 1e9
+poisson_ratio = 0.2
+
+[[bodies]]
+name = "boulder"
+material = "rock"
+model = "rigid"
+shape = { type = "sphere", center = [0.05, 0.2], radius = 0.02 }
+"#;
+
+#[test]
+fn body_errors_name_the_key() {
+    let good = format!("{GOOD}{BODY}");
+    load_scene_str(&good, "good.toml", &[]).unwrap();
+    // a fine-grain material is not a solid
+    let e = err(
+        &good.replace("material = \"rock\"", "material = \"sand\""),
+        &[],
+    );
+    assert_eq!(e.path, "bodies[0].material", "{e}");
+    assert!(e.to_string().contains("[[solids]]"), "{e}");
+    // unknown model
+    let e = err(
+        &good.replace("model = \"rigid\"", "model = \"plastic\""),
+        &[],
+    );
+    assert!(e.to_string().contains("bodies"), "{e}");
+    assert!(e.line.is_some(), "{e}");
+    // an elastic body cannot be fixed
+    let e = err(
+        &good.replace("model = \"rigid\"", "model = \"elastic\"\nfixed = true"),
+        &[],
+    );
+    assert_eq!(e.path, "bodies[0].fixed", "{e}");
+    // restitution outside (0, 1]
+    let e = err(&format!("{good}\n[contact]\nrestitution = 1.5\n"), &[]);
+    assert_eq!(e.path, "contact.restitution", "{e}");
+    // wrong rotation arity in 2D
+    let e = err(&good, &["bodies.0.rotation=[1.0, 2.0, 3.0]"]);
+    assert_eq!(e.path, "bodies[0].rotation", "{e}");
+}

@@ -5,7 +5,7 @@ use super::body::Body;
 use super::material::SolidMaterial;
 use super::particles::CoarseParticles;
 use crate::geometry::Shape;
-use crate::math::{from3, to3, Real, Vect};
+use crate::math::{from3, to3, Real};
 use crate::scene::{BodyModel, BodySpec, Scene};
 use crate::world::BuildError;
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
@@ -53,7 +53,7 @@ impl<const D: usize> Coarse<D> {
                 .position(|m| m.name == b.material)
                 .expect("validated");
             let m = &solids[mi];
-            let shape = Shape::<D>::from_spec(&b.shape);
+            let shape = Shape::<D>::from_spec(&b.shape, &scene.assets);
             let pts = shape.body_fill(dp);
             if pts.len() < 2 {
                 return Err(BuildError {
@@ -68,8 +68,12 @@ impl<const D: usize> Coarse<D> {
             }
             let centre = to3(&shape.center());
             let rot = spec_rotation(b, D);
-            let pm = m.rho0 * vol;
-            let mass = pm * pts.len() as Real;
+            // particle mass: the exact body mass shared out, where the volume is known
+            let mass = shape
+                .volume()
+                .map(|v| m.rho0 * v)
+                .unwrap_or(m.rho0 * vol * pts.len() as Real);
+            let pm = mass / pts.len() as Real;
             // centre of mass and inertia in the body frame (the unrotated shape about
             // its centre of mass), each particle a cube/square of side dp
             let com_local = pts
@@ -100,12 +104,9 @@ impl<const D: usize> Coarse<D> {
                 if rigid && depth > trim_depth {
                     continue;
                 }
-                let surface = depth < dp;
-                let n_local = if surface {
-                    shape.normal(p, 1e-3 * dp)
-                } else {
-                    Vect::<D>::zeros()
-                };
+                // outward normal of the nearest surface, for every particle a fine
+                // particle can see (Eq. 48)
+                let n_local = shape.normal(p, 1e-3 * dp);
                 let off = to3(p) - centre - com_local;
                 let x = com + rot * off;
                 let v = vel + omega.cross(&(x - com));
@@ -123,7 +124,8 @@ impl<const D: usize> Coarse<D> {
                     n,
                     pm,
                     bi as u32,
-                    surface,
+                    depth,
+                    dp,
                 );
             }
             let orientation = UnitQuaternion::from_rotation_matrix(&rot);

@@ -9,6 +9,8 @@
 //! μ_cf acts against the tangential slip, bounded by μ_cf times the normal part.
 //! The coarse particle receives exactly −m_i a_ij (Eq. 50 with σ_i^c = σ_j^f), so the
 //! momentum exchanged over each fine step balances to round-off.
+//! For cohesionless soil the interface carries no tension: an attractive normal part
+//! of a_ij (a separating, stress-free fine particle pulled by P*_diss) is dropped.
 
 use super::body::Body;
 use super::material::SolidMaterial;
@@ -31,6 +33,8 @@ pub struct CoarseSource<const D: usize> {
     pub inv_z: Real,
     /// Reference volume V⁰ = dp^d.
     pub vol: Real,
+    /// Depth below the body surface (m).
+    pub depth: Real,
 }
 
 /// Pack the coarse particles for a fine step of length `dt`: positions predicted to
@@ -57,6 +61,7 @@ pub fn pack<const D: usize>(
                 1.0 / (m.rho0 * m.c0)
             },
             vol,
+            depth: p.depth[i],
         }
     }));
 }
@@ -70,6 +75,10 @@ pub struct FineSide<'a, const D: usize> {
     /// ρ0 c0 of the fine material and 1/c0.
     pub z: Real,
     pub inv_c: Real,
+    /// The fine material has cohesion (the interface may carry tension).
+    pub cohesive: bool,
+    /// c0² of the fine material (penetration barrier).
+    pub c2: Real,
 }
 
 /// Coupling settings.
@@ -80,6 +89,8 @@ pub struct Coupling {
     /// μ_cf.
     pub mu_cf: Real,
     pub dt: Real,
+    /// Particle spacing dp.
+    pub dp: Real,
 }
 
 impl Coupling {
@@ -111,6 +122,26 @@ impl Coupling {
         let p_diss = beta * zeff * w;
         let k = 2.0 / f.rho * dwv;
         let mut a = (f.stress.dot_vec(&e) - n * p_diss) * k;
+        // a cohesionless grain–boulder interface carries no tension: an attractive
+        // normal part (from a stress-free, separating fine particle) is dropped
+        let an = a.dot(&n);
+        if an < 0.0 && !f.cohesive {
+            a -= n * an;
+        }
+        // penetration barrier: a fine particle whose centre has crossed the body's
+        // surface in front of surface particle j (within half a spacing of j's normal
+        // line, normal distance below j's depth) is pushed back out by a spring of
+        // frequency c0/dp, weighted by W_ij V_j. Inactive whenever the interface
+        // holds; it stops a fine particle from being trapped inside a boulder.
+        if c.depth < self.dp {
+            let along = rij.dot(&n);
+            let gap = along - c.depth;
+            let lateral2 = r2 - along * along;
+            if gap < 0.0 && lateral2 < 0.25 * self.dp * self.dp {
+                let w = self.kernel.w(r) * c.vol;
+                a -= n * (f.c2 / (self.dp * self.dp) * gap * w);
+            }
+        }
         if self.mu_cf > 0.0 && n.norm_squared() > 0.0 {
             let an = a.dot(&n);
             if an > 0.0 {

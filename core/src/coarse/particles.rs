@@ -10,16 +10,18 @@ pub struct CoarseParticles<const D: usize> {
     /// Rigid: offset from the centre of mass in the body frame. Elastic: the reference
     /// position r⁰ (Eq. 36).
     pub local: Vec<Vect<D>>,
-    /// Outward unit normal in the body frame (rigid) or the reference configuration
-    /// (elastic); zero away from the surface.
+    /// Outward unit normal of the nearest surface, in the body frame (rigid) or the
+    /// reference configuration (elastic); zero where the direction is undefined.
     pub local_normal: Vec<Vect<D>>,
-    /// Current outward unit normal n^c of Eq. (48) (zero inside).
+    /// Current outward unit normal n^c of Eq. (48).
     pub normal: Vec<Vect<D>>,
     pub mass: Vec<Real>,
     /// Owning body.
     pub body: Vec<u32>,
     /// Within one dp of the surface: takes part in contacts.
     pub surface: Vec<bool>,
+    /// Depth below the body's surface in the reference configuration (m).
+    pub depth: Vec<Real>,
     /// Force from the fine grains, Eq. (50), held over one fine step.
     pub f_fine: Vec<Vect<D>>,
     /// Contact force of the current sub-step.
@@ -49,8 +51,10 @@ impl<const D: usize> CoarseParticles<D> {
         normal: Vect<D>,
         mass: Real,
         body: u32,
-        surface: bool,
+        depth: Real,
+        dp: Real,
     ) {
+        let surface = depth < dp;
         self.pos.push(pos);
         self.vel.push(vel);
         self.local.push(local);
@@ -59,6 +63,7 @@ impl<const D: usize> CoarseParticles<D> {
         self.mass.push(mass);
         self.body.push(body);
         self.surface.push(surface);
+        self.depth.push(depth);
         self.f_fine.push(Vect::<D>::zeros());
         self.f_contact.push(Vect::<D>::zeros());
         self.pos_start.push(pos);

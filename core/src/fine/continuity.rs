@@ -128,7 +128,9 @@ pub fn continuity_sweep<const D: usize>(
                     drho += (rel.dot(&e) + (si.p - pw) * 2.0 * si.half_inv_z) * dwv;
                     grad -= rel * e.transpose() * dwv;
                 }
-                // coarse grains: no-slip mirrors moving with v̄ (Eqs. 48, 60)
+                // coarse grains: free-slip mirrors moving with v̄ (Eqs. 48, 60): only the
+                // normal relative velocity is reflected (no coarse–fine friction here;
+                // μ_cf acts in the momentum sweep)
                 for &j in &cl.coarse[cl.coff[k] as usize..cl.coff[k + 1] as usize] {
                     let cj = &coarse[j as usize];
                     let rij = xi - cj.pos;
@@ -139,7 +141,12 @@ pub fn continuity_sweep<const D: usize>(
                     let r = r2.sqrt();
                     let e = rij * (1.0 / r);
                     let dwv = prm.kernel.dw(r) * cj.vol;
-                    let rel = (vi - cj.vel) * 2.0;
+                    let n = if cj.normal.norm_squared() > 0.0 {
+                        cj.normal
+                    } else {
+                        e
+                    };
+                    let rel = n * (2.0 * (vi - cj.vel).dot(&n));
                     drho += rel.dot(&e) * dwv;
                     grad -= rel * e.transpose() * dwv;
                 }

@@ -25,22 +25,40 @@ pub fn load_scene_file(
         line: None,
         message: format!("cannot read scene file: {e}"),
     })?;
-    load_scene_str(&text, &file, overrides)
+    let dir = path.parent().unwrap_or(std::path::Path::new("."));
+    load_scene_in(&text, &file, overrides, dir)
 }
 
-/// Parse and validate scene text. `file` is used in error messages.
+/// Parse and validate scene text. `file` is used in error messages; files named by
+/// shapes are read relative to the working directory.
 pub fn load_scene_str(
     text: &str,
     file: &str,
     overrides: &[String],
 ) -> Result<LoadedScene, SceneError> {
+    load_scene_in(text, file, overrides, std::path::Path::new("."))
+}
+
+/// Parse and validate scene text whose shape files live in `dir`.
+pub fn load_scene_in(
+    text: &str,
+    file: &str,
+    overrides: &[String],
+    dir: &std::path::Path,
+) -> Result<LoadedScene, SceneError> {
     let text = apply_overrides(text, file, overrides)?;
     let de = toml::Deserializer::parse(&text).map_err(|e| toml_error(&text, file, "", &e))?;
-    let scene: Scene = serde_path_to_error::deserialize(de).map_err(|e| {
+    let mut scene: Scene = serde_path_to_error::deserialize(de).map_err(|e| {
         let path = clean_path(&e.path().to_string());
         toml_error(&text, file, &path, e.inner())
     })?;
     validate(&scene).map_err(|(path, message)| SceneError {
+        file: file.to_string(),
+        line: locate(&text, &path),
+        path,
+        message,
+    })?;
+    scene.assets = crate::assets::load(&scene, dir).map_err(|(path, message)| SceneError {
         file: file.to_string(),
         line: locate(&text, &path),
         path,

@@ -32,6 +32,9 @@ pub struct Scene {
     pub probes: Vec<ProbeSpec>,
     #[serde(default)]
     pub observe: ObserveSpec,
+    /// Meshes and terrain grids read from files named by shapes (filled by the loader).
+    #[serde(skip)]
+    pub assets: crate::assets::Assets,
 }
 
 /// `[simulation]`: dimension, gravity, resolution, time span and stability bounds.
@@ -77,6 +80,16 @@ pub struct SimulationSpec {
     pub cfl_coarse: f64,
 }
 
+impl SimulationSpec {
+    /// The scheme as written in scene files.
+    pub fn time_stepping_name(&self) -> &'static str {
+        match self.time_stepping {
+            TimeStepping::MultiRate => "multi-rate",
+            TimeStepping::SingleRate => "single-rate",
+        }
+    }
+}
+
 /// Time-stepping scheme of fine and coarse grains.
 #[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
 #[serde(rename_all = "kebab-case")]
@@ -86,6 +99,9 @@ pub enum TimeStepping {
     SingleRate,
 }
 
+fn one() -> f64 {
+    1.0
+}
 fn default_cfl() -> f64 {
     0.4
 }
@@ -230,6 +246,24 @@ pub enum ShapeSpec {
     },
     /// Simple polygon (2D), vertices in order.
     Polygon { vertices: Vec<Vec<f64>> },
+    /// Convex polyhedron (3D): the convex hull of `vertices`.
+    Polyhedron { vertices: Vec<Vec<f64>> },
+    /// Closed triangle mesh (3D) from an `.obj` or `.stl` file (path relative to the
+    /// scene file), scaled about its origin by `scale` and shifted by `offset`.
+    Mesh {
+        file: String,
+        #[serde(default = "one")]
+        scale: f64,
+        #[serde(default)]
+        offset: Option<Vec<f64>>,
+    },
+    /// Terrain (3D, walls only) from an ESRI ASCII grid (`.asc`, path relative to the
+    /// scene file); the ground is the solid side. `offset` shifts it.
+    Heightmap {
+        file: String,
+        #[serde(default)]
+        offset: Option<Vec<f64>>,
+    },
     /// A plane through `point` with outward `normal` (pointing into the material side);
     /// wall layers are placed behind it over a patch of half-widths `half_extent`
     /// (one value in 2D, two in 3D).

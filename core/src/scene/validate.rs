@@ -102,6 +102,53 @@ pub fn validate_shape(path: &str, s: &ShapeSpec, d: usize) -> Check {
                 return fail(format!("{path}.vertices"), "polygon has zero area");
             }
         }
+        ShapeSpec::Polyhedron { vertices } => {
+            if d != 3 {
+                return fail(
+                    format!("{path}.type"),
+                    "a polyhedron needs a 3D scene; use a polygon in 2D",
+                );
+            }
+            if vertices.len() < 4 {
+                return fail(
+                    format!("{path}.vertices"),
+                    "a polyhedron needs at least 4 vertices",
+                );
+            }
+            for (i, v) in vertices.iter().enumerate() {
+                vec_len(&format!("{path}.vertices[{i}]"), v, 3)?;
+            }
+        }
+        ShapeSpec::Mesh {
+            file,
+            scale,
+            offset,
+        } => {
+            if d != 3 {
+                return fail(
+                    format!("{path}.type"),
+                    "a mesh needs a 3D scene; use a polygon in 2D",
+                );
+            }
+            if file.is_empty() {
+                return fail(format!("{path}.file"), "empty file name");
+            }
+            positive(&format!("{path}.scale"), *scale)?;
+            if let Some(o) = offset {
+                vec_len(&format!("{path}.offset"), o, 3)?;
+            }
+        }
+        ShapeSpec::Heightmap { file, offset } => {
+            if d != 3 {
+                return fail(format!("{path}.type"), "a heightmap needs a 3D scene");
+            }
+            if file.is_empty() {
+                return fail(format!("{path}.file"), "empty file name");
+            }
+            if let Some(o) = offset {
+                vec_len(&format!("{path}.offset"), o, 3)?;
+            }
+        }
         ShapeSpec::Plane {
             point,
             normal,
@@ -277,10 +324,13 @@ pub fn validate(s: &Scene) -> Check {
             );
         }
         validate_shape(&format!("{p}.shape"), &r.shape, d)?;
-        if matches!(r.shape, ShapeSpec::Plane { .. }) {
+        if matches!(
+            r.shape,
+            ShapeSpec::Plane { .. } | ShapeSpec::Heightmap { .. }
+        ) {
             return fail(
                 format!("{p}.shape.type"),
-                "a plane cannot hold particles; use box, cylinder, sphere or polygon",
+                "a plane or heightmap cannot hold particles; use box, cylinder, sphere, polygon, polyhedron or mesh",
             );
         }
         if let Some(v) = &r.velocity {
@@ -424,10 +474,13 @@ fn validate_coarse(s: &Scene, fine_names: &HashSet<&str>) -> Check {
             );
         }
         validate_shape(&format!("{p}.shape"), &b.shape, d)?;
-        if matches!(b.shape, ShapeSpec::Plane { .. }) {
+        if matches!(
+            b.shape,
+            ShapeSpec::Plane { .. } | ShapeSpec::Heightmap { .. }
+        ) {
             return fail(
                 format!("{p}.shape.type"),
-                "a plane cannot be a body; use box, cylinder, sphere or polygon",
+                "a plane or heightmap cannot be a body; use box, cylinder, sphere, ring, polygon, polyhedron or mesh",
             );
         }
         if let Some(r) = &b.rotation {
@@ -468,6 +521,12 @@ fn validate_coarse(s: &Scene, fine_names: &HashSet<&str>) -> Check {
     }
     if let Some(k) = c.stiffness {
         positive("contact.stiffness", k)?;
+        if c.model == ContactModel::HertzMindlin {
+            return fail(
+                "contact.stiffness",
+                "a stiffness override applies to the spring-dashpot model only; Hertz–Mindlin takes its stiffness from the solids",
+            );
+        }
     }
     Ok(())
 }

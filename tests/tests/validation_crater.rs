@@ -1,0 +1,60 @@
+//! VALIDATION.md §4: low-speed impact craters (seed 000 §5.2, Uehara et al. 2003).
+//! Two of the twelve runs (R = 20 mm: μ = 0.3, H = 0.2 m at the bench's dp = 4 mm; μ =
+//! 0.5, H = 0.1 m at dp = 5 mm) within the bench tolerance of 15 %: penetration depth
+//! against Eq. (62),
+//! D = (0.14/μ) (ρ_b/ρ_g)^½ (2R)^⅔ (H + D)^⅓.
+
+use granmix_tests::{rel, run};
+
+/// Eq. (62) solved for D by fixed-point iteration.
+fn eq62(radius: f64, mu: f64, height: f64) -> f64 {
+    let a = 0.14 / mu * (2200.0f64 / 1510.0).sqrt() * (2.0 * radius).powf(2.0 / 3.0);
+    let mut d = 0.0;
+    for _ in 0..100 {
+        d = a * (height + d).cbrt();
+    }
+    d
+}
+
+fn crater(dp: f64, radius: f64, mu: f64, height: f64) -> (f64, f64) {
+    let v0 = (2.0 * 9.81 * height).sqrt();
+    let set = [
+        format!("simulation.dp={dp}"),
+        format!("bodies.0.shape.radius={radius}"),
+        format!("bodies.0.shape.center.2={}", 0.1 + radius),
+        format!("bodies.0.velocity.2={}", -v0),
+        format!("materials.0.friction_angle={}", mu.atan().to_degrees()),
+    ];
+    let set: Vec<&str> = set.iter().map(|s| s.as_str()).collect();
+    let (samples, end, _) = run("impact_crater.toml", &set);
+    assert!(
+        !matches!(end, granmix_core::runner::RunEnd::Blowup(_)),
+        "{end:?}"
+    );
+    let last = samples.last().unwrap();
+    let ball = &last.bodies[0];
+    assert!(
+        ball.velocity[2].abs() < 0.02,
+        "ball still moving at {:?} m/s",
+        ball.velocity
+    );
+    (0.1 - (ball.position[2] - radius), eq62(radius, mu, height))
+}
+
+#[test]
+fn crater_depth_r20mm_mu03_h200mm() {
+    let (d, reference) = crater(0.004, 0.02, 0.3, 0.2);
+    assert!(
+        rel(d, reference) < 0.15,
+        "D = {d:.4} m vs Eq. (62) {reference:.4} m"
+    );
+}
+
+#[test]
+fn crater_depth_r20mm_mu05_h100mm() {
+    let (d, reference) = crater(0.005, 0.02, 0.5, 0.1);
+    assert!(
+        rel(d, reference) < 0.15,
+        "D = {d:.4} m vs Eq. (62) {reference:.4} m"
+    );
+}
