@@ -551,6 +551,37 @@ pub fn hull_planes(pts: &[Vector3<Real>]) -> Vec<(Vector3<Real>, Real)> {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn hull_of_cube_corners_has_six_faces_and_exact_distance() {
+        let mut pts = Vec::new();
+        for &x in &[0.0, 1.0] {
+            for &y in &[0.0, 2.0] {
+                for &z in &[0.0, 3.0] {
+                    pts.push(Vector3::new(x, y, z));
+                }
+            }
+        }
+        pts.push(Vector3::new(0.5, 1.0, 1.5)); // interior point is ignored
+        let planes = hull_planes(&pts);
+        assert_eq!(planes.len(), 6);
+        let s = Shape::<3>::Convex {
+            planes,
+            lo: Vect::<3>::new(0.0, 0.0, 0.0),
+            hi: Vect::<3>::new(1.0, 2.0, 3.0),
+        };
+        assert!((s.sdf(&Vect::<3>::new(0.5, 1.0, 1.5)) + 0.5).abs() < 1e-12);
+        assert!((s.sdf(&Vect::<3>::new(0.5, 1.0, 3.25)) - 0.25).abs() < 1e-12);
+        // a box body of 10 × 10 × 5 spacings fills with full layers half a spacing in
+        let b = Shape::<3>::Box {
+            min: Vect::<3>::new(0.0, 0.0, 0.0),
+            max: Vect::<3>::new(0.1, 0.1, 0.05),
+        };
+        let pts = b.body_fill(0.01);
+        assert_eq!(pts.len(), 500);
+        let zmin = pts.iter().map(|p| p[2]).fold(f64::INFINITY, f64::min);
+        assert!((zmin - 0.005).abs() < 1e-12, "{zmin}");
+    }
+
     use super::*;
 
     #[test]

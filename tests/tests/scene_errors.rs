@@ -154,3 +154,38 @@ fn body_errors_name_the_key() {
     let e = err(&good, &["bodies.0.rotation=[1.0, 2.0, 3.0]"]);
     assert_eq!(e.path, "bodies[0].rotation", "{e}");
 }
+
+#[test]
+fn missing_mesh_and_terrain_files_name_the_key() {
+    let text = r#"
+[simulation]
+dimension = 3
+gravity = [0.0, 0.0, -9.81]
+end_time = 0.1
+dp = 0.01
+output_interval = 0.01
+
+[[solids]]
+name = "rock"
+density = 2500.0
+youngs_modulus = 1e9
+poisson_ratio = 0.2
+
+[[bodies]]
+name = "boulder"
+material = "rock"
+model = "rigid"
+shape = { type = "mesh", file = "no_such_rock.obj" }
+"#;
+    let e = err(text, &[]);
+    assert_eq!(e.path, "bodies[0].shape.file", "{e}");
+    assert!(e.to_string().contains("no_such_rock.obj"), "{e}");
+    assert!(e.line.is_some(), "{e}");
+    let text = text.replace(
+        "[[bodies]]",
+        "[[walls]]\nname = \"ground\"\nshape = { type = \"heightmap\", file = \"none.asc\" }\n\n[[bodies]]",
+    );
+    let text = text.replace("no_such_rock.obj", "none.asc");
+    let e = err(&text, &[]);
+    assert!(e.path.ends_with(".shape.file"), "{e}");
+}
