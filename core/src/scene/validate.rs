@@ -177,6 +177,20 @@ pub fn validate_shape(path: &str, s: &ShapeSpec, d: usize) -> Check {
     Ok(())
 }
 
+/// A shape that must enclose particles (a region or a body): not a plane or terrain.
+fn validate_solid_shape(path: &str, s: &ShapeSpec, d: usize, role: &str) -> Check {
+    validate_shape(path, s, d)?;
+    if matches!(s, ShapeSpec::Plane { .. } | ShapeSpec::Heightmap { .. }) {
+        return fail(
+            format!("{path}.type"),
+            format!(
+                "a plane or heightmap cannot {role}; use box, cylinder, sphere, ring, polygon, polyhedron or mesh"
+            ),
+        );
+    }
+    Ok(())
+}
+
 const FACES: [&str; 6] = ["-x", "+x", "-y", "+y", "-z", "+z"];
 
 /// Validate the whole scene.
@@ -323,16 +337,7 @@ pub fn validate(s: &Scene) -> Check {
                 ),
             );
         }
-        validate_shape(&format!("{p}.shape"), &r.shape, d)?;
-        if matches!(
-            r.shape,
-            ShapeSpec::Plane { .. } | ShapeSpec::Heightmap { .. }
-        ) {
-            return fail(
-                format!("{p}.shape.type"),
-                "a plane or heightmap cannot hold particles; use box, cylinder, sphere, polygon, polyhedron or mesh",
-            );
-        }
+        validate_solid_shape(&format!("{p}.shape"), &r.shape, d, "hold particles")?;
         if let Some(v) = &r.velocity {
             vec_len(&format!("{p}.velocity"), v, d)?;
         }
@@ -473,16 +478,7 @@ fn validate_coarse(s: &Scene, fine_names: &HashSet<&str>) -> Check {
                 ),
             );
         }
-        validate_shape(&format!("{p}.shape"), &b.shape, d)?;
-        if matches!(
-            b.shape,
-            ShapeSpec::Plane { .. } | ShapeSpec::Heightmap { .. }
-        ) {
-            return fail(
-                format!("{p}.shape.type"),
-                "a plane or heightmap cannot be a body; use box, cylinder, sphere, ring, polygon, polyhedron or mesh",
-            );
-        }
+        validate_solid_shape(&format!("{p}.shape"), &b.shape, d, "be a body")?;
         if let Some(r) = &b.rotation {
             vec_len(&format!("{p}.rotation"), r, if d == 2 { 1 } else { 3 })?;
         }
