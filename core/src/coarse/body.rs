@@ -54,7 +54,7 @@ impl<const D: usize> Body<D> {
         *self.orientation.to_rotation_matrix().matrix()
     }
 
-    /// Inertia tensor in the world frame, R I Rᵀ.
+    /// Inverse inertia tensor in the world frame, R I⁻¹ Rᵀ.
     pub fn world_inv_inertia(&self) -> Matrix3<Real> {
         let r = self.rotation();
         r * self.inv_inertia * r.transpose()

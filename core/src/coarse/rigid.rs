@@ -60,6 +60,11 @@ pub fn kick<const D: usize>(
     }
     b.vel += (force / b.mass + gravity) * dt;
     b.ang_mom += torque * dt;
+    refresh_omega(b);
+}
+
+/// ω = R I⁻¹ Rᵀ L for the current orientation.
+pub fn refresh_omega<const D: usize>(b: &mut Body<D>) {
     b.omega = b.world_inv_inertia() * b.ang_mom;
     if D == 2 {
         // plane motion: rotation about z only (guards round-off in x, y)
@@ -108,7 +113,7 @@ angular_velocity = [1.0, 0.2, 3.0]
             drift(b, 0.5 * dt);
             kick(b, &Vector3::zeros(), &Vector3::zeros(), &g, dt);
             drift(b, 0.5 * dt);
-            b.omega = b.world_inv_inertia() * b.ang_mom;
+            refresh_omega(b);
         }
         assert!((b.ang_mom - l0).norm() < 1e-12 * l0.norm());
         let e = b.rigid_kinetic_energy();

@@ -33,8 +33,9 @@ pub struct CoarseStepper<const D: usize> {
     /// κ and Δt_c of the last fine step.
     pub kappa: usize,
     pub dt: Real,
-    /// Impulse of the fine grains + contacts on each body over the fine step (3D).
-    impulse: Vec<(Vector3<Real>, Vector3<Real>, Vector3<Real>)>,
+    /// Impulse (force, torque) of the fine grains + contacts on each body over the
+    /// fine step (3D).
+    impulse: Vec<(Vector3<Real>, Vector3<Real>)>,
     /// Contact load on each wall object over the fine step, impulse / Δt_f.
     pub wall_loads: Vec<Load>,
     /// Seconds spent in contact evaluation since last taken.
@@ -133,10 +134,11 @@ impl<const D: usize> CoarseStepper<D> {
             l.force *= inv;
             l.moment *= inv;
         }
-        for (b, (f, t, ff)) in coarse.bodies.iter_mut().zip(&self.impulse) {
+        for (b, (f, t)) in coarse.bodies.iter_mut().zip(&self.impulse) {
             b.force = f * inv;
             b.torque = t * inv;
-            b.fine_force = ff * inv;
+            // the fine-grain force is held over the fine step: its sum needs no average
+            b.fine_force = (b.start..b.end).fold(Vector3::zeros(), |a, i| a + to3(&p.f_fine[i]));
         }
         for (b, n) in coarse.bodies.iter_mut().zip(&self.contacts.per_body) {
             b.contacts = *n;
@@ -149,7 +151,7 @@ impl<const D: usize> CoarseStepper<D> {
 
     fn substep(&mut self, coarse: &mut Coarse<D>, walls: &Walls<D>, dt: Real) {
         let half = 0.5 * dt;
-        self.drift(coarse, half);
+        self.drift(coarse, half, false);
         let (p, bodies, solids) = (&mut coarse.particles, &coarse.bodies, &coarse.solids);
         let t = std::time::Instant::now();
         self.contacts
@@ -174,11 +176,9 @@ impl<const D: usize> CoarseStepper<D> {
         }
         for (bi, b) in coarse.bodies.iter_mut().enumerate() {
             let (f, t) = rigid::resultant(b, p, |i| p.f_fine[i] + p.f_contact[i]);
-            let (ff, _) = rigid::resultant(b, p, |i| p.f_fine[i]);
             let imp = &mut self.impulse[bi];
             imp.0 += f * dt;
             imp.1 += t * dt;
-            imp.2 += ff * dt;
             if b.is_rigid() {
                 rigid::kick(b, &f, &t, &self.gravity, dt);
                 if !b.fixed {
@@ -189,15 +189,7 @@ impl<const D: usize> CoarseStepper<D> {
         if !self.tlsph.is_empty() {
             self.tlsph.deformation_rate(p);
         }
-        self.drift(coarse, half);
-        for b in coarse.bodies.iter_mut().filter(|b| b.is_rigid()) {
-            b.omega = b.world_inv_inertia() * b.ang_mom;
-            if D == 2 {
-                b.omega.x = 0.0;
-                b.omega.y = 0.0;
-            }
-            rigid::place(b, &mut coarse.particles);
-        }
+        self.drift(coarse, half, true);
         self.amax = amax2.sqrt();
         self.vmax = coarse
             .particles
@@ -210,7 +202,9 @@ impl<const D: usize> CoarseStepper<D> {
     }
 
     /// Half-step drift of Eqs. (57)/(59): 𝔽, positions (elastic), pose (rigid).
-    fn drift(&mut self, coarse: &mut Coarse<D>, half: Real) {
+    /// At the end of a sub-step (`end`) ω is refreshed for the new orientation
+    /// before the rigid particles are placed.
+    fn drift(&mut self, coarse: &mut Coarse<D>, half: Real, end: bool) {
         let p = &mut coarse.particles;
         if !self.tlsph.is_empty() {
             self.tlsph.advance_deformation(half);
@@ -221,6 +215,9 @@ impl<const D: usize> CoarseStepper<D> {
         }
         for b in coarse.bodies.iter_mut().filter(|b| b.is_rigid()) {
             rigid::drift(b, half);
+            if end && !b.fixed {
+                rigid::refresh_omega(b);
+            }
             rigid::place(b, p);
         }
     }

@@ -191,6 +191,19 @@ fn validate_solid_shape(path: &str, s: &ShapeSpec, d: usize, role: &str) -> Chec
     Ok(())
 }
 
+/// Density, Young's modulus and Poisson's ratio of a material at `p`.
+fn elastic_constants(p: &str, density: f64, youngs: f64, poisson: f64) -> Check {
+    positive(&format!("{p}.density"), density)?;
+    positive(&format!("{p}.youngs_modulus"), youngs)?;
+    if !(poisson > -1.0 && poisson < 0.5) {
+        return fail(
+            format!("{p}.poisson_ratio"),
+            format!("must lie in (−1, 0.5), found {poisson}"),
+        );
+    }
+    Ok(())
+}
+
 const FACES: [&str; 6] = ["-x", "+x", "-y", "+y", "-z", "+z"];
 
 /// Validate the whole scene.
@@ -293,14 +306,7 @@ pub fn validate(s: &Scene) -> Check {
                 format!("duplicate material name `{}`", m.name),
             );
         }
-        positive(&format!("{p}.density"), m.density)?;
-        positive(&format!("{p}.youngs_modulus"), m.youngs_modulus)?;
-        if !(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5) {
-            return fail(
-                format!("{p}.poisson_ratio"),
-                format!("must lie in (−1, 0.5), found {}", m.poisson_ratio),
-            );
-        }
+        elastic_constants(&p, m.density, m.youngs_modulus, m.poisson_ratio)?;
         if !(m.friction_angle > 0.0 && m.friction_angle < 90.0) {
             return fail(
                 format!("{p}.friction_angle"),
@@ -439,14 +445,7 @@ fn validate_coarse(s: &Scene, fine_names: &HashSet<&str>) -> Check {
                 format!("duplicate material name `{}`", m.name),
             );
         }
-        positive(&format!("{p}.density"), m.density)?;
-        positive(&format!("{p}.youngs_modulus"), m.youngs_modulus)?;
-        if !(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5) {
-            return fail(
-                format!("{p}.poisson_ratio"),
-                format!("must lie in (−1, 0.5), found {}", m.poisson_ratio),
-            );
-        }
+        elastic_constants(&p, m.density, m.youngs_modulus, m.poisson_ratio)?;
     }
     let mut names = HashSet::new();
     for (i, b) in s.bodies.iter().enumerate() {
