@@ -30,8 +30,14 @@ pub fn potential_energy<const D: usize>(p: &FineParticles<D>, g: &Vect<D>) -> Re
     p.pos.iter().zip(&p.mass).map(|(x, m)| -m * g.dot(x)).sum()
 }
 
-/// Deposit run-out (see [`RunoutSpec`]).
-pub fn runout<const D: usize>(p: &FineParticles<D>, spec: &RunoutSpec<D>, dp: Real) -> Real {
+/// Deposit run-out (see [`RunoutSpec`]): fine grains plus `coarse` (position, volume)
+/// pairs, so that rocks inside a deposit count as deposit.
+pub fn runout<const D: usize>(
+    p: &FineParticles<D>,
+    coarse: &[(Vect<D>, Real)],
+    spec: &RunoutSpec<D>,
+    dp: Real,
+) -> Real {
     let dist = |x: &Vect<D>| -> Real {
         if D == 2 {
             (x[0] - spec.origin[0]) * spec.direction
@@ -39,7 +45,12 @@ pub fn runout<const D: usize>(p: &FineParticles<D>, spec: &RunoutSpec<D>, dp: Re
             ((x[0] - spec.origin[0]).powi(2) + (x[1] - spec.origin[1]).powi(2)).sqrt()
         }
     };
-    let rmax = p.pos.iter().map(dist).fold(0.0, Real::max);
+    let rmax = p
+        .pos
+        .iter()
+        .chain(coarse.iter().map(|(x, _)| x))
+        .map(dist)
+        .fold(0.0, Real::max);
     let nb = (rmax / dp).ceil() as usize + 1;
     let mut vol = vec![0.0; nb];
     for (x, (m, rho)) in p.pos.iter().zip(p.mass.iter().zip(&p.rho)) {
@@ -49,6 +60,12 @@ pub fn runout<const D: usize>(p: &FineParticles<D>, spec: &RunoutSpec<D>, dp: Re
         }
         let k = ((r / dp) as usize).min(nb - 1);
         vol[k] += m / rho;
+    }
+    for (x, v) in coarse {
+        let r = dist(x);
+        if r >= 0.0 {
+            vol[((r / dp) as usize).min(nb - 1)] += v;
+        }
     }
     let mut front = 0.0;
     for (k, v) in vol.iter().enumerate() {
@@ -107,4 +124,56 @@ pub fn probe<const D: usize>(
         velocity: vel,
         support: n,
     }
+}
+
+/// β of seed 000 Fig. 14: the angle (degrees, 0–90) between a 2D body's initially
+/// vertical side and the x-axis, from its orientation quaternion (w, x, y, z).
+pub fn side_angle_deg(q: &[Real; 4]) -> Real {
+    let turn = 2.0 * q[3].atan2(q[0]);
+    let a = (90.0 + turn.to_degrees()).rem_euclid(180.0);
+    a.min(180.0 - a)
+}
+
+/// Events of the blocks case (seed 000 §5.3, VALIDATION §6) read off a run's samples.
+#[derive(Clone, Debug, Default)]
+pub struct BlockEvents {
+    /// First time the fine grains load `hit` (the flow arrives at the blocks).
+    pub arrival: Option<Real>,
+    /// First time β of `watched` drops below 85° (it starts to topple).
+    pub topple: Option<Real>,
+    /// First time β of `watched` comes within 5° of 0 (it lands on its side).
+    pub landing: Option<Real>,
+    /// β of `watched` at the last sample, and its (time, β) history.
+    pub final_beta: Real,
+    pub beta: Vec<(Real, Real)>,
+}
+
+/// [`BlockEvents`] for the body named `watched`, with arrival taken on body `hit`.
+pub fn block_events(
+    samples: &[crate::simulation::Sample],
+    hit: &str,
+    watched: &str,
+) -> BlockEvents {
+    let mut e = BlockEvents::default();
+    for s in samples {
+        if e.arrival.is_none() {
+            if let Some(b) = s.bodies.iter().find(|b| b.name == hit) {
+                if b.fine_force.iter().any(|f| *f != 0.0) {
+                    e.arrival = Some(s.time);
+                }
+            }
+        }
+        if let Some(b) = s.bodies.iter().find(|b| b.name == watched) {
+            let beta = side_angle_deg(&b.orientation);
+            if e.topple.is_none() && beta < 85.0 {
+                e.topple = Some(s.time);
+            }
+            if e.landing.is_none() && beta < 5.0 {
+                e.landing = Some(s.time);
+            }
+            e.beta.push((s.time, beta));
+            e.final_beta = beta;
+        }
+    }
+    e
 }

@@ -271,13 +271,19 @@ impl<const D: usize> Simulation<D> {
             ),
             None => (0, 1, 0.0, 0.0),
         };
+        let coarse_volumes: Vec<(Vect<D>, Real)> = (0..cp.len())
+            .map(|i| {
+                let b = &w.coarse.bodies[cp.body[i] as usize];
+                (cp.pos[i], cp.mass[i] / w.coarse.solids[b.material].rho0)
+            })
+            .collect();
         let s = Sample {
             time: w.time,
             steps: w.steps,
             dt: self.last_dt,
             kinetic_energy: observe::kinetic_energy(&w.fine),
             potential_energy: observe::potential_energy(&w.fine, &w.gravity),
-            runout: observe::runout(&w.fine, &self.runout, w.dp),
+            runout: observe::runout(&w.fine, &coarse_volumes, &self.runout, w.dp),
             max_speed: self.stepper.vmax(),
             barriers,
             probes,

@@ -21,8 +21,23 @@ pub fn check(scene: &Path, set: &[String]) -> Result<()> {
     for b in sim.barrier_names() {
         println!("  barrier {b}");
     }
-    for (name, model, n, mass) in sim.body_summaries() {
+    let bodies = sim.body_summaries();
+    const LISTED: usize = 12;
+    for (name, model, n, mass) in bodies.iter().take(LISTED) {
         println!("  body {name:<22} {n:>10} particles  {model:<7}  mass {mass:.4e} kg");
+    }
+    if bodies.len() > LISTED {
+        let rest = &bodies[LISTED..];
+        let n: usize = rest.iter().map(|b| b.2).sum();
+        println!("  … {} more bodies {n:>10} particles", rest.len());
+    }
+    for r in &loaded.scene.rock_reports {
+        println!(
+            "  rock fill {:<17} {:>6} rocks  content {:.1} %",
+            r.name,
+            r.rocks,
+            100.0 * r.content
+        );
     }
     let dt = sim.stable_dt();
     if sim.coarse_count() > 0 {

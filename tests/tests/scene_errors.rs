@@ -189,3 +189,41 @@ shape = { type = "mesh", file = "no_such_rock.obj" }
     let e = err(&text, &[]);
     assert!(e.path.ends_with(".shape.file"), "{e}");
 }
+
+const ROCKS: &str = r#"
+[[solids]]
+name = "rock"
+density = 2400.0
+youngs_modulus = 1e9
+poisson_ratio = 0.2
+
+[[rock_fills]]
+name = "rock"
+material = "rock"
+model = "rigid"
+region = { type = "box", min = [0.0, 0.0], max = [0.1, 0.1] }
+content = 0.2
+size = 0.015
+seed = 4
+clearance = 0.004
+"#;
+
+#[test]
+fn rock_fills_place_the_content_reproducibly_or_say_why_not() {
+    let text = format!("{GOOD}{ROCKS}");
+    let a = load_scene_str(&text, "rocks.toml", &[]).unwrap();
+    let b = load_scene_str(&text, "rocks.toml", &[]).unwrap();
+    let r = &a.scene.rock_reports[0];
+    assert!(r.rocks > 0 && (r.content - 0.2).abs() < 0.5 * 0.2 / r.rocks as f64 + 1e-12);
+    // the same seed gives the same rocks
+    assert_eq!(
+        format!("{:?}", a.scene.bodies),
+        format!("{:?}", b.scene.bodies)
+    );
+    let e = err(&text, &["rock_fills.0.content=0.48"]);
+    assert_eq!(e.path, "rock_fills[0].content", "{e}");
+    assert!(e.to_string().contains("could not place"), "{e}");
+    let e = err(&text, &["rock_fills.0.material=\"sand\""]);
+    assert_eq!(e.path, "rock_fills[0].material", "{e}");
+    assert!(e.line.is_some(), "{e}");
+}

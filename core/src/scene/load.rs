@@ -52,6 +52,12 @@ pub fn load_scene_in(
         let path = clean_path(&e.path().to_string());
         toml_error(&text, file, &path, e.inner())
     })?;
+    super::rocks::expand(&mut scene).map_err(|(path, message)| SceneError {
+        file: file.to_string(),
+        line: locate(&text, &path),
+        path,
+        message,
+    })?;
     validate(&scene).map_err(|(path, message)| SceneError {
         file: file.to_string(),
         line: locate(&text, &path),

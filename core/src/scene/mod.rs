@@ -2,6 +2,7 @@
 
 mod error;
 mod load;
+mod rocks;
 mod types;
 mod validate;
 

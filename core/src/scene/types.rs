@@ -20,6 +20,9 @@ pub struct Scene {
     /// Coarse grains: rigid or elastic bodies.
     #[serde(default)]
     pub bodies: Vec<BodySpec>,
+    /// Randomly placed rocks of random convex shape (2D), expanded into `bodies` at load.
+    #[serde(default)]
+    pub rock_fills: Vec<RockFillSpec>,
     #[serde(default)]
     pub contact: ContactSpec,
     #[serde(default)]
@@ -35,6 +38,9 @@ pub struct Scene {
     /// Meshes and terrain grids read from files named by shapes (filled by the loader).
     #[serde(skip)]
     pub assets: crate::assets::Assets,
+    /// What each `[[rock_fills]]` entry placed (filled by the loader).
+    #[serde(skip)]
+    pub rock_reports: Vec<RockFillReport>,
 }
 
 /// `[simulation]`: dimension, gravity, resolution, time span and stability bounds.
@@ -428,4 +434,55 @@ fn default_mu() -> f64 {
 }
 fn default_restitution() -> f64 {
     0.5
+}
+
+/// `[[rock_fills]]`: coarse grains of random convex polygonal shape placed at random,
+/// without overlap, inside a region until they make up `content` of its area (seed 000
+/// §6.1: rock block content, RBC). Reproducible: the same `seed` gives the same rocks.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RockFillSpec {
+    /// Rocks are named `<name>_0`, `<name>_1`, ….
+    pub name: String,
+    /// A `[[solids]]` name.
+    pub material: String,
+    pub model: BodyModel,
+    /// Where the rocks go: every rock lies inside this shape, `clearance` from its edge.
+    pub region: ShapeSpec,
+    /// Rock area over region area, in [0, 0.5].
+    pub content: f64,
+    /// Equivalent diameter D = 2√(A/π) of each rock (m).
+    pub size: f64,
+    /// Relative spread of D: each rock draws D(1 + s·u), u uniform in [−1, 1]. Default 0.
+    #[serde(default)]
+    pub size_spread: f64,
+    /// Polygon vertices per rock before the convex hull, 5 to 24. Default 9.
+    #[serde(default = "default_rock_vertices")]
+    pub vertices: usize,
+    /// Largest length-to-width ratio of a rock, ≥ 1. Default 1.6.
+    #[serde(default = "default_rock_aspect")]
+    pub max_aspect: f64,
+    /// Random seed. Default 0.
+    #[serde(default)]
+    pub seed: u64,
+    /// Smallest gap between two rocks and between a rock and the region's edge (m).
+    /// Default 2 dp, so that fine grains fill every gap.
+    #[serde(default)]
+    pub clearance: Option<f64>,
+}
+
+fn default_rock_vertices() -> usize {
+    9
+}
+fn default_rock_aspect() -> f64 {
+    1.6
+}
+
+/// What one `[[rock_fills]]` entry placed.
+#[derive(Debug, Clone, Default)]
+pub struct RockFillReport {
+    pub name: String,
+    pub rocks: usize,
+    /// Placed rock area over region area.
+    pub content: f64,
 }

@@ -1,0 +1,353 @@
+//! `[[rock_fills]]`: random convex rocks placed without overlap inside a region, as in the
+//! soil–rock-mixture slopes of seed 000 §6.1 (rock block content, RBC, by area). The
+//! rocks become ordinary `[[bodies]]` with polygon shapes before validation, so
+//! everything downstream sees plain bodies.
+
+use super::types::{BodySpec, RockFillReport, RockFillSpec, Scene, ShapeSpec};
+use super::validate::validate_shape;
+use crate::geometry::Shape;
+use std::f64::consts::PI;
+
+type Fail = (String, String);
+
+/// Largest placement attempts per rock before the fill gives up.
+const ATTEMPTS: usize = 20_000;
+
+/// SplitMix64: small, fast and reproducible across platforms.
+struct Rng(u64);
+
+impl Rng {
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// Uniform in [0, 1).
+    fn uniform(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+type P = [f64; 2];
+
+fn cross(o: P, a: P, b: P) -> f64 {
+    (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+}
+
+/// Convex hull, counter-clockwise (Andrew's monotone chain).
+fn hull(mut pts: Vec<P>) -> Vec<P> {
+    pts.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    let mut lower: Vec<P> = Vec::new();
+    for &p in &pts {
+        while lower.len() >= 2 && cross(lower[lower.len() - 2], lower[lower.len() - 1], p) <= 0.0 {
+            lower.pop();
+        }
+        lower.push(p);
+    }
+    let mut upper: Vec<P> = Vec::new();
+    for &p in pts.iter().rev() {
+        while upper.len() >= 2 && cross(upper[upper.len() - 2], upper[upper.len() - 1], p) <= 0.0 {
+            upper.pop();
+        }
+        upper.push(p);
+    }
+    lower.pop();
+    upper.pop();
+    lower.extend(upper);
+    lower
+}
+
+/// Area and centroid of a simple polygon.
+fn area_centroid(v: &[P]) -> (f64, P) {
+    let (mut a, mut cx, mut cy) = (0.0, 0.0, 0.0);
+    for i in 0..v.len() {
+        let (p, q) = (v[i], v[(i + 1) % v.len()]);
+        let c = p[0] * q[1] - q[0] * p[1];
+        a += c;
+        cx += (p[0] + q[0]) * c;
+        cy += (p[1] + q[1]) * c;
+    }
+    let a = 0.5 * a;
+    (a.abs(), [cx / (6.0 * a), cy / (6.0 * a)])
+}
+
+/// One rock of equivalent diameter `d` centred (centroid) on the origin: points around
+/// an ellipse of random aspect, jittered in angle and radius, then their convex hull,
+/// scaled to area πd²/4 and turned by a random angle.
+fn rock(rng: &mut Rng, d: f64, n: usize, max_aspect: f64) -> Vec<P> {
+    let aspect = 1.0 + (max_aspect - 1.0) * rng.uniform();
+    let (ax, ay) = (aspect.sqrt(), 1.0 / aspect.sqrt());
+    let pts: Vec<P> = (0..n)
+        .map(|k| {
+            let t = (k as f64 + 0.7 * (rng.uniform() - 0.5)) * 2.0 * PI / n as f64;
+            let r = 1.0 + 0.3 * (rng.uniform() - 0.5);
+            [r * ax * t.cos(), r * ay * t.sin()]
+        })
+        .collect();
+    let h = hull(pts);
+    let (a, c) = area_centroid(&h);
+    let s = (PI * d * d / 4.0 / a).sqrt();
+    let turn = 2.0 * PI * rng.uniform();
+    let (sn, cs) = turn.sin_cos();
+    h.iter()
+        .map(|p| {
+            let (x, y) = ((p[0] - c[0]) * s, (p[1] - c[1]) * s);
+            [cs * x - sn * y, sn * x + cs * y]
+        })
+        .collect()
+}
+
+/// Largest separation of two convex polygons along the edge normals of either: a lower
+/// bound of their distance (negative when they overlap).
+fn gap(a: &[P], b: &[P]) -> f64 {
+    let mut best = f64::NEG_INFINITY;
+    for (u, w) in [(a, b), (b, a)] {
+        for i in 0..u.len() {
+            let (p, q) = (u[i], u[(i + 1) % u.len()]);
+            let (ex, ey) = (q[0] - p[0], q[1] - p[1]);
+            let len = (ex * ex + ey * ey).sqrt();
+            if len == 0.0 {
+                continue;
+            }
+            // outward normal of a counter-clockwise polygon
+            let n = [ey / len, -ex / len];
+            let umax = u
+                .iter()
+                .map(|v| v[0] * n[0] + v[1] * n[1])
+                .fold(f64::NEG_INFINITY, f64::max);
+            let wmin = w
+                .iter()
+                .map(|v| v[0] * n[0] + v[1] * n[1])
+                .fold(f64::INFINITY, f64::min);
+            best = best.max(wmin - umax);
+        }
+    }
+    best
+}
+
+struct Placed {
+    verts: Vec<P>,
+    center: P,
+    radius: f64,
+}
+
+/// Expand every `[[rock_fills]]` entry into `[[bodies]]`.
+pub fn expand(scene: &mut Scene) -> Result<(), Fail> {
+    let fills = scene.rock_fills.clone();
+    for (i, f) in fills.iter().enumerate() {
+        let (bodies, report) = fill(scene, i, f)?;
+        scene.bodies.extend(bodies);
+        scene.rock_reports.push(report);
+    }
+    Ok(())
+}
+
+fn check(scene: &Scene, p: &str, f: &RockFillSpec) -> Result<(), Fail> {
+    let bad = |k: &str, m: String| Err((format!("{p}.{k}"), m));
+    if scene.simulation.dimension != 2 {
+        return bad(
+            "region",
+            "rock fills are 2D; in 3D place [[bodies]] with polyhedron or mesh shapes".into(),
+        );
+    }
+    if !scene.solids.iter().any(|s| s.name == f.material) {
+        let known: Vec<_> = scene.solids.iter().map(|s| s.name.as_str()).collect();
+        return bad(
+            "material",
+            format!(
+                "unknown solid `{}` (known solids: {})",
+                f.material,
+                if known.is_empty() {
+                    "none".to_string()
+                } else {
+                    known.join(", ")
+                }
+            ),
+        );
+    }
+    if !(0.0..=0.5).contains(&f.content) {
+        return bad(
+            "content",
+            format!("must lie in [0, 0.5], found {}", f.content),
+        );
+    }
+    if !(f.size.is_finite() && f.size > 0.0) {
+        return bad(
+            "size",
+            format!("must be a positive number, found {}", f.size),
+        );
+    }
+    if !(0.0..0.9).contains(&f.size_spread) {
+        return bad(
+            "size_spread",
+            format!("must lie in [0, 0.9), found {}", f.size_spread),
+        );
+    }
+    if !(5..=24).contains(&f.vertices) {
+        return bad(
+            "vertices",
+            format!("must lie in 5..=24, found {}", f.vertices),
+        );
+    }
+    if !(f.max_aspect.is_finite() && f.max_aspect >= 1.0 && f.max_aspect <= 4.0) {
+        return bad(
+            "max_aspect",
+            format!("must lie in [1, 4], found {}", f.max_aspect),
+        );
+    }
+    if let Some(c) = f.clearance {
+        if !(c.is_finite() && c >= 0.0) {
+            return bad("clearance", format!("must be ≥ 0, found {c}"));
+        }
+    }
+    validate_shape(&format!("{p}.region"), &f.region, 2)?;
+    if !matches!(
+        f.region,
+        ShapeSpec::Box { .. } | ShapeSpec::Polygon { .. } | ShapeSpec::Sphere { .. }
+    ) {
+        return bad(
+            "region.type",
+            "a rock region must be a box, polygon or sphere".into(),
+        );
+    }
+    Ok(())
+}
+
+fn fill(
+    scene: &Scene,
+    i: usize,
+    f: &RockFillSpec,
+) -> Result<(Vec<BodySpec>, RockFillReport), Fail> {
+    let p = format!("rock_fills[{i}]");
+    check(scene, &p, f)?;
+    let region = Shape::<2>::from_spec(&f.region, &scene.assets);
+    let region_area = region.volume().unwrap_or(0.0);
+    let (lo, hi) = region.bounds();
+    let clearance = f.clearance.unwrap_or(2.0 * scene.simulation.dp);
+    let target = f.content * region_area;
+    let mut rng =
+        Rng(f.seed ^ 0x5EED_0000_0000_0000 ^ (i as u64).wrapping_mul(0xA24B_AED4_963E_E407));
+    let mut placed: Vec<Placed> = Vec::new();
+    let mut area = 0.0;
+    loop {
+        let d = f.size * (1.0 + f.size_spread * (2.0 * rng.uniform() - 1.0));
+        let a = PI * d * d / 4.0;
+        if area + 0.5 * a > target {
+            break;
+        }
+        let shape = rock(&mut rng, d, f.vertices, f.max_aspect);
+        let radius = shape
+            .iter()
+            .map(|v| (v[0] * v[0] + v[1] * v[1]).sqrt())
+            .fold(0.0, f64::max);
+        let mut ok = None;
+        for _ in 0..ATTEMPTS {
+            let c = [
+                lo[0] + (hi[0] - lo[0]) * rng.uniform(),
+                lo[1] + (hi[1] - lo[1]) * rng.uniform(),
+            ];
+            let verts: Vec<P> = shape.iter().map(|v| [v[0] + c[0], v[1] + c[1]]).collect();
+            let inside = (0..verts.len()).all(|k| {
+                let (u, w) = (verts[k], verts[(k + 1) % verts.len()]);
+                let mid = [0.5 * (u[0] + w[0]), 0.5 * (u[1] + w[1])];
+                region.sdf(&u.into()) <= -clearance && region.sdf(&mid.into()) <= -clearance
+            });
+            if !inside {
+                continue;
+            }
+            let free = placed.iter().all(|q| {
+                let dc = ((q.center[0] - c[0]).powi(2) + (q.center[1] - c[1]).powi(2)).sqrt();
+                dc > q.radius + radius + clearance || gap(&q.verts, &verts) >= clearance
+            });
+            if free {
+                ok = Some(Placed {
+                    verts,
+                    center: c,
+                    radius,
+                });
+                break;
+            }
+        }
+        match ok {
+            Some(r) => {
+                area += a;
+                placed.push(r);
+            }
+            None => {
+                return Err((
+                    format!("{p}.content"),
+                    format!(
+                        "could not place rock {} after {ATTEMPTS} tries: {} rocks make {:.1} % of the region, short of {:.1} %; lower content or size, or reduce clearance ({clearance} m)",
+                        placed.len() + 1,
+                        placed.len(),
+                        100.0 * area / region_area,
+                        100.0 * f.content
+                    ),
+                ))
+            }
+        }
+    }
+    let bodies = placed
+        .iter()
+        .enumerate()
+        .map(|(k, r)| BodySpec {
+            name: format!("{}_{k}", f.name),
+            material: f.material.clone(),
+            model: f.model,
+            shape: ShapeSpec::Polygon {
+                vertices: r.verts.iter().map(|v| v.to_vec()).collect(),
+            },
+            rotation: None,
+            velocity: None,
+            angular_velocity: None,
+            fixed: false,
+        })
+        .collect();
+    Ok((
+        bodies,
+        RockFillReport {
+            name: f.name.clone(),
+            rocks: placed.len(),
+            content: if region_area > 0.0 {
+                area / region_area
+            } else {
+                0.0
+            },
+        },
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hull_area_and_gap_of_unit_squares() {
+        let sq = |x: f64| vec![[x, 0.0], [x + 1.0, 0.0], [x + 1.0, 1.0], [x, 1.0]];
+        let h = hull(vec![
+            [0.0, 0.0],
+            [1.0, 1.0],
+            [0.5, 0.5],
+            [1.0, 0.0],
+            [0.0, 1.0],
+        ]);
+        assert_eq!(h.len(), 4);
+        let (a, c) = area_centroid(&h);
+        assert!((a - 1.0).abs() < 1e-15 && (c[0] - 0.5).abs() < 1e-15);
+        assert!((gap(&sq(0.0), &sq(1.5)) - 0.5).abs() < 1e-15);
+        assert!(gap(&sq(0.0), &sq(0.5)) < 0.0);
+    }
+
+    #[test]
+    fn rocks_have_the_requested_equivalent_diameter() {
+        let mut rng = Rng(7);
+        for _ in 0..50 {
+            let r = rock(&mut rng, 4.0, 9, 1.6);
+            let (a, c) = area_centroid(&r);
+            assert!((2.0 * (a / PI).sqrt() - 4.0).abs() < 1e-12);
+            assert!(c[0].abs() < 1e-12 && c[1].abs() < 1e-12);
+        }
+    }
+}
