@@ -295,7 +295,11 @@ impl<const D: usize> Shape<D> {
                     anchor[k] -= 0.5 * dp;
                 }
             }
-            let pts = lattice_in(&lo, &hi, &anchor, dp, |p| self.sdf(p) < 0.0);
+            let pts = prune_spikes(
+                lattice_in(&lo, &hi, &anchor, dp, |p| self.sdf(p) < 0.0),
+                &anchor,
+                dp,
+            );
             if pts.len() < 2 {
                 continue;
             }
@@ -450,6 +454,53 @@ pub fn tangent_basis<const D: usize>(n: &Vect<D>) -> Vec<Vect<D>> {
 }
 
 /// Lattice points anchor + (i + ½) dp inside [lo, hi] that satisfy `keep`.
+/// Drop lattice points joined to the rest by at most one direct neighbour (spacing dp),
+/// repeatedly: the lone particles a lattice leaves in the sharp corners of a slanted
+/// shape. A fine particle beside such a spike sees a surface normal that does not face
+/// it, so neither the interface nor the penetration barrier holds it off. A body that
+/// is nothing but spikes is kept as it is.
+fn prune_spikes<const D: usize>(pts: Vec<Vect<D>>, anchor: &Vect<D>, dp: Real) -> Vec<Vect<D>> {
+    use std::collections::HashSet;
+    let key = |p: &Vect<D>| -> [i64; 3] {
+        let mut k = [0i64; 3];
+        for a in 0..D {
+            k[a] = ((p[a] - anchor[a]) / dp - 0.5).round() as i64;
+        }
+        k
+    };
+    let mut alive: HashSet<[i64; 3]> = pts.iter().map(key).collect();
+    loop {
+        let lone: Vec<[i64; 3]> = pts
+            .iter()
+            .map(key)
+            .filter(|k| alive.contains(k))
+            .filter(|k| {
+                let mut n = 0;
+                for a in 0..D {
+                    for s in [-1i64, 1] {
+                        let mut q = *k;
+                        q[a] += s;
+                        n += alive.contains(&q) as usize;
+                    }
+                }
+                n <= 1
+            })
+            .collect();
+        if lone.is_empty() {
+            break;
+        }
+        if lone.len() == alive.len() {
+            return pts;
+        }
+        for k in &lone {
+            alive.remove(k);
+        }
+    }
+    pts.into_iter()
+        .filter(|p| alive.contains(&key(p)))
+        .collect()
+}
+
 fn lattice_in<const D: usize>(
     lo: &Vect<D>,
     hi: &Vect<D>,

@@ -403,7 +403,6 @@ impl<const D: usize> Stepper<D> {
             dt,
             artificial,
             wall_friction: self.params.wall_friction,
-            cohesive: self.params.artificial.is_some(),
         };
         {
             let (fine, walls, lists, art) = (&world.fine, &world.walls, &self.lists, &self.art);

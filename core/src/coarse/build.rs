@@ -54,7 +54,8 @@ impl<const D: usize> Coarse<D> {
                 .expect("validated");
             let m = &solids[mi];
             let shape = Shape::<D>::from_spec(&b.shape, &scene.assets);
-            let pts = shape.body_fill(dp);
+            let mut pts = shape.body_fill(dp);
+            super::relax::relax(&shape, &mut pts, dp);
             if pts.len() < 2 {
                 return Err(BuildError {
                     path: format!("bodies[{bi}].shape"),

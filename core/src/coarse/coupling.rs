@@ -9,8 +9,10 @@
 //! μ_cf acts against the tangential slip, bounded by μ_cf times the normal part.
 //! The coarse particle receives exactly −m_i a_ij (Eq. 50 with σ_i^c = σ_j^f), so the
 //! momentum exchanged over each fine step balances to round-off.
-//! For cohesionless soil the interface carries no tension: an attractive normal part
-//! of a_ij (a separating, stress-free fine particle pulled by P*_diss) is dropped.
+//! The interface carries no tension, for any soil: an attractive normal part of a_ij
+//! (a separating fine particle pulled by P*_diss, or by its own tensile stress) is
+//! dropped. Soil–rock contact is frictional (μ_cf) without adhesion, as the contacts of
+//! the MPM–DEM of seed 004; cohesion acts within the soil.
 
 use super::body::Body;
 use super::material::SolidMaterial;
@@ -75,8 +77,6 @@ pub struct FineSide<'a, const D: usize> {
     /// ρ0 c0 of the fine material and 1/c0.
     pub z: Real,
     pub inv_c: Real,
-    /// The fine material has cohesion (the interface may carry tension).
-    pub cohesive: bool,
     /// c0² of the fine material (penetration barrier).
     pub c2: Real,
 }
@@ -122,10 +122,10 @@ impl Coupling {
         let p_diss = beta * zeff * w;
         let k = 2.0 / f.rho * dwv;
         let mut a = (f.stress.dot_vec(&e) - n * p_diss) * k;
-        // a cohesionless grain–boulder interface carries no tension: an attractive
-        // normal part (from a stress-free, separating fine particle) is dropped
+        // the grain–boulder interface carries no tension: an attractive normal part
+        // (a separating fine particle, or one in tension) is dropped
         let an = a.dot(&n);
-        if an < 0.0 && !f.cohesive {
+        if an < 0.0 {
             a -= n * an;
         }
         // penetration barrier: a fine particle whose centre has crossed the body's

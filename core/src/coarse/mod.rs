@@ -8,6 +8,7 @@ pub mod contact;
 pub mod coupling;
 pub mod material;
 pub mod particles;
+pub mod relax;
 pub mod rigid;
 pub mod stepper;
 pub mod tlsph;

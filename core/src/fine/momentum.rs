@@ -51,8 +51,6 @@ pub struct MomentumParams<const D: usize> {
     pub artificial: Option<ArtificialStress>,
     /// Coulomb coefficient of fine grains on walls (0: off).
     pub wall_friction: Real,
-    /// Some fine material has cohesion.
-    pub cohesive: bool,
 }
 
 /// Coarse grains seen by the fine sweep: their packed records, the coupling law, and
@@ -200,7 +198,6 @@ pub fn momentum_sweep<const D: usize>(
                         stress: &p.stress[i],
                         z: si.z,
                         inv_c: si.inv_c,
-                        cohesive: prm.cohesive,
                         c2: si.c * si.c,
                     };
                     let share = 1.0 / (c1 - c0) as Real;
