@@ -6,6 +6,7 @@
 
 pub mod assets;
 pub mod coarse;
+pub mod cosim;
 pub mod fine;
 pub mod geometry;
 pub mod guard;

@@ -97,7 +97,10 @@ pub struct Frame {
     pub coarse_fine_force: Vec<[f32; 3]>,
 }
 
-/// One simulation in `D` dimensions.
+/// One simulation in `D` dimensions. Cloning copies the whole state (world, stepper
+/// scratch and neighbour lists, load accumulators), so a clone steps on bitwise
+/// identically: the FMU's state rollback.
+#[derive(Clone)]
 pub struct Simulation<const D: usize> {
     pub world: World<D>,
     pub stepper: Stepper<D>,

@@ -94,6 +94,7 @@ pub fn choose_step(dt_f: Real, dt_c: Real, max_dt: Real, scheme: TimeStepping) -
 }
 
 /// Scratch memory and stage assembly for the fine step.
+#[derive(Clone)]
 pub struct Stepper<const D: usize> {
     pub params: StepParams,
     pub kernel: WendlandC2,

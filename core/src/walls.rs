@@ -21,6 +21,9 @@ pub struct WallObject<const D: usize> {
     /// The solid shape at t = 0 (coarse grains contact it exactly; shifted by
     /// `displacement`).
     pub shape: Option<Shape<D>>,
+    /// Driven by a co-simulation partner: `velocity` is set through [`Walls::drive`] and
+    /// kept across steps instead of following `prescribed`.
+    pub driven: bool,
 }
 
 /// A barrier: a wall object whose load is summed every step.
@@ -61,10 +64,15 @@ impl<const D: usize> Walls<D> {
     }
     /// Set the current velocities for a step that starts at time `t`.
     pub fn set_time(&mut self, t: Real) {
-        for o in &mut self.objects {
+        for o in self.objects.iter_mut().filter(|o| !o.driven) {
             let on = t >= o.window.0 && t < o.window.1;
             o.velocity = if on { o.prescribed } else { Vect::<D>::zeros() };
         }
+    }
+    /// Set the velocity of driven object `object` for the following steps.
+    pub fn drive(&mut self, object: usize, velocity: Vect<D>) {
+        debug_assert!(self.objects[object].driven);
+        self.objects[object].velocity = velocity;
     }
     /// Move moving objects rigidly by their velocity over `dt`.
     pub fn advance(&mut self, dt: Real) {

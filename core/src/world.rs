@@ -167,6 +167,7 @@ impl<const D: usize> World<D> {
                 barrier: b,
                 displacement: Vect::<D>::zeros(),
                 shape: Some(shape),
+                driven: false,
             });
             for p in pts {
                 walls.pos.push(p);
@@ -212,6 +213,9 @@ impl<const D: usize> World<D> {
                     is_barrier.then_some(reference),
                     shape,
                 );
+                if let Some(o) = walls.objects.last_mut() {
+                    o.driven = w.input.is_some();
+                }
             }
         }
         for c in &scene.containers {

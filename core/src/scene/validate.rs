@@ -380,6 +380,20 @@ pub fn validate(s: &Scene) -> Check {
             if let Some(v) = &w.reference_point {
                 vec_len(&format!("{p}.reference_point"), v, d)?;
             }
+            if w.input.is_some() {
+                if key != "barriers" {
+                    return fail(
+                        format!("{p}.input"),
+                        "only barriers can be driven by co-simulation inputs",
+                    );
+                }
+                if w.velocity.is_some() {
+                    return fail(
+                        format!("{p}.input"),
+                        "an input-driven barrier takes no prescribed `velocity`",
+                    );
+                }
+            }
         }
     }
     for (i, c) in s.containers.iter().enumerate() {
