@@ -16,6 +16,7 @@ pub mod math;
 pub mod mesh;
 pub mod neighbors;
 pub mod observe;
+pub mod panels;
 pub mod scene;
 pub mod simulation;
 pub mod stepper;

@@ -21,6 +21,9 @@ pub struct BarrierSample {
     pub peak_force: Real,
     /// Force of the last step.
     pub last_force: [Real; 3],
+    /// Impulse-averaged force on each panel (scene key `panels`; empty without), in
+    /// panel order (`crate::panels`). The panels' forces sum to `force`.
+    pub panels: Vec<[Real; 3]>,
 }
 
 /// State of one coarse grain (3D layout; z = 0 in 2D, rotation about z).
@@ -106,6 +109,8 @@ pub struct Simulation<const D: usize> {
     pub stepper: Stepper<D>,
     runout: RunoutSpec<D>,
     impulse: Vec<Load>,
+    /// Impulse on each barrier panel since the last sample.
+    panel_impulse: Vec<Load>,
     peak: Vec<Real>,
     interval_start: Real,
     last_dt: Real,
@@ -148,11 +153,13 @@ impl<const D: usize> Simulation<D> {
             direction: scene.observe.runout_direction.unwrap_or(1.0),
         };
         let nb = world.walls.barriers.len();
+        let slots = world.walls.load_slots();
         Ok(Simulation {
             world,
             stepper,
             runout,
             impulse: vec![Load::default(); nb],
+            panel_impulse: vec![Load::default(); slots],
             peak: vec![0.0; nb],
             interval_start: 0.0,
             last_dt: 0.0,
@@ -179,6 +186,9 @@ impl<const D: usize> Simulation<D> {
             self.impulse[b].force += l.force * dt;
             self.impulse[b].moment += l.moment * dt;
             self.peak[b] = self.peak[b].max(l.force.norm());
+        }
+        for (p, l) in self.panel_impulse.iter_mut().zip(&self.stepper.slot_loads) {
+            p.force += l.force * dt;
         }
         self.last_dt = dt;
         Ok(st)
@@ -218,6 +228,13 @@ impl<const D: usize> Simulation<D> {
                     moment: (self.impulse[b].moment * inv).into(),
                     peak_force: self.peak[b],
                     last_force: l.force.into(),
+                    panels: if bar.panels.is_empty() {
+                        Vec::new()
+                    } else {
+                        (0..w.walls.panel_count(b))
+                            .map(|i| (self.panel_impulse[bar.slot0 + i].force * inv).into())
+                            .collect()
+                    },
                 }
             })
             .collect();
@@ -300,6 +317,9 @@ impl<const D: usize> Simulation<D> {
         }
         for p in &mut self.peak {
             *p = 0.0;
+        }
+        for l in &mut self.panel_impulse {
+            *l = Load::default();
         }
         self.interval_start = w.time;
         s

@@ -7,12 +7,48 @@
 //! `fmi2Instantiate` and not yet freed; array arguments point to at least `nvr`
 //! elements; strings are NUL-terminated. This is the only module with `unsafe`.
 
-use crate::instance::{allowed, load_model, resource_dir, Instance, Logger, State};
+use crate::instance::{allowed, load_model, resource_dir, Instance, State};
 use crate::model::Model;
 use crate::variables::{lookup, Causality, Kind};
 use fmi_sys::fmi2::*;
 use std::ffi::{c_char, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
+
+/// The master's logger and environment pointer.
+pub struct Logger {
+    pub callback: fmi2CallbackLogger,
+    pub environment: fmi2ComponentEnvironment,
+    pub instance_name: CString,
+    pub debug: bool,
+}
+
+fn c_string(s: &str) -> CString {
+    CString::new(s.replace('\0', " ")).unwrap_or_default()
+}
+
+impl Logger {
+    /// Send `message` to the master. User text goes through a `"%s"` format so `%` in
+    /// it is never interpreted. Informational messages only when debug logging is on.
+    pub fn log(&self, status: fmi2Status, category: &str, message: &str) {
+        if status == fmi2Status_fmi2OK && !self.debug {
+            return;
+        }
+        let Some(cb) = self.callback else { return };
+        let (cat, msg) = (c_string(category), c_string(message));
+        // SAFETY: the master gave us this logger in fmi2Instantiate; all strings are
+        // NUL-terminated and outlive the call.
+        unsafe {
+            cb(
+                self.environment,
+                self.instance_name.as_ptr(),
+                status,
+                cat.as_ptr(),
+                c"%s".as_ptr(),
+                msg.as_ptr(),
+            )
+        };
+    }
+}
 
 const OK: fmi2Status = fmi2Status_fmi2OK;
 const ERROR: fmi2Status = fmi2Status_fmi2Error;

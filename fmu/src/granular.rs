@@ -38,6 +38,8 @@ enum Slot {
     BarrierForce(usize, usize),
     BarrierMoment(usize, usize),
     BarrierPeak(usize),
+    /// Component `k` of the force on panel `p` of barrier `b`.
+    PanelForce(usize, usize, usize),
     /// Component `k` of the input of driven barrier `b`.
     BarrierInput(usize, usize),
     Body(usize, BodyQ, usize),
@@ -122,6 +124,35 @@ fn build_table(loaded: &LoadedScene, sim: &AnySimulation) -> Result<Table, Strin
             ),
             Slot::BarrierPeak(b),
         );
+        let counts = scene
+            .barriers
+            .iter()
+            .find(|w| &w.name == name)
+            .and_then(|w| w.panels.clone())
+            .unwrap_or_default();
+        let panels: usize = counts.iter().product();
+        for p in 0..if counts.is_empty() { 0 } else { panels } {
+            let label = match counts.as_slice() {
+                [_] => format!("panel_{p}"),
+                [_, n2] => format!("panel_{}_{}", p / n2, p % n2),
+                _ => {
+                    return Err(format!(
+                        "barrier `{name}`: panels must have {} counts",
+                        d - 1
+                    ))
+                }
+            };
+            for (k, axis) in AXES.iter().enumerate().take(d) {
+                push(
+                    Variable::output(
+                        format!("{name}.{label}.force.{axis}"),
+                        force_u,
+                        format!("load on panel {label} of barrier `{name}`, step-averaged, {axis} component"),
+                    ),
+                    Slot::PanelForce(b, p, k),
+                );
+            }
+        }
         if let Some(mode) = mode {
             let (q, unit, what) = match mode {
                 BarrierInput::Displacement => (
@@ -518,6 +549,7 @@ impl Model for Granular {
             Slot::BarrierForce(b, k) => s.barriers[*b].force[*k],
             Slot::BarrierMoment(b, k) => s.barriers[*b].moment[*k],
             Slot::BarrierPeak(b) => s.barriers[*b].peak_force,
+            Slot::PanelForce(b, p, k) => s.barriers[*b].panels[*p][*k],
             Slot::Body(b, q, k) => body_value(s, *b, *q, *k),
             Slot::KineticFine => s.kinetic_energy,
             Slot::KineticCoarse => s.coarse_kinetic_energy,

@@ -1,11 +1,11 @@
 //! One FMU instance: its model, its place in the FMI 2.0 Co-Simulation state machine and
-//! its logger. No `unsafe` here beyond calling the master's logger.
+//! its logger. No `unsafe` here: the FFI layer ([`crate::ffi`]) owns all of it.
 
+use crate::ffi::Logger;
 use crate::granular::Granular;
 use crate::model::Model;
 use crate::structure::Structure;
 use fmi_sys::fmi2::*;
-use std::ffi::CString;
 use std::path::{Path, PathBuf};
 
 /// Instance states of the FMI 2.0 Co-Simulation state machine (as bit flags for the
@@ -36,42 +36,6 @@ pub mod allowed {
     pub const GET: u8 = InitializationMode as u8 | StepMode as u8 | Terminated as u8 | Error as u8;
     pub const SET: u8 = Instantiated as u8 | InitializationMode as u8 | StepMode as u8;
     pub const STATE: u8 = ANY_BUT_FATAL;
-}
-
-/// The master's logger and environment pointer.
-pub struct Logger {
-    pub callback: fmi2CallbackLogger,
-    pub environment: fmi2ComponentEnvironment,
-    pub instance_name: CString,
-    pub debug: bool,
-}
-
-fn c_string(s: &str) -> CString {
-    CString::new(s.replace('\0', " ")).unwrap_or_default()
-}
-
-impl Logger {
-    /// Send `message` to the master. User text goes through a `"%s"` format so `%` in
-    /// it is never interpreted. Informational messages only when debug logging is on.
-    pub fn log(&self, status: fmi2Status, category: &str, message: &str) {
-        if status == fmi2Status_fmi2OK && !self.debug {
-            return;
-        }
-        let Some(cb) = self.callback else { return };
-        let (cat, msg) = (c_string(category), c_string(message));
-        // SAFETY: the master gave us this logger in fmi2Instantiate; all strings are
-        // NUL-terminated and outlive the call.
-        unsafe {
-            cb(
-                self.environment,
-                self.instance_name.as_ptr(),
-                status,
-                cat.as_ptr(),
-                c"%s".as_ptr(),
-                msg.as_ptr(),
-            )
-        };
-    }
 }
 
 /// One instance handed to the master as `fmi2Component`.

@@ -10,6 +10,8 @@ pub mod ffi;
 pub mod granular;
 pub mod instance;
 pub mod model;
+pub mod package;
 pub mod structure;
 pub mod variables;
 pub mod xml;
+pub mod zip;

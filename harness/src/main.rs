@@ -7,7 +7,6 @@ mod plot;
 mod run;
 mod series;
 mod vtk;
-mod zip;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;

@@ -37,6 +37,7 @@ def fmus(tmp_path_factory):
     out = {
         "barrier": pack(SCENE, d / "barrier.fmu"),
         "impact": pack(SCENE, d / "impact.fmu", "regions[0].velocity=[2.0, 0.0]"),
+        "panels": pack(SCENE, d / "panels.fmu", "barriers[0].panels=[4]"),
     }
     for s in sorted(STRUCTURES.glob("*.toml")):
         out[s.stem] = pack(s, d / f"{s.stem}.fmu")

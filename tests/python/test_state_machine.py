@@ -62,3 +62,19 @@ def test_messages_with_percent_signs_reach_the_logger_verbatim(fmus, capsys):
         fmu.setupExperiment(startTime=1.5)
     assert "start time 1.5 s: the model starts at 0 s" in capsys.readouterr().out
     fmu.freeInstance()
+
+
+def test_blowup_is_an_error_with_the_diagnostic(tmp_path, capsys):
+    from conftest import SCENE, pack
+    fmu = pack(SCENE, tmp_path / "blowup.fmu", "regions[0].velocity=[2.0, 0.0]",
+               "simulation.max_speed=0.5")
+    s = Slave(fmu, "blowup")
+    with pytest.raises(FMICallException):
+        s.step(1e-3)
+    out = capsys.readouterr().out
+    assert "[ERROR]" in out and "speed" in out
+    # only inspection, reset or free are allowed now
+    with pytest.raises(FMICallException):
+        s.step(1e-3)
+    s.fmu.reset()
+    s.fmu.freeInstance()

@@ -296,6 +296,11 @@ pub struct WallSpec {
     /// `velocity`. Default none (fixed or prescribed).
     #[serde(default)]
     pub input: Option<BarrierInput>,
+    /// Barriers only: split the barrier into a grid of panels whose loads are reported
+    /// separately, `[n]` in 2D and `[n1, n2]` in 3D along the barrier's extent (every
+    /// axis but its thinnest, ascending). Default: one panel.
+    #[serde(default)]
+    pub panels: Option<Vec<usize>>,
 }
 
 /// Which FMU inputs drive an input-driven barrier.
