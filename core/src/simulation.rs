@@ -43,6 +43,10 @@ pub struct BodySample {
     pub torque: [Real; 3],
     /// The fine grains' part of `force` (Eq. 50).
     pub fine_force: [Real; 3],
+    /// `force` and `torque` impulse-averaged over the whole sampling interval (every
+    /// fine step weighted by its length), as the FMU reports them.
+    pub mean_force: [Real; 3],
+    pub mean_torque: [Real; 3],
     /// Active contacts in the last sub-step.
     pub contacts: usize,
 }
@@ -111,6 +115,8 @@ pub struct Simulation<const D: usize> {
     impulse: Vec<Load>,
     /// Impulse on each barrier panel since the last sample.
     panel_impulse: Vec<Load>,
+    /// Impulse (force, torque) on each body since the last sample.
+    body_impulse: Vec<Load>,
     peak: Vec<Real>,
     interval_start: Real,
     last_dt: Real,
@@ -154,12 +160,14 @@ impl<const D: usize> Simulation<D> {
         };
         let nb = world.walls.barriers.len();
         let slots = world.walls.load_slots();
+        let bodies = world.coarse.bodies.len();
         Ok(Simulation {
             world,
             stepper,
             runout,
             impulse: vec![Load::default(); nb],
             panel_impulse: vec![Load::default(); slots],
+            body_impulse: vec![Load::default(); bodies],
             peak: vec![0.0; nb],
             interval_start: 0.0,
             last_dt: 0.0,
@@ -189,6 +197,10 @@ impl<const D: usize> Simulation<D> {
         }
         for (p, l) in self.panel_impulse.iter_mut().zip(&self.stepper.slot_loads) {
             p.force += l.force * dt;
+        }
+        for (p, b) in self.body_impulse.iter_mut().zip(&self.world.coarse.bodies) {
+            p.force += b.force * dt;
+            p.moment += b.torque * dt;
         }
         self.last_dt = dt;
         Ok(st)
@@ -252,7 +264,9 @@ impl<const D: usize> Simulation<D> {
             .coarse
             .bodies
             .iter()
-            .map(|b| {
+            .zip(&self.body_impulse)
+            .map(|(b, imp)| {
+                let inv = if span > 0.0 { 1.0 / span } else { 0.0 };
                 let q = b.orientation.quaternion();
                 BodySample {
                     name: b.name.clone(),
@@ -263,6 +277,8 @@ impl<const D: usize> Simulation<D> {
                     force: b.force.into(),
                     torque: b.torque.into(),
                     fine_force: b.fine_force.into(),
+                    mean_force: (imp.force * inv).into(),
+                    mean_torque: (imp.moment * inv).into(),
                     contacts: b.contacts,
                 }
             })
@@ -318,7 +334,7 @@ impl<const D: usize> Simulation<D> {
         for p in &mut self.peak {
             *p = 0.0;
         }
-        for l in &mut self.panel_impulse {
+        for l in self.panel_impulse.iter_mut().chain(&mut self.body_impulse) {
             *l = Load::default();
         }
         self.interval_start = w.time;

@@ -240,7 +240,7 @@ fn build_table(loaded: &LoadedScene, sim: &AnySimulation) -> Result<Table, Strin
         vec3(
             "force",
             force_unit,
-            "load from grains and contacts in the last solver step, gravity excluded",
+            "load from grains and contacts, impulse over the step / step, gravity excluded",
             BodyQ::Force,
             &mut push,
         );
@@ -249,9 +249,7 @@ fn build_table(loaded: &LoadedScene, sim: &AnySimulation) -> Result<Table, Strin
                 Variable::output(
                     rot_name(&format!("{name}.torque"), k),
                     moment_u,
-                    format!(
-                        "body `{name}`: torque about the centre of mass in the last solver step"
-                    ),
+                    format!("body `{name}`: torque about the centre of mass, step-averaged"),
                 ),
                 Slot::Body(i, BodyQ::Torque, k),
             );
@@ -529,8 +527,8 @@ fn body_value(s: &Sample, i: usize, q: BodyQ, k: usize) -> f64 {
         }
         BodyQ::Velocity => b.velocity[k],
         BodyQ::AngularVelocity => b.angular_velocity[k],
-        BodyQ::Force => b.force[k],
-        BodyQ::Torque => b.torque[k],
+        BodyQ::Force => b.mean_force[k],
+        BodyQ::Torque => b.mean_torque[k],
     }
 }
 
