@@ -6,6 +6,7 @@
 
 pub mod assets;
 pub mod coarse;
+pub mod cosim;
 pub mod fine;
 pub mod geometry;
 pub mod guard;
@@ -15,6 +16,7 @@ pub mod math;
 pub mod mesh;
 pub mod neighbors;
 pub mod observe;
+pub mod panels;
 pub mod scene;
 pub mod simulation;
 pub mod stepper;

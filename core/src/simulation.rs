@@ -21,6 +21,9 @@ pub struct BarrierSample {
     pub peak_force: Real,
     /// Force of the last step.
     pub last_force: [Real; 3],
+    /// Impulse-averaged force on each panel (scene key `panels`; empty without), in
+    /// panel order (`crate::panels`). The panels' forces sum to `force`.
+    pub panels: Vec<[Real; 3]>,
 }
 
 /// State of one coarse grain (3D layout; z = 0 in 2D, rotation about z).
@@ -40,6 +43,10 @@ pub struct BodySample {
     pub torque: [Real; 3],
     /// The fine grains' part of `force` (Eq. 50).
     pub fine_force: [Real; 3],
+    /// `force` and `torque` impulse-averaged over the whole sampling interval (every
+    /// fine step weighted by its length), as the FMU reports them.
+    pub mean_force: [Real; 3],
+    pub mean_torque: [Real; 3],
     /// Active contacts in the last sub-step.
     pub contacts: usize,
 }
@@ -97,12 +104,19 @@ pub struct Frame {
     pub coarse_fine_force: Vec<[f32; 3]>,
 }
 
-/// One simulation in `D` dimensions.
+/// One simulation in `D` dimensions. Cloning copies the whole state (world, stepper
+/// scratch and neighbour lists, load accumulators), so a clone steps on bitwise
+/// identically: the FMU's state rollback.
+#[derive(Clone)]
 pub struct Simulation<const D: usize> {
     pub world: World<D>,
     pub stepper: Stepper<D>,
     runout: RunoutSpec<D>,
     impulse: Vec<Load>,
+    /// Impulse on each barrier panel since the last sample.
+    panel_impulse: Vec<Load>,
+    /// Impulse (force, torque) on each body since the last sample.
+    body_impulse: Vec<Load>,
     peak: Vec<Real>,
     interval_start: Real,
     last_dt: Real,
@@ -145,11 +159,15 @@ impl<const D: usize> Simulation<D> {
             direction: scene.observe.runout_direction.unwrap_or(1.0),
         };
         let nb = world.walls.barriers.len();
+        let slots = world.walls.load_slots();
+        let bodies = world.coarse.bodies.len();
         Ok(Simulation {
             world,
             stepper,
             runout,
             impulse: vec![Load::default(); nb],
+            panel_impulse: vec![Load::default(); slots],
+            body_impulse: vec![Load::default(); bodies],
             peak: vec![0.0; nb],
             interval_start: 0.0,
             last_dt: 0.0,
@@ -176,6 +194,13 @@ impl<const D: usize> Simulation<D> {
             self.impulse[b].force += l.force * dt;
             self.impulse[b].moment += l.moment * dt;
             self.peak[b] = self.peak[b].max(l.force.norm());
+        }
+        for (p, l) in self.panel_impulse.iter_mut().zip(&self.stepper.slot_loads) {
+            p.force += l.force * dt;
+        }
+        for (p, b) in self.body_impulse.iter_mut().zip(&self.world.coarse.bodies) {
+            p.force += b.force * dt;
+            p.moment += b.torque * dt;
         }
         self.last_dt = dt;
         Ok(st)
@@ -215,6 +240,13 @@ impl<const D: usize> Simulation<D> {
                     moment: (self.impulse[b].moment * inv).into(),
                     peak_force: self.peak[b],
                     last_force: l.force.into(),
+                    panels: if bar.panels.is_empty() {
+                        Vec::new()
+                    } else {
+                        (0..w.walls.panel_count(b))
+                            .map(|i| (self.panel_impulse[bar.slot0 + i].force * inv).into())
+                            .collect()
+                    },
                 }
             })
             .collect();
@@ -232,7 +264,9 @@ impl<const D: usize> Simulation<D> {
             .coarse
             .bodies
             .iter()
-            .map(|b| {
+            .zip(&self.body_impulse)
+            .map(|(b, imp)| {
+                let inv = if span > 0.0 { 1.0 / span } else { 0.0 };
                 let q = b.orientation.quaternion();
                 BodySample {
                     name: b.name.clone(),
@@ -243,6 +277,8 @@ impl<const D: usize> Simulation<D> {
                     force: b.force.into(),
                     torque: b.torque.into(),
                     fine_force: b.fine_force.into(),
+                    mean_force: (imp.force * inv).into(),
+                    mean_torque: (imp.moment * inv).into(),
                     contacts: b.contacts,
                 }
             })
@@ -303,6 +339,9 @@ impl<const D: usize> Simulation<D> {
         }
         for p in &mut self.peak {
             *p = 0.0;
+        }
+        for l in self.panel_impulse.iter_mut().chain(&mut self.body_impulse) {
+            *l = Load::default();
         }
         self.interval_start = w.time;
         s

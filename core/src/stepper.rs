@@ -94,6 +94,7 @@ pub fn choose_step(dt_f: Real, dt_c: Real, max_dt: Real, scheme: TimeStepping) -
 }
 
 /// Scratch memory and stage assembly for the fine step.
+#[derive(Clone)]
 pub struct Stepper<const D: usize> {
     pub params: StepParams,
     pub kernel: WendlandC2,
@@ -115,6 +116,8 @@ pub struct Stepper<const D: usize> {
     chunk_loads: Vec<Load>,
     /// Load on each barrier during the last step.
     pub step_loads: Vec<Load>,
+    /// Fine-grain load on each barrier panel during the last step (`Walls::load_slot`).
+    pub slot_loads: Vec<Load>,
     permute: PermuteScratch<D>,
     order: Vec<u32>,
     geostatic: Vec<Sym>,
@@ -203,6 +206,7 @@ impl<const D: usize> Stepper<D> {
             src: Vec::new(),
             chunk_loads: Vec::new(),
             step_loads: vec![Load::default(); nb],
+            slot_loads: vec![Load::default(); world.walls.load_slots()],
             permute: PermuteScratch::default(),
             order: Vec::new(),
             geostatic,
@@ -372,7 +376,7 @@ impl<const D: usize> Stepper<D> {
         self.stress_new.resize(n, Sym::ZERO);
         self.drho_new.resize(n, 0.0);
         self.eps_new.resize(n, 0.0);
-        let nbs = world.walls.barriers.len().max(1);
+        let nbs = world.walls.load_slots().max(1);
         self.chunk_loads
             .resize(self.lists.chunks.len() * nbs, Load::default());
 
@@ -428,12 +432,13 @@ impl<const D: usize> Stepper<D> {
             self.timers.add(Stage::Coupling, t.elapsed().as_secs_f64());
         }
         std::mem::swap(&mut world.fine.vel, &mut self.vel_new);
-        for (b, l) in self.step_loads.iter_mut().enumerate() {
-            *l = Load::default();
-            for c in 0..self.lists.chunks.len() {
-                l.add(&self.chunk_loads[c * nbs + b]);
-            }
-        }
+        crate::panels::sum_slots(
+            &world.walls,
+            &self.chunk_loads,
+            nbs,
+            &mut self.slot_loads,
+            &mut self.step_loads,
+        );
 
         // Eqs. (15), (24)–(26), (7)–(12) with v_{n+1}.
         let cprm = ContinuityParams {

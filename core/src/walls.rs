@@ -21,6 +21,9 @@ pub struct WallObject<const D: usize> {
     /// The solid shape at t = 0 (coarse grains contact it exactly; shifted by
     /// `displacement`).
     pub shape: Option<Shape<D>>,
+    /// Driven by a co-simulation partner: `velocity` is set through [`Walls::drive`] and
+    /// kept across steps instead of following `prescribed`.
+    pub driven: bool,
 }
 
 /// A barrier: a wall object whose load is summed every step.
@@ -30,6 +33,10 @@ pub struct Barrier<const D: usize> {
     pub object: usize,
     /// Point about which the moment is taken; moves with the barrier.
     pub reference: Vect<D>,
+    /// Panel counts along the split axes (empty: one panel); see `crate::panels`.
+    pub panels: Vec<usize>,
+    /// First load slot of this barrier: its panels use slots `slot0..slot0 + n`.
+    pub slot0: usize,
 }
 
 /// All dummy wall particles.
@@ -41,6 +48,8 @@ pub struct Walls<const D: usize> {
     pub barriers: Vec<Barrier<D>>,
     /// Volume of one wall particle, dp^D.
     pub volume: Real,
+    /// Panel of each wall particle within its barrier (empty when no barrier has panels).
+    pub panel: Vec<u32>,
 }
 
 impl<const D: usize> Walls<D> {
@@ -49,6 +58,21 @@ impl<const D: usize> Walls<D> {
     }
     pub fn is_empty(&self) -> bool {
         self.pos.is_empty()
+    }
+    /// Number of panels of barrier `b`.
+    pub fn panel_count(&self, b: usize) -> usize {
+        self.barriers[b].panels.iter().product()
+    }
+    /// Load slots of all barriers (one per panel; one per barrier without panels).
+    pub fn load_slots(&self) -> usize {
+        self.barriers
+            .last()
+            .map_or(0, |l| l.slot0 + l.panels.iter().product::<usize>())
+    }
+    /// Load slot of wall particle `w` of barrier `b`.
+    #[inline(always)]
+    pub fn load_slot(&self, b: usize, w: usize) -> usize {
+        self.barriers[b].slot0 + self.panel.get(w).map_or(0, |&p| p as usize)
     }
     /// True when any wall object moves.
     pub fn any_moving(&self) -> bool {
@@ -61,10 +85,15 @@ impl<const D: usize> Walls<D> {
     }
     /// Set the current velocities for a step that starts at time `t`.
     pub fn set_time(&mut self, t: Real) {
-        for o in &mut self.objects {
+        for o in self.objects.iter_mut().filter(|o| !o.driven) {
             let on = t >= o.window.0 && t < o.window.1;
             o.velocity = if on { o.prescribed } else { Vect::<D>::zeros() };
         }
+    }
+    /// Set the velocity of driven object `object` for the following steps.
+    pub fn drive(&mut self, object: usize, velocity: Vect<D>) {
+        debug_assert!(self.objects[object].driven);
+        self.objects[object].velocity = velocity;
     }
     /// Move moving objects rigidly by their velocity over `dt`.
     pub fn advance(&mut self, dt: Real) {

@@ -156,6 +156,8 @@ impl<const D: usize> World<D> {
                     name: name.to_string(),
                     object: o as usize,
                     reference,
+                    panels: Vec::new(),
+                    slot0: walls.barriers.len(),
                 });
                 walls.barriers.len() - 1
             });
@@ -167,6 +169,7 @@ impl<const D: usize> World<D> {
                 barrier: b,
                 displacement: Vect::<D>::zeros(),
                 shape: Some(shape),
+                driven: false,
             });
             for p in pts {
                 walls.pos.push(p);
@@ -212,6 +215,9 @@ impl<const D: usize> World<D> {
                     is_barrier.then_some(reference),
                     shape,
                 );
+                if let Some(o) = walls.objects.last_mut() {
+                    o.driven = w.input.is_some();
+                }
             }
         }
         for c in &scene.containers {
@@ -263,6 +269,7 @@ impl<const D: usize> World<D> {
             }
         }
 
+        crate::panels::split_scene_panels(&mut walls, scene);
         let n = &scene.numerics;
         let trim = (2.0 * n.smoothing_ratio + n.neighbor_skin + 1.0) * dp;
         let coarse = Coarse::<D>::build(scene, trim)?;

@@ -2,6 +2,7 @@
 
 mod bench;
 mod check;
+mod pack;
 mod plot;
 mod run;
 mod series;
@@ -52,6 +53,8 @@ enum Command {
     },
     /// Run benchmark cases at several resolutions; writes JSON and a PNG.
     Bench(bench::BenchArgs),
+    /// Package a scene (or a structure file) as an FMI 2.0 Co-Simulation FMU.
+    PackFmu(pack::PackArgs),
 }
 
 fn main() -> ExitCode {
@@ -109,5 +112,9 @@ fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
             Ok(ExitCode::SUCCESS)
         }
         Command::Bench(args) => bench::bench(&args),
+        Command::PackFmu(args) => {
+            pack::pack(&args)?;
+            Ok(ExitCode::SUCCESS)
+        }
     }
 }

@@ -76,7 +76,7 @@ pub fn momentum_sweep<const D: usize>(
     coarse: CoarseSide<'_, D>,
 ) {
     let (csrc, coupling) = (coarse.src, coarse.coupling);
-    let nbs = walls.barriers.len().max(1);
+    let nbs = walls.load_slots().max(1);
     let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
     let vw = walls.volume;
     lists
@@ -184,8 +184,9 @@ pub fn momentum_sweep<const D: usize>(
                         if let Some(b) = walls.objects[walls.object[w] as usize].barrier {
                             let f = to3(&a) * (-p.mass[i]);
                             let arm = to3(&(walls.pos[w] - walls.barriers[b].reference));
-                            lout[b].force += f;
-                            lout[b].moment += arm.cross(&f);
+                            let s = walls.load_slot(b, w);
+                            lout[s].force += f;
+                            lout[s].moment += arm.cross(&f);
                         }
                     }
                 }

@@ -86,7 +86,7 @@ impl<const D: usize> FineParticles<D> {
 }
 
 /// Reusable buffers for [`FineParticles::permute`].
-#[derive(Default, Debug)]
+#[derive(Clone, Default, Debug)]
 pub struct PermuteScratch<const D: usize> {
     vec: Vec<Vect<D>>,
     real: Vec<Real>,

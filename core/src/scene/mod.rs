@@ -7,5 +7,7 @@ mod types;
 mod validate;
 
 pub use error::SceneError;
-pub use load::{apply_overrides, load_scene_file, load_scene_str, locate, LoadedScene};
+pub use load::{
+    apply_overrides, load_scene_file, load_scene_in, load_scene_str, locate, LoadedScene,
+};
 pub use types::*;

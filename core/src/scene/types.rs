@@ -297,6 +297,27 @@ pub struct WallSpec {
     /// Point about which the moment is reported (barriers). Default: shape centre.
     #[serde(default)]
     pub reference_point: Option<Vec<f64>>,
+    /// Barriers only: the barrier's rigid motion comes from a co-simulation partner
+    /// (FMU inputs `<name>.displacement.*` or `<name>.velocity.*`) instead of
+    /// `velocity`. Default none (fixed or prescribed).
+    #[serde(default)]
+    pub input: Option<BarrierInput>,
+    /// Barriers only: split the barrier into a grid of panels whose loads are reported
+    /// separately, `[n]` in 2D and `[n1, n2]` in 3D along the barrier's extent (every
+    /// axis but its thinnest, ascending). Default: one panel.
+    #[serde(default)]
+    pub panels: Option<Vec<usize>>,
+}
+
+/// Which FMU inputs drive an input-driven barrier.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum BarrierInput {
+    /// `<name>.displacement.*`: the barrier moves to the given rigid displacement from its
+    /// initial place over each communication step.
+    Displacement,
+    /// `<name>.velocity.*`: the barrier moves with the given velocity over each step.
+    Velocity,
 }
 
 /// `[[containers]]`: a box of walls around [min, max] with some faces open.

@@ -380,6 +380,38 @@ pub fn validate(s: &Scene) -> Check {
             if let Some(v) = &w.reference_point {
                 vec_len(&format!("{p}.reference_point"), v, d)?;
             }
+            if let Some(n) = &w.panels {
+                if key != "barriers" {
+                    return fail(format!("{p}.panels"), "only barriers have panels");
+                }
+                if n.len() != d - 1 || n.iter().any(|&k| k == 0 || k > 64) {
+                    return fail(
+                        format!("{p}.panels"),
+                        format!("expected {} panel count(s), each 1 to 64", d - 1),
+                    );
+                }
+                if !s.bodies.is_empty() {
+                    return fail(
+                        format!("{p}.panels"),
+                        "panels are not available with coarse grains (their contact loads \
+                         are not split among panels)",
+                    );
+                }
+            }
+            if w.input.is_some() {
+                if key != "barriers" {
+                    return fail(
+                        format!("{p}.input"),
+                        "only barriers can be driven by co-simulation inputs",
+                    );
+                }
+                if w.velocity.is_some() {
+                    return fail(
+                        format!("{p}.input"),
+                        "an input-driven barrier takes no prescribed `velocity`",
+                    );
+                }
+            }
         }
     }
     for (i, c) in s.containers.iter().enumerate() {

@@ -1,0 +1,897 @@
+//! The 34 FMI 2.0 Co-Simulation functions. Every export checks its pointers at run
+//! time, runs inside `catch_unwind` (a panic becomes fmi2Fatal, never an unwind into
+//! the host) and checks the instance state against [`allowed`]. Functions granmix does
+//! not support (derivatives, asynchronous stepping) return fmi2Error with a message.
+//!
+//! Safety contract of every export: `c` is null or a component returned by
+//! `fmi2Instantiate` and not yet freed; array arguments point to at least `nvr`
+//! elements; strings are NUL-terminated. This is the only module with `unsafe`.
+
+use crate::instance::{allowed, load_model, resource_dir, Instance, State};
+use crate::model::Model;
+use crate::variables::{lookup, Causality, Kind};
+use fmi_sys::fmi2::*;
+use std::ffi::{c_char, CStr, CString};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+/// The master's logger and environment pointer.
+pub struct Logger {
+    pub callback: fmi2CallbackLogger,
+    pub environment: fmi2ComponentEnvironment,
+    pub instance_name: CString,
+    pub debug: bool,
+}
+
+fn c_string(s: &str) -> CString {
+    CString::new(s.replace('\0', " ")).unwrap_or_default()
+}
+
+impl Logger {
+    /// Send `message` to the master. User text goes through a `"%s"` format so `%` in
+    /// it is never interpreted. Informational messages only when debug logging is on.
+    pub fn log(&self, status: fmi2Status, category: &str, message: &str) {
+        if status == fmi2Status_fmi2OK && !self.debug {
+            return;
+        }
+        let Some(cb) = self.callback else { return };
+        let (cat, msg) = (c_string(category), c_string(message));
+        // SAFETY: the master gave us this logger in fmi2Instantiate; all strings are
+        // NUL-terminated and outlive the call.
+        unsafe {
+            cb(
+                self.environment,
+                self.instance_name.as_ptr(),
+                status,
+                cat.as_ptr(),
+                c"%s".as_ptr(),
+                msg.as_ptr(),
+            )
+        };
+    }
+}
+
+const OK: fmi2Status = fmi2Status_fmi2OK;
+const ERROR: fmi2Status = fmi2Status_fmi2Error;
+const FATAL: fmi2Status = fmi2Status_fmi2Fatal;
+
+/// Run `f` on the instance behind `c` if `function` may be called in its state.
+/// Errors are logged and returned as fmi2Error; a panic sets the instance to Fatal.
+unsafe fn with_instance(
+    c: fmi2Component,
+    function: &str,
+    states: u8,
+    f: impl FnOnce(&mut Instance) -> Result<fmi2Status, String>,
+) -> fmi2Status {
+    if c.is_null() {
+        return ERROR;
+    }
+    // SAFETY: non-null components are boxed instances from fmi2Instantiate.
+    let inst = unsafe { &mut *(c as *mut Instance) };
+    let r = catch_unwind(AssertUnwindSafe(|| {
+        inst.check_state(states)?;
+        f(inst)
+    }));
+    match r {
+        Ok(Ok(s)) => s,
+        Ok(Err(msg)) => inst.error(function, &msg),
+        Err(p) => {
+            let what = p
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_else(|| "panic".to_string());
+            inst.state = State::Fatal;
+            inst.logger.log(
+                FATAL,
+                "logStatusFatal",
+                &format!("{function}: internal error: {what}"),
+            );
+            FATAL
+        }
+    }
+}
+
+/// Catch panics of functions that have no instance.
+fn guard<T>(fallback: T, f: impl FnOnce() -> T) -> T {
+    catch_unwind(AssertUnwindSafe(f)).unwrap_or(fallback)
+}
+
+unsafe fn slice<'a, T>(p: *const T, n: usize) -> Result<&'a [T], String> {
+    if n == 0 {
+        return Ok(&[]);
+    }
+    if p.is_null() {
+        return Err("null array pointer".into());
+    }
+    // SAFETY: caller guarantees `n` readable elements.
+    Ok(unsafe { std::slice::from_raw_parts(p, n) })
+}
+
+unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Result<&'a mut [T], String> {
+    if n == 0 {
+        return Ok(&mut []);
+    }
+    if p.is_null() {
+        return Err("null array pointer".into());
+    }
+    // SAFETY: caller guarantees `n` writable elements.
+    Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
+}
+
+unsafe fn string(p: fmi2String) -> Option<String> {
+    if p.is_null() {
+        return None;
+    }
+    // SAFETY: caller guarantees a NUL-terminated string.
+    Some(unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned())
+}
+
+/// fmi2GetTypesPlatform: "default".
+#[no_mangle]
+pub extern "C" fn fmi2GetTypesPlatform() -> *const c_char {
+    fmi2TypesPlatform.as_ptr() as *const c_char
+}
+
+/// fmi2GetVersion: "2.0".
+#[no_mangle]
+pub extern "C" fn fmi2GetVersion() -> *const c_char {
+    fmi2Version.as_ptr() as *const c_char
+}
+
+/// fmi2SetDebugLogging: switch informational messages on or off (categories ignored).
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetDebugLogging(
+    c: fmi2Component,
+    logging_on: fmi2Boolean,
+    _n_categories: usize,
+    _categories: *const fmi2String,
+) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2SetDebugLogging", allowed::ANY_BUT_FATAL, |i| {
+            i.logger.debug = logging_on != 0;
+            Ok(OK)
+        })
+    }
+}
+
+/// fmi2Instantiate: load the model from `resources/`, check the GUID and return a new
+/// component, or null (with a logged reason) on failure.
+///
+/// # Safety
+/// Strings are null or NUL-terminated; `functions` is null or valid for the call.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2Instantiate(
+    instance_name: fmi2String,
+    fmu_type: fmi2Type,
+    guid: fmi2String,
+    resource_location: fmi2String,
+    functions: *const fmi2CallbackFunctions,
+    _visible: fmi2Boolean,
+    logging_on: fmi2Boolean,
+) -> fmi2Component {
+    guard(std::ptr::null_mut(), || {
+        if functions.is_null() {
+            return std::ptr::null_mut();
+        }
+        // SAFETY: checked non-null; the master keeps it valid during the call.
+        let f = unsafe { &*functions };
+        let name = unsafe { string(instance_name) }.unwrap_or_default();
+        let logger = Logger {
+            callback: f.logger,
+            environment: f.componentEnvironment,
+            instance_name: CString::new(name.replace('\0', " ")).unwrap_or_default(),
+            debug: logging_on != 0,
+        };
+        let fail = |msg: String| {
+            logger.log(ERROR, "logStatusError", &format!("fmi2Instantiate: {msg}"));
+            std::ptr::null_mut()
+        };
+        if name.is_empty() {
+            return fail("missing instance name".into());
+        }
+        if fmu_type != fmi2Type_fmi2CoSimulation {
+            return fail("this FMU supports Co-Simulation only".into());
+        }
+        let Some(uri) = (unsafe { string(resource_location) }) else {
+            return fail("missing fmuResourceLocation".into());
+        };
+        let dir = match resource_dir(&uri) {
+            Ok(d) => d,
+            Err(e) => return fail(e),
+        };
+        let (model, expected) = match load_model(&dir) {
+            Ok(m) => m,
+            Err(e) => return fail(e),
+        };
+        let given = unsafe { string(guid) }.unwrap_or_default();
+        if given != expected {
+            return fail(format!(
+                "GUID {given} does not match this FMU's {expected} (modelDescription.xml and resources out of step?)"
+            ));
+        }
+        logger.log(
+            OK,
+            "logAll",
+            &format!("instantiated from {}", dir.display()),
+        );
+        Box::into_raw(Box::new(Instance {
+            logger,
+            state: State::Instantiated,
+            model,
+            resources: dir,
+        })) as fmi2Component
+    })
+}
+
+/// fmi2FreeInstance: release the component (null is ignored).
+///
+/// # Safety
+/// See the module documentation; `c` is invalid afterwards.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
+    if c.is_null() {
+        return;
+    }
+    guard((), || {
+        // SAFETY: `c` came from Box::into_raw in fmi2Instantiate.
+        drop(unsafe { Box::from_raw(c as *mut Instance) });
+    })
+}
+
+/// fmi2SetupExperiment: the start time must be the model's (0); tolerance is unused.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetupExperiment(
+    c: fmi2Component,
+    _tolerance_defined: fmi2Boolean,
+    _tolerance: fmi2Real,
+    start_time: fmi2Real,
+    _stop_time_defined: fmi2Boolean,
+    _stop_time: fmi2Real,
+) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2SetupExperiment", allowed::INSTANTIATED, |i| {
+            let t0 = i.model.time();
+            if start_time != t0 {
+                return Err(format!(
+                    "start time {start_time} s: the model starts at {t0} s"
+                ));
+            }
+            Ok(OK)
+        })
+    }
+}
+
+/// fmi2EnterInitializationMode.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2Status {
+    unsafe {
+        with_instance(
+            c,
+            "fmi2EnterInitializationMode",
+            allowed::INSTANTIATED,
+            |i| {
+                i.state = State::InitializationMode;
+                Ok(OK)
+            },
+        )
+    }
+}
+
+/// fmi2ExitInitializationMode: parameters become final (the simulation is rebuilt if
+/// any changed).
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2ExitInitializationMode", allowed::INIT, |i| {
+            if let Err(e) = i.model.exit_initialization() {
+                i.state = State::Error;
+                return Err(e);
+            }
+            i.state = State::StepMode;
+            Ok(OK)
+        })
+    }
+}
+
+/// fmi2Terminate.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2Terminate(c: fmi2Component) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2Terminate", allowed::TERMINATE, |i| {
+            i.state = State::Terminated;
+            Ok(OK)
+        })
+    }
+}
+
+/// fmi2Reset: back to the instantiated state with start values.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2Reset", allowed::ANY_BUT_FATAL, |i| {
+            i.model.reset()?;
+            i.state = State::Instantiated;
+            Ok(OK)
+        })
+    }
+}
+
+/// Shared getter path: look each value reference up with its type and read it.
+unsafe fn get_values<T>(
+    c: fmi2Component,
+    function: &str,
+    kind: Kind,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut T,
+    convert: fn(f64) -> T,
+) -> fmi2Status {
+    unsafe {
+        with_instance(c, function, allowed::GET, |i| {
+            let vrs = slice(vr, nvr)?;
+            let out = slice_mut(value, nvr)?;
+            for (o, &r) in out.iter_mut().zip(vrs) {
+                lookup(i.model.variables(), r, kind)?;
+                *o = convert(i.model.get(r)?);
+            }
+            Ok(OK)
+        })
+    }
+}
+
+/// Shared setter path: parameters before step mode, inputs at any time before the end.
+unsafe fn set_values<T: Copy>(
+    c: fmi2Component,
+    function: &str,
+    kind: Kind,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const T,
+    convert: fn(T) -> f64,
+) -> fmi2Status {
+    unsafe {
+        with_instance(c, function, allowed::SET, |i| {
+            let vrs = slice(vr, nvr)?;
+            let vals = slice(value, nvr)?;
+            for (&v, &r) in vals.iter().zip(vrs) {
+                let var = lookup(i.model.variables(), r, kind)?;
+                match (var.causality, i.state) {
+                    (Causality::Output, _) => {
+                        return Err(format!("`{}` is an output and cannot be set", var.name))
+                    }
+                    (Causality::Parameter, State::StepMode) => {
+                        return Err(format!(
+                            "parameter `{}` is fixed once initialisation has ended",
+                            var.name
+                        ))
+                    }
+                    _ => {}
+                }
+                i.model.set(r, convert(v))?;
+            }
+            Ok(OK)
+        })
+    }
+}
+
+/// fmi2GetReal.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetReal(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Real,
+) -> fmi2Status {
+    unsafe { get_values(c, "fmi2GetReal", Kind::Real, vr, nvr, value, |x| x) }
+}
+
+/// fmi2GetInteger.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetInteger(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Integer,
+) -> fmi2Status {
+    unsafe {
+        get_values(c, "fmi2GetInteger", Kind::Integer, vr, nvr, value, |x| {
+            x.clamp(i32::MIN as f64, i32::MAX as f64) as fmi2Integer
+        })
+    }
+}
+
+/// fmi2GetBoolean.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetBoolean(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Boolean,
+) -> fmi2Status {
+    unsafe {
+        get_values(c, "fmi2GetBoolean", Kind::Boolean, vr, nvr, value, |x| {
+            (x != 0.0) as fmi2Boolean
+        })
+    }
+}
+
+/// fmi2GetString: granmix has no String variables, so any value reference is an error.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetString(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    _value: *mut fmi2String,
+) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2GetString", allowed::GET, |_| {
+            match slice(vr, nvr)?.first() {
+                Some(r) => Err(format!(
+                    "value reference {r}: the model has no String variables"
+                )),
+                None => Ok(OK),
+            }
+        })
+    }
+}
+
+/// fmi2SetReal.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetReal(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Real,
+) -> fmi2Status {
+    unsafe { set_values(c, "fmi2SetReal", Kind::Real, vr, nvr, value, |x| x) }
+}
+
+/// fmi2SetInteger.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetInteger(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Integer,
+) -> fmi2Status {
+    unsafe {
+        set_values(c, "fmi2SetInteger", Kind::Integer, vr, nvr, value, |x| {
+            x as f64
+        })
+    }
+}
+
+/// fmi2SetBoolean.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetBoolean(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Boolean,
+) -> fmi2Status {
+    unsafe {
+        set_values(c, "fmi2SetBoolean", Kind::Boolean, vr, nvr, value, |x| {
+            (x != 0) as u8 as f64
+        })
+    }
+}
+
+/// fmi2SetString: no String variables.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetString(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    _value: *const fmi2String,
+) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2SetString", allowed::SET, |_| {
+            match slice(vr, nvr)?.first() {
+                Some(r) => Err(format!(
+                    "value reference {r}: the model has no String variables"
+                )),
+                None => Ok(OK),
+            }
+        })
+    }
+}
+
+/// An FMU state: a full copy of the model.
+type Snapshot = Box<dyn Model>;
+
+/// fmi2GetFMUstate: copy the model state into `*state` (reusing it when non-null).
+///
+/// # Safety
+/// See the module documentation; `state` points to null or a state from this FMU.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, state: *mut fmi2FMUstate) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2GetFMUstate", allowed::STATE, |i| {
+            if state.is_null() {
+                return Err("null FMUstate pointer".into());
+            }
+            let snap = i.model.snapshot();
+            if (*state).is_null() {
+                *state = Box::into_raw(Box::new(snap)) as fmi2FMUstate;
+            } else {
+                // SAFETY: non-null states are boxed snapshots made here.
+                *(*state as *mut Snapshot) = snap;
+            }
+            Ok(OK)
+        })
+    }
+}
+
+/// fmi2SetFMUstate: restore the model from a state (the state stays valid).
+///
+/// # Safety
+/// See the module documentation; `state` is a state from this FMU.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, state: fmi2FMUstate) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2SetFMUstate", allowed::STATE, |i| {
+            if state.is_null() {
+                return Err("null FMUstate".into());
+            }
+            // SAFETY: non-null states are boxed snapshots made here.
+            let snap = &*(state as *const Snapshot);
+            i.model = snap.snapshot();
+            Ok(OK)
+        })
+    }
+}
+
+/// fmi2FreeFMUstate: release `*state` and set it to null.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2FreeFMUstate(
+    c: fmi2Component,
+    state: *mut fmi2FMUstate,
+) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2FreeFMUstate", allowed::STATE, |_| {
+            if state.is_null() || (*state).is_null() {
+                return Ok(OK);
+            }
+            // SAFETY: non-null states are boxed snapshots made here.
+            drop(Box::from_raw(*state as *mut Snapshot));
+            *state = std::ptr::null_mut();
+            Ok(OK)
+        })
+    }
+}
+
+unsafe fn state_bytes(state: fmi2FMUstate) -> Result<Vec<u8>, String> {
+    if state.is_null() {
+        return Err("null FMUstate".into());
+    }
+    // SAFETY: non-null states are boxed snapshots made here.
+    unsafe { &*(state as *const Snapshot) }.to_bytes()
+}
+
+/// fmi2SerializedFMUstateSize.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
+    c: fmi2Component,
+    state: fmi2FMUstate,
+    size: *mut usize,
+) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2SerializedFMUstateSize", allowed::STATE, |_| {
+            if size.is_null() {
+                return Err("null size pointer".into());
+            }
+            *size = state_bytes(state)?.len();
+            Ok(OK)
+        })
+    }
+}
+
+/// fmi2SerializeFMUstate: write the state into `serialized` (`size` bytes).
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SerializeFMUstate(
+    c: fmi2Component,
+    state: fmi2FMUstate,
+    serialized: *mut fmi2Byte,
+    size: usize,
+) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2SerializeFMUstate", allowed::STATE, |_| {
+            let bytes = state_bytes(state)?;
+            if bytes.len() != size {
+                return Err(format!(
+                    "buffer of {size} bytes for a state of {}",
+                    bytes.len()
+                ));
+            }
+            let out = slice_mut(serialized as *mut u8, size)?;
+            out.copy_from_slice(&bytes);
+            Ok(OK)
+        })
+    }
+}
+
+/// fmi2DeSerializeFMUstate: rebuild a state from bytes into `*state`.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
+    c: fmi2Component,
+    serialized: *const fmi2Byte,
+    size: usize,
+    state: *mut fmi2FMUstate,
+) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2DeSerializeFMUstate", allowed::STATE, |i| {
+            if state.is_null() {
+                return Err("null FMUstate pointer".into());
+            }
+            let bytes = slice(serialized as *const u8, size)?;
+            let snap = i.model.restore_bytes(bytes)?;
+            if (*state).is_null() {
+                *state = Box::into_raw(Box::new(snap)) as fmi2FMUstate;
+            } else {
+                *(*state as *mut Snapshot) = snap;
+            }
+            Ok(OK)
+        })
+    }
+}
+
+/// fmi2GetDirectionalDerivative: not provided (providesDirectionalDerivative = false).
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
+    c: fmi2Component,
+    _unknown: *const fmi2ValueReference,
+    _n_unknown: usize,
+    _known: *const fmi2ValueReference,
+    _n_known: usize,
+    _dv_known: *const fmi2Real,
+    _dv_unknown: *mut fmi2Real,
+) -> fmi2Status {
+    unsafe {
+        with_instance(
+            c,
+            "fmi2GetDirectionalDerivative",
+            allowed::ANY_BUT_FATAL,
+            |_| Err("directional derivatives are not provided".into()),
+        )
+    }
+}
+
+/// fmi2SetRealInputDerivatives: not supported (canInterpolateInputs = false).
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
+    c: fmi2Component,
+    _vr: *const fmi2ValueReference,
+    _nvr: usize,
+    _order: *const fmi2Integer,
+    _value: *const fmi2Real,
+) -> fmi2Status {
+    unsafe {
+        with_instance(
+            c,
+            "fmi2SetRealInputDerivatives",
+            allowed::ANY_BUT_FATAL,
+            |_| Err("input derivatives are not supported (canInterpolateInputs = false)".into()),
+        )
+    }
+}
+
+/// fmi2GetRealOutputDerivatives: not supported (maxOutputDerivativeOrder = 0).
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
+    c: fmi2Component,
+    _vr: *const fmi2ValueReference,
+    _nvr: usize,
+    _order: *const fmi2Integer,
+    _value: *mut fmi2Real,
+) -> fmi2Status {
+    unsafe {
+        with_instance(
+            c,
+            "fmi2GetRealOutputDerivatives",
+            allowed::ANY_BUT_FATAL,
+            |_| Err("output derivatives are not provided (maxOutputDerivativeOrder = 0)".into()),
+        )
+    }
+}
+
+/// fmi2DoStep: advance from `t` by `h`, landing exactly on t + h. A numerical blow-up
+/// returns fmi2Error with the diagnostic and leaves the instance in the error state.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2DoStep(
+    c: fmi2Component,
+    t: fmi2Real,
+    h: fmi2Real,
+    _no_set_prior: fmi2Boolean,
+) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2DoStep", allowed::STEP, |i| {
+            if let Err(e) = i.model.do_step(t, h) {
+                if e.starts_with("fmi2DoStep:") {
+                    return Err(e); // a bad call, the model is unchanged
+                }
+                i.state = State::Error;
+                return Err(e);
+            }
+            Ok(OK)
+        })
+    }
+}
+
+/// fmi2CancelStep: steps are synchronous, there is nothing to cancel.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2CancelStep", allowed::ANY_BUT_FATAL, |_| {
+            Err("steps are synchronous (fmi2DoStep never returns fmi2Pending)".into())
+        })
+    }
+}
+
+/// fmi2GetStatus: only meaningful after fmi2Pending, which never happens.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetStatus(
+    c: fmi2Component,
+    _kind: fmi2StatusKind,
+    _value: *mut fmi2Status,
+) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2GetStatus", allowed::ANY_BUT_FATAL, |_| {
+            Err("steps are synchronous (fmi2DoStep never returns fmi2Pending)".into())
+        })
+    }
+}
+
+/// fmi2GetRealStatus: fmi2LastSuccessfulTime gives the model time.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetRealStatus(
+    c: fmi2Component,
+    kind: fmi2StatusKind,
+    value: *mut fmi2Real,
+) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2GetRealStatus", allowed::GET, |i| {
+            if kind != fmi2StatusKind_fmi2LastSuccessfulTime {
+                return Err(format!("status kind {kind} has no Real value"));
+            }
+            if value.is_null() {
+                return Err("null value pointer".into());
+            }
+            *value = i.model.time();
+            Ok(OK)
+        })
+    }
+}
+
+/// fmi2GetIntegerStatus: no Integer status exists.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetIntegerStatus(
+    c: fmi2Component,
+    kind: fmi2StatusKind,
+    _value: *mut fmi2Integer,
+) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2GetIntegerStatus", allowed::ANY_BUT_FATAL, |_| {
+            Err(format!("status kind {kind} has no Integer value"))
+        })
+    }
+}
+
+/// fmi2GetBooleanStatus: fmi2Terminated is always false (the model never ends a
+/// simulation on its own).
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetBooleanStatus(
+    c: fmi2Component,
+    kind: fmi2StatusKind,
+    value: *mut fmi2Boolean,
+) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2GetBooleanStatus", allowed::GET, |_| {
+            if kind != fmi2StatusKind_fmi2Terminated {
+                return Err(format!("status kind {kind} has no Boolean value"));
+            }
+            if value.is_null() {
+                return Err("null value pointer".into());
+            }
+            *value = 0;
+            Ok(OK)
+        })
+    }
+}
+
+/// fmi2GetStringStatus: only meaningful after fmi2Pending, which never happens.
+///
+/// # Safety
+/// See the module documentation.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetStringStatus(
+    c: fmi2Component,
+    _kind: fmi2StatusKind,
+    _value: *mut fmi2String,
+) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2GetStringStatus", allowed::ANY_BUT_FATAL, |_| {
+            Err("steps are synchronous (fmi2DoStep never returns fmi2Pending)".into())
+        })
+    }
+}

@@ -1,0 +1,696 @@
+//! The granular model: a scene's [`AnySimulation`] behind the FMU variable table.
+//!
+//! Outputs come from the [`Sample`] taken at the end of each communication step, so
+//! barrier loads are the impulse over the step divided by its length. Input-driven
+//! barriers (scene key `input`) move rigidly during each step: with the given velocity,
+//! or with (target displacement − current displacement)/h.
+
+use crate::model::bytes::{Reader, Writer};
+use crate::model::Model;
+use crate::variables::{Kind, Variable};
+use crate::xml::{self, ModelInfo};
+use granmix_core::scene::{load_scene_in, BarrierInput, LoadedScene};
+use granmix_core::simulation::Sample;
+use granmix_core::AnySimulation;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+const AXES: [&str; 3] = ["x", "y", "z"];
+const STATE_TAG: &str = "granmix-state/1";
+
+/// Body quantity behind an output.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum BodyQ {
+    Position,
+    /// Quaternion component (3D) w, x, y, z.
+    Orientation,
+    /// Rotation angle about z (2D).
+    Angle,
+    Velocity,
+    AngularVelocity,
+    Force,
+    Torque,
+}
+
+/// Where a variable's value lives.
+#[derive(Clone, Debug, PartialEq)]
+enum Slot {
+    BarrierForce(usize, usize),
+    BarrierMoment(usize, usize),
+    BarrierPeak(usize),
+    /// Component `k` of the force on panel `p` of barrier `b`.
+    PanelForce(usize, usize, usize),
+    /// Component `k` of the input of driven barrier `b`.
+    BarrierInput(usize, usize),
+    Body(usize, BodyQ, usize),
+    KineticFine,
+    KineticCoarse,
+    StepsFine,
+    StepsCoarse,
+    /// A scene value set through an override `key.path=value`.
+    SceneValue(String),
+    MultiRate,
+}
+
+/// The variable table of a scene, with what each entry is bound to.
+struct Table {
+    variables: Vec<Variable>,
+    slots: Vec<Slot>,
+    /// Input mode of each barrier (None: not driven).
+    inputs: Vec<Option<BarrierInput>>,
+}
+
+fn build_table(loaded: &LoadedScene, sim: &AnySimulation) -> Result<Table, String> {
+    let scene = &loaded.scene;
+    let d = sim.dimension();
+    let per_m = d == 2;
+    let force_unit = if per_m { "N/m" } else { "N" };
+    let force_u = Some(force_unit);
+    let moment_u = Some(if per_m { "N" } else { "N.m" });
+    let energy_u = Some(if per_m { "J/m" } else { "J" });
+    let mut vars = Vec::new();
+    let mut slots = Vec::new();
+    let mut push = |v: Variable, s: Slot| {
+        vars.push(v);
+        slots.push(s);
+    };
+    let rot_axes: &[usize] = if d == 2 { &[2] } else { &[0, 1, 2] };
+    let rot_name = |base: &str, k: usize| {
+        if d == 2 {
+            base.to_string()
+        } else {
+            format!("{base}.{}", AXES[k])
+        }
+    };
+    let mut inputs = Vec::new();
+    for (b, name) in sim.barrier_names().iter().enumerate() {
+        let mode = scene
+            .barriers
+            .iter()
+            .find(|w| &w.name == name)
+            .and_then(|w| w.input);
+        if mode.is_some() != sim.barrier_driven(b) {
+            return Err(format!("barrier `{name}`: input flag and world disagree"));
+        }
+        inputs.push(mode);
+        for (k, axis) in AXES.iter().enumerate().take(d) {
+            push(
+                Variable::output(
+                    format!("{name}.force.{}", axis),
+                    force_u,
+                    format!(
+                        "load on barrier `{name}`, impulse over the step / step, {} component",
+                        axis
+                    ),
+                ),
+                Slot::BarrierForce(b, k),
+            );
+        }
+        for &k in rot_axes {
+            push(
+                Variable::output(
+                    rot_name(&format!("{name}.moment"), k),
+                    moment_u,
+                    format!("moment on barrier `{name}` about its reference point, step-averaged"),
+                ),
+                Slot::BarrierMoment(b, k),
+            );
+        }
+        push(
+            Variable::output(
+                format!("{name}.peak_force"),
+                force_u,
+                format!("largest resultant load on barrier `{name}` of any solver step within the communication step"),
+            ),
+            Slot::BarrierPeak(b),
+        );
+        let counts = scene
+            .barriers
+            .iter()
+            .find(|w| &w.name == name)
+            .and_then(|w| w.panels.clone())
+            .unwrap_or_default();
+        let panels: usize = counts.iter().product();
+        for p in 0..if counts.is_empty() { 0 } else { panels } {
+            let label = match counts.as_slice() {
+                [_] => format!("panel_{p}"),
+                [_, n2] => format!("panel_{}_{}", p / n2, p % n2),
+                _ => {
+                    return Err(format!(
+                        "barrier `{name}`: panels must have {} counts",
+                        d - 1
+                    ))
+                }
+            };
+            for (k, axis) in AXES.iter().enumerate().take(d) {
+                push(
+                    Variable::output(
+                        format!("{name}.{label}.force.{axis}"),
+                        force_u,
+                        format!("load on panel {label} of barrier `{name}`, step-averaged, {axis} component"),
+                    ),
+                    Slot::PanelForce(b, p, k),
+                );
+            }
+        }
+        if let Some(mode) = mode {
+            let (q, unit, what) = match mode {
+                BarrierInput::Displacement => (
+                    "displacement",
+                    "m",
+                    "rigid displacement from the initial place, reached at the end of the step",
+                ),
+                BarrierInput::Velocity => ("velocity", "m/s", "rigid velocity during the step"),
+            };
+            for (k, axis) in AXES.iter().enumerate().take(d) {
+                push(
+                    Variable::input(
+                        format!("{name}.{q}.{}", axis),
+                        Some(unit),
+                        format!("barrier `{name}`: {what}, {} component", axis),
+                        0.0,
+                    ),
+                    Slot::BarrierInput(b, k),
+                );
+            }
+        }
+    }
+    for (i, name) in sim.body_names().iter().enumerate() {
+        let vec3 = |q: &str,
+                    unit: &'static str,
+                    what: &str,
+                    bq: BodyQ,
+                    push: &mut dyn FnMut(Variable, Slot)| {
+            for (k, axis) in AXES.iter().enumerate().take(d) {
+                push(
+                    Variable::output(
+                        format!("{name}.{q}.{}", axis),
+                        Some(unit),
+                        format!("body `{name}`: {what}"),
+                    ),
+                    Slot::Body(i, bq, k),
+                );
+            }
+        };
+        vec3(
+            "position",
+            "m",
+            "centre of mass",
+            BodyQ::Position,
+            &mut push,
+        );
+        if d == 2 {
+            push(
+                Variable::output(
+                    format!("{name}.angle"),
+                    Some("rad"),
+                    format!("body `{name}`: rotation angle about z"),
+                ),
+                Slot::Body(i, BodyQ::Angle, 2),
+            );
+        } else {
+            for (k, c) in ["w", "x", "y", "z"].iter().enumerate() {
+                push(
+                    Variable::output(
+                        format!("{name}.orientation.{c}"),
+                        None,
+                        format!("body `{name}`: unit quaternion"),
+                    ),
+                    Slot::Body(i, BodyQ::Orientation, k),
+                );
+            }
+        }
+        vec3(
+            "velocity",
+            "m/s",
+            "velocity of the centre of mass",
+            BodyQ::Velocity,
+            &mut push,
+        );
+        for &k in rot_axes {
+            push(
+                Variable::output(
+                    rot_name(&format!("{name}.angular_velocity"), k),
+                    Some("rad/s"),
+                    format!("body `{name}`: angular velocity"),
+                ),
+                Slot::Body(i, BodyQ::AngularVelocity, k),
+            );
+        }
+        vec3(
+            "force",
+            force_unit,
+            "load from grains and contacts, impulse over the step / step, gravity excluded",
+            BodyQ::Force,
+            &mut push,
+        );
+        for &k in rot_axes {
+            push(
+                Variable::output(
+                    rot_name(&format!("{name}.torque"), k),
+                    moment_u,
+                    format!("body `{name}`: torque about the centre of mass, step-averaged"),
+                ),
+                Slot::Body(i, BodyQ::Torque, k),
+            );
+        }
+    }
+    push(
+        Variable::output(
+            "kinetic_energy.fine",
+            energy_u,
+            "kinetic energy of the fine grains",
+        ),
+        Slot::KineticFine,
+    );
+    push(
+        Variable::output(
+            "kinetic_energy.coarse",
+            energy_u,
+            "kinetic energy of the coarse grains",
+        ),
+        Slot::KineticCoarse,
+    );
+    push(
+        Variable::output("steps.fine", None, "fine solver steps taken so far")
+            .of_kind(Kind::Integer),
+        Slot::StepsFine,
+    );
+    push(
+        Variable::output("steps.coarse", None, "coarse sub-steps taken so far")
+            .of_kind(Kind::Integer),
+        Slot::StepsCoarse,
+    );
+    for (i, m) in scene.materials.iter().enumerate() {
+        let n = &m.name;
+        for (key, unit, value, what) in [
+            ("density", Some("kg/m3"), m.density, "initial density"),
+            (
+                "youngs_modulus",
+                Some("Pa"),
+                m.youngs_modulus,
+                "Young's modulus",
+            ),
+            ("poisson_ratio", None, m.poisson_ratio, "Poisson's ratio"),
+            (
+                "friction_angle",
+                Some("deg"),
+                m.friction_angle,
+                "friction angle",
+            ),
+            ("cohesion", Some("Pa"), m.cohesion, "cohesion"),
+            (
+                "dilation_angle",
+                Some("deg"),
+                m.dilation_angle,
+                "dilation angle",
+            ),
+        ] {
+            push(
+                Variable::parameter(
+                    format!("materials.{n}.{key}"),
+                    unit,
+                    format!("fine-grain material `{n}`: {what}"),
+                    value,
+                ),
+                Slot::SceneValue(format!("materials[{i}].{key}")),
+            );
+        }
+    }
+    for (i, m) in scene.solids.iter().enumerate() {
+        let n = &m.name;
+        for (key, unit, value, what) in [
+            ("density", Some("kg/m3"), m.density, "density"),
+            (
+                "youngs_modulus",
+                Some("Pa"),
+                m.youngs_modulus,
+                "Young's modulus",
+            ),
+            ("poisson_ratio", None, m.poisson_ratio, "Poisson's ratio"),
+        ] {
+            push(
+                Variable::parameter(
+                    format!("solids.{n}.{key}"),
+                    unit,
+                    format!("coarse-grain solid `{n}`: {what}"),
+                    value,
+                ),
+                Slot::SceneValue(format!("solids[{i}].{key}")),
+            );
+        }
+    }
+    let sim_spec = &scene.simulation;
+    push(
+        Variable::parameter(
+            "particle_spacing",
+            Some("m"),
+            "initial particle spacing dp",
+            sim_spec.dp,
+        ),
+        Slot::SceneValue("simulation.dp".into()),
+    );
+    push(
+        Variable::parameter(
+            "cfl",
+            None,
+            "CFL number of the fine time step, Eq. (51)",
+            sim_spec.cfl,
+        ),
+        Slot::SceneValue("simulation.cfl".into()),
+    );
+    let multi = (sim_spec.time_stepping_name() == "multi-rate") as u8 as f64;
+    push(
+        Variable::parameter(
+            "multi_rate",
+            None,
+            "multi-rate stepping (true) or one Δt for all grains (false)",
+            multi,
+        )
+        .of_kind(Kind::Boolean),
+        Slot::MultiRate,
+    );
+    Ok(Table {
+        variables: vars,
+        slots,
+        inputs,
+    })
+}
+
+/// One recorded communication step, replayed by deserialisation.
+#[derive(Clone, Debug)]
+struct StepRecord {
+    /// Time at the end of the step.
+    end: f64,
+    /// Velocity applied to each driven barrier during the step.
+    drives: Vec<(usize, [f64; 3])>,
+}
+
+/// The granular FMU model.
+#[derive(Clone)]
+pub struct Granular {
+    loaded: Arc<LoadedScene>,
+    dir: Arc<PathBuf>,
+    table: Arc<Table>,
+    /// Values of parameters and inputs by value reference (outputs unused).
+    values: Vec<f64>,
+    /// Parameter values the simulation was built with.
+    built_with: Vec<f64>,
+    sim: AnySimulation,
+    last: Sample,
+    history: Vec<StepRecord>,
+    initialised: bool,
+}
+
+fn build_sim(loaded: &LoadedScene) -> Result<AnySimulation, String> {
+    AnySimulation::new(loaded).map_err(|e| e.to_string())
+}
+
+impl Granular {
+    /// Load `scene.toml` from the FMU's resources directory.
+    pub fn from_resources(dir: &Path) -> Result<Self, String> {
+        let path = dir.join("scene.toml");
+        let text = std::fs::read_to_string(&path)
+            .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+        let loaded = load_scene_in(&text, &path.display().to_string(), &[], dir)
+            .map_err(|e| e.to_string())?;
+        Self::new(loaded, dir)
+    }
+
+    /// Build from a loaded scene whose shape files live in `dir`.
+    pub fn new(loaded: LoadedScene, dir: &Path) -> Result<Self, String> {
+        let mut sim = build_sim(&loaded)?;
+        let table = build_table(&loaded, &sim)?;
+        let values: Vec<f64> = table
+            .variables
+            .iter()
+            .map(|v| v.start.unwrap_or(0.0))
+            .collect();
+        let last = sim.sample();
+        Ok(Granular {
+            loaded: Arc::new(loaded),
+            dir: Arc::new(dir.to_path_buf()),
+            built_with: values.clone(),
+            values,
+            table: Arc::new(table),
+            sim,
+            last,
+            history: Vec::new(),
+            initialised: false,
+        })
+    }
+
+    /// Model-level facts for `modelDescription.xml`.
+    pub fn info(&self, model_identifier: &str) -> ModelInfo {
+        let s = &self.loaded.scene.simulation;
+        ModelInfo {
+            model_name: s
+                .name
+                .clone()
+                .unwrap_or_else(|| model_identifier.to_string()),
+            model_identifier: model_identifier.to_string(),
+            guid: guid(&self.loaded.text),
+            description: format!(
+                "granmix: {}D SPH of binary granular mixtures against barriers",
+                self.sim.dimension()
+            ),
+            stop_time: s.end_time,
+            step_size: s.output_interval,
+        }
+    }
+
+    fn params_changed(&self) -> bool {
+        self.table.variables.iter().enumerate().any(|(i, v)| {
+            v.start.is_some()
+                && v.causality == crate::variables::Causality::Parameter
+                && self.values[i].to_bits() != self.built_with[i].to_bits()
+        })
+    }
+
+    /// Rebuild the simulation when parameters changed since it was built.
+    fn ensure_built(&mut self) -> Result<(), String> {
+        if !self.params_changed() {
+            return Ok(());
+        }
+        let mut sets = Vec::new();
+        for (i, slot) in self.table.slots.iter().enumerate() {
+            let v = self.values[i];
+            match slot {
+                Slot::SceneValue(path) => sets.push(format!("{path}={v:?}")),
+                Slot::MultiRate => sets.push(format!(
+                    "simulation.time_stepping=\"{}\"",
+                    if v != 0.0 {
+                        "multi-rate"
+                    } else {
+                        "single-rate"
+                    }
+                )),
+                _ => {}
+            }
+        }
+        let l = &self.loaded;
+        let loaded =
+            load_scene_in(&l.text, &l.file, &sets, &self.dir).map_err(|e| e.to_string())?;
+        self.sim = build_sim(&loaded)?;
+        self.last = self.sim.sample();
+        self.built_with = self.values.clone();
+        Ok(())
+    }
+
+    /// Run one communication step with the given barrier velocities.
+    fn advance(&mut self, rec: StepRecord) -> Result<(), String> {
+        for &(b, v) in &rec.drives {
+            self.sim.drive_barrier(b, v)?;
+        }
+        let r = self.sim.advance_to(rec.end);
+        self.last = self.sim.sample();
+        self.history.push(rec);
+        r.map_err(|e| format!("{e}"))
+    }
+}
+
+/// GUID of a granular FMU: derived from the scene text and the granmix version.
+pub fn guid(scene_text: &str) -> String {
+    let mut content = format!("granmix {}\n", env!("CARGO_PKG_VERSION")).into_bytes();
+    content.extend_from_slice(scene_text.as_bytes());
+    xml::guid_of(&content)
+}
+
+fn body_value(s: &Sample, i: usize, q: BodyQ, k: usize) -> f64 {
+    let b = &s.bodies[i];
+    match q {
+        BodyQ::Position => b.position[k],
+        BodyQ::Orientation => b.orientation[k],
+        BodyQ::Angle => {
+            let [w, _, _, z] = b.orientation;
+            2.0 * z.atan2(w)
+        }
+        BodyQ::Velocity => b.velocity[k],
+        BodyQ::AngularVelocity => b.angular_velocity[k],
+        BodyQ::Force => b.mean_force[k],
+        BodyQ::Torque => b.mean_torque[k],
+    }
+}
+
+impl Model for Granular {
+    fn variables(&self) -> &[Variable] {
+        &self.table.variables
+    }
+
+    fn get(&mut self, vr: u32) -> Result<f64, String> {
+        if !self.initialised {
+            self.ensure_built()?;
+        }
+        let i = vr as usize;
+        let s = &self.last;
+        Ok(match &self.table.slots[i] {
+            Slot::BarrierForce(b, k) => s.barriers[*b].force[*k],
+            Slot::BarrierMoment(b, k) => s.barriers[*b].moment[*k],
+            Slot::BarrierPeak(b) => s.barriers[*b].peak_force,
+            Slot::PanelForce(b, p, k) => s.barriers[*b].panels[*p][*k],
+            Slot::Body(b, q, k) => body_value(s, *b, *q, *k),
+            Slot::KineticFine => s.kinetic_energy,
+            Slot::KineticCoarse => s.coarse_kinetic_energy,
+            Slot::StepsFine => s.steps as f64,
+            Slot::StepsCoarse => s.steps_coarse as f64,
+            Slot::BarrierInput(..) | Slot::SceneValue(_) | Slot::MultiRate => self.values[i],
+        })
+    }
+
+    fn set(&mut self, vr: u32, value: f64) -> Result<(), String> {
+        let v = &self.table.variables[vr as usize];
+        if !value.is_finite() {
+            return Err(format!(
+                "`{}` set to {value}: values must be finite",
+                v.name
+            ));
+        }
+        self.values[vr as usize] = value;
+        Ok(())
+    }
+
+    fn exit_initialization(&mut self) -> Result<(), String> {
+        self.ensure_built()?;
+        self.initialised = true;
+        Ok(())
+    }
+
+    fn do_step(&mut self, t: f64, h: f64) -> Result<(), String> {
+        let now = self.sim.time();
+        if !(h > 0.0 && h.is_finite()) {
+            return Err(format!(
+                "fmi2DoStep: step size {h} must be positive and finite"
+            ));
+        }
+        if (t - now).abs() > 1e-9 * t.abs().max(h) {
+            return Err(format!(
+                "fmi2DoStep: communication point {t} s differs from the model time {now} s"
+            ));
+        }
+        let mut drives = Vec::new();
+        for (b, mode) in self.table.inputs.iter().enumerate() {
+            let Some(mode) = mode else { continue };
+            let mut input = [0.0; 3];
+            for (i, slot) in self.table.slots.iter().enumerate() {
+                if let Slot::BarrierInput(bb, k) = slot {
+                    if *bb == b {
+                        input[*k] = self.values[i];
+                    }
+                }
+            }
+            let v = match mode {
+                BarrierInput::Velocity => input,
+                BarrierInput::Displacement => {
+                    let d = self.sim.barrier_displacement(b);
+                    [
+                        (input[0] - d[0]) / h,
+                        (input[1] - d[1]) / h,
+                        (input[2] - d[2]) / h,
+                    ]
+                }
+            };
+            drives.push((b, v));
+        }
+        self.advance(StepRecord { end: t + h, drives })
+    }
+
+    fn time(&self) -> f64 {
+        self.sim.time()
+    }
+
+    fn reset(&mut self) -> Result<(), String> {
+        *self = Granular::new((*self.loaded).clone(), &self.dir)?;
+        Ok(())
+    }
+
+    fn snapshot(&self) -> Box<dyn Model> {
+        Box::new(self.clone())
+    }
+
+    /// The state is written as the parameter and input values plus the list of
+    /// communication steps taken; [`Model::restore_bytes`] rebuilds it by replaying
+    /// them, which the solver's determinism makes bitwise exact.
+    fn to_bytes(&self) -> Result<Vec<u8>, String> {
+        let mut w = Writer::default();
+        w.str(STATE_TAG);
+        w.str(&guid(&self.loaded.text));
+        w.u64(self.initialised as u64);
+        w.u64(self.values.len() as u64);
+        for &v in &self.built_with {
+            w.f64(v);
+        }
+        for &v in &self.values {
+            w.f64(v);
+        }
+        w.u64(self.history.len() as u64);
+        for r in &self.history {
+            w.f64(r.end);
+            w.u64(r.drives.len() as u64);
+            for (b, v) in &r.drives {
+                w.u64(*b as u64);
+                for x in v {
+                    w.f64(*x);
+                }
+            }
+        }
+        Ok(w.0)
+    }
+
+    fn restore_bytes(&self, bytes: &[u8]) -> Result<Box<dyn Model>, String> {
+        let mut r = Reader::new(bytes);
+        r.magic(STATE_TAG)?;
+        let g = r.str()?;
+        if g != guid(&self.loaded.text) {
+            return Err(format!("serialised state belongs to the FMU with GUID {g}"));
+        }
+        let initialised = r.u64()? != 0;
+        let n = r.u64()? as usize;
+        if n != self.values.len() {
+            return Err(format!(
+                "serialised state has {n} values, the model {}",
+                self.values.len()
+            ));
+        }
+        let mut m = Granular::new((*self.loaded).clone(), &self.dir)?;
+        for i in 0..n {
+            m.values[i] = r.f64()?;
+        }
+        m.ensure_built()?;
+        for i in 0..n {
+            m.values[i] = r.f64()?;
+        }
+        m.initialised = initialised;
+        let steps = r.u64()?;
+        for _ in 0..steps {
+            let end = r.f64()?;
+            let nd = r.u64()? as usize;
+            let mut drives = Vec::with_capacity(nd.min(1024));
+            for _ in 0..nd {
+                let b = r.u64()? as usize;
+                drives.push((b, [r.f64()?, r.f64()?, r.f64()?]));
+            }
+            m.advance(StepRecord { end, drives })?;
+        }
+        Ok(Box::new(m))
+    }
+}

@@ -1,0 +1,108 @@
+//! The value-reference table: one list of variables drives both `modelDescription.xml`
+//! ([`crate::xml`]) and the run-time lookups of the FFI layer.
+
+/// FMI 2.0 base type of a scalar variable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    Real,
+    Integer,
+    Boolean,
+}
+
+/// FMI 2.0 causality (the subset granmix uses).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Causality {
+    /// Set before initialisation (variability `fixed`).
+    Parameter,
+    /// Set by the master between communication steps (variability `continuous`).
+    Input,
+    /// Computed by the FMU.
+    Output,
+}
+
+/// One scalar variable. Its value reference is its index in the table.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Variable {
+    /// Structured name (`barrier.force.x`); segments that are not identifiers are quoted
+    /// by [`crate::xml`].
+    pub name: String,
+    pub kind: Kind,
+    pub causality: Causality,
+    /// SI unit, e.g. `N/m`; `None` for dimensionless values.
+    pub unit: Option<&'static str>,
+    pub description: String,
+    /// Start value: required for parameters and inputs, absent for outputs.
+    pub start: Option<f64>,
+}
+
+impl Variable {
+    /// A Real output.
+    pub fn output(
+        name: impl Into<String>,
+        unit: Option<&'static str>,
+        description: impl Into<String>,
+    ) -> Self {
+        Variable {
+            name: name.into(),
+            kind: Kind::Real,
+            causality: Causality::Output,
+            unit,
+            description: description.into(),
+            start: None,
+        }
+    }
+    /// A Real input with start value `start`.
+    pub fn input(
+        name: impl Into<String>,
+        unit: Option<&'static str>,
+        description: impl Into<String>,
+        start: f64,
+    ) -> Self {
+        Variable {
+            causality: Causality::Input,
+            start: Some(start),
+            ..Variable::output(name, unit, description)
+        }
+    }
+    /// A Real parameter with start value `start`.
+    pub fn parameter(
+        name: impl Into<String>,
+        unit: Option<&'static str>,
+        description: impl Into<String>,
+        start: f64,
+    ) -> Self {
+        Variable {
+            causality: Causality::Parameter,
+            start: Some(start),
+            ..Variable::output(name, unit, description)
+        }
+    }
+    /// The same variable with another base type.
+    pub fn of_kind(self, kind: Kind) -> Self {
+        Variable { kind, ..self }
+    }
+}
+
+/// What the master may do with a variable in the current instance state.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Access {
+    Read,
+    Write,
+}
+
+/// Find variable `vr` of base type `kind`, or say why not.
+pub fn lookup(table: &[Variable], vr: u32, kind: Kind) -> Result<&Variable, String> {
+    let v = table.get(vr as usize).ok_or_else(|| {
+        format!(
+            "unknown value reference {vr} (the model has {})",
+            table.len()
+        )
+    })?;
+    if v.kind != kind {
+        return Err(format!(
+            "value reference {vr} (`{}`) is {:?}, not {kind:?}",
+            v.name, v.kind
+        ));
+    }
+    Ok(v)
+}
