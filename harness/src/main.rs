@@ -96,13 +96,19 @@ fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
             });
             let rep = run::run(&run::RunOptions {
                 scene,
-                out,
+                out: out.clone(),
                 set,
                 interactive: !quiet,
                 vtk: !no_vtk,
             })?;
             if let Some(b) = rep.blowup {
                 eprintln!("error: {b}");
+                if !no_vtk {
+                    eprintln!(
+                        "the state at the blow-up is the last snapshot in {}",
+                        out.display()
+                    );
+                }
                 return Ok(ExitCode::from(3));
             }
             Ok(ExitCode::SUCCESS)

@@ -130,6 +130,12 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         RunEnd::Blowup(b) => Some(b.clone()),
         _ => None,
     };
+    // the state the guard stopped on (finite: it stops before NaNs), as the last
+    // snapshot, so the blow-up can be looked at in ParaView
+    if let (Some(_), Some(v)) = (&blowup, vtk.as_mut()) {
+        v.write(&sim.frame())
+            .context("writing the VTK snapshot of the blow-up")?;
+    }
     bar.finish_and_clear();
     let wall = start.elapsed().as_secs_f64();
     let n = sim.fine_count();
