@@ -40,21 +40,35 @@ pub fn check(scene: &Path, set: &[String]) -> Result<()> {
         );
     }
     let dt = sim.stable_dt();
+    let mut dt_c = f64::INFINITY;
     if sim.coarse_count() > 0 {
-        let (dt_c, kappa) = sim.coarse_estimate();
+        let (c, kappa) = sim.coarse_estimate();
+        dt_c = c;
         println!(
             "  Δt_c (Eq. 52 and contacts, at rest) {dt_c:.3e} s → κ = {kappa} ({})",
             loaded.scene.simulation.time_stepping_name()
         );
     }
-    let steps = (s.end_time / dt).ceil();
-    let n = sim.fine_count() as f64;
     let cores = rayon::current_num_threads() as f64;
     let pss = NOMINAL_PSS_PER_CORE[s.dimension - 2] * cores;
-    println!(
-        "  Δt (Eq. 51, at rest) {dt:.3e} s → ~{steps:.0} fine steps to t = {} s",
-        s.end_time
-    );
+    let (n, steps) = if sim.fine_count() > 0 {
+        let steps = (s.end_time / dt).ceil();
+        println!(
+            "  Δt (Eq. 51, at rest) {dt:.3e} s → ~{steps:.0} fine steps to t = {} s",
+            s.end_time
+        );
+        (sim.fine_count() as f64, steps)
+    } else {
+        // coarse grains only: one coarse step per solver step (the output interval
+        // caps it where contacts allow longer steps)
+        let step = dt_c.min(s.output_interval);
+        let steps = (s.end_time / step).ceil();
+        println!(
+            "  no fine grains: Δt = {step:.3e} s → ~{steps:.0} steps to t = {} s",
+            s.end_time
+        );
+        (sim.coarse_count() as f64, steps)
+    };
     println!(
         "  cost ~{:.3e} particle-steps ≈ {:.0} s on {cores} core(s)",
         n * steps,
