@@ -8,7 +8,8 @@ use crate::stepper::StepStats;
 use crate::timers::StageTimers;
 use std::fmt;
 
-/// A simulation of either dimension.
+/// A simulation of either dimension. Cloning copies the whole state (FMU rollback).
+#[derive(Clone)]
 pub enum AnySimulation {
     D2(Box<Simulation<2>>),
     D3(Box<Simulation<3>>),
@@ -29,6 +30,7 @@ impl fmt::Display for SetupError {
 }
 impl std::error::Error for SetupError {}
 
+/// Run `$e` on the simulation inside an [`AnySimulation`], whichever its dimension.
 macro_rules! dispatch {
     ($self:expr, $s:ident => $e:expr) => {
         match $self {
@@ -37,6 +39,7 @@ macro_rules! dispatch {
         }
     };
 }
+pub(crate) use dispatch;
 
 impl AnySimulation {
     /// Build from a loaded scene.

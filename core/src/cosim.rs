@@ -1,6 +1,7 @@
 //! Co-simulation hooks over [`Simulation`]: input-driven barriers and state snapshots.
 //! The FMU (crate `granmix-fmu`) is the user; the CLI never drives barriers.
 
+use crate::any::dispatch;
 use crate::math::{Real, Vect};
 use crate::simulation::Simulation;
 use crate::AnySimulation;
@@ -51,24 +52,6 @@ fn pad<const D: usize>(v: &Vect<D>) -> [Real; 3] {
         o[k] = v[k];
     }
     o
-}
-
-impl Clone for AnySimulation {
-    fn clone(&self) -> Self {
-        match self {
-            AnySimulation::D2(s) => AnySimulation::D2(s.clone()),
-            AnySimulation::D3(s) => AnySimulation::D3(s.clone()),
-        }
-    }
-}
-
-macro_rules! dispatch {
-    ($self:expr, $s:ident => $e:expr) => {
-        match $self {
-            AnySimulation::D2($s) => $e,
-            AnySimulation::D3($s) => $e,
-        }
-    };
 }
 
 impl AnySimulation {
