@@ -5,7 +5,7 @@
 
 use crate::fine::momentum::Load;
 use crate::math::{Real, Vect};
-use crate::walls::Walls;
+use crate::walls::{Barrier, Walls};
 
 /// Axes a barrier's panels split, in order: all axes but the thinnest (the
 /// barrier's thickness), ascending.
@@ -34,18 +34,28 @@ impl<const D: usize> Walls<D> {
             lo = lo.inf(&self.pos[w]);
             hi = hi.sup(&self.pos[w]);
         }
-        let axes = panel_axes(&lo, &hi);
+        let bar = &mut self.barriers[b];
+        bar.panels = counts.to_vec();
+        bar.panel_axes = panel_axes(&lo, &hi);
+        bar.panel_lo = lo;
+        bar.panel_hi = hi;
         for &w in &mine {
-            let mut index = 0;
-            for (k, &a) in axes.iter().enumerate() {
-                let n = counts[k];
-                let span = (hi[a] - lo[a]).max(Real::MIN_POSITIVE);
-                let i = (((self.pos[w][a] - lo[a]) / span * n as Real) as usize).min(n - 1);
-                index = index * n + i;
-            }
-            self.panel[w] = index as u32;
+            self.panel[w] = self.barriers[b].panel_of(&self.pos[w]) as u32;
         }
-        self.barriers[b].panels = counts.to_vec();
+    }
+}
+
+impl<const D: usize> Barrier<D> {
+    /// Panel holding point `x` (in the barrier's initial frame): the grid cell of its
+    /// projection on the panel axes, clamped to the grid. 0 without panels.
+    pub fn panel_of(&self, x: &Vect<D>) -> usize {
+        let mut index = 0;
+        for (&a, &n) in self.panel_axes.iter().zip(&self.panels) {
+            let span = (self.panel_hi[a] - self.panel_lo[a]).max(Real::MIN_POSITIVE);
+            let f = ((x[a] - self.panel_lo[a]) / span * n as Real).max(0.0);
+            index = index * n + (f as usize).min(n - 1);
+        }
+        index
     }
 }
 

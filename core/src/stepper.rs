@@ -520,8 +520,11 @@ impl<const D: usize> Stepper<D> {
             self.timers.add(Stage::Contact, contact);
             self.timers.add(Stage::CoarseSubsteps, secs - contact);
             for (b, bar) in world.walls.barriers.iter().enumerate() {
-                if let Some(l) = c.wall_loads.get(bar.object) {
-                    self.step_loads[b].add(l);
+                for s in bar.slot0..bar.slot0 + world.walls.panel_count(b) {
+                    if let Some(l) = c.wall_loads.get(s) {
+                        self.slot_loads[s].add(l);
+                        self.step_loads[b].add(l);
+                    }
                 }
             }
         }

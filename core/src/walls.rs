@@ -37,6 +37,11 @@ pub struct Barrier<const D: usize> {
     pub panels: Vec<usize>,
     /// First load slot of this barrier: its panels use slots `slot0..slot0 + n`.
     pub slot0: usize,
+    /// Axes the panels split and the extent of the barrier's wall particles along
+    /// them (set by `Walls::split_panels`).
+    pub panel_axes: Vec<usize>,
+    pub panel_lo: Vect<D>,
+    pub panel_hi: Vect<D>,
 }
 
 /// All dummy wall particles.

@@ -158,6 +158,9 @@ impl<const D: usize> World<D> {
                     reference,
                     panels: Vec::new(),
                     slot0: walls.barriers.len(),
+                    panel_axes: Vec::new(),
+                    panel_lo: Vect::<D>::zeros(),
+                    panel_hi: Vect::<D>::zeros(),
                 });
                 walls.barriers.len() - 1
             });

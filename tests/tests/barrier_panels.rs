@@ -38,3 +38,84 @@ fn panel_forces_sum_to_the_barrier_total() {
         "bottom {lower}, top {upper}"
     );
 }
+
+/// Two rigid blocks of different weight resting on a paneled barrier floor: once they
+/// are at rest, each panel carries exactly the weight of the block on it (ρ A g per
+/// unit width), and the panels sum to the barrier's total.
+#[test]
+fn contact_loads_land_on_the_panel_under_each_block() {
+    let text = r#"
+[simulation]
+name = "panel_blocks"
+dimension = 2
+gravity = [0.0, -9.81]
+end_time = 0.5
+dp = 0.01
+output_interval = 0.01
+
+[[solids]]
+name = "light"
+density = 1000.0
+youngs_modulus = 1e7
+poisson_ratio = 0.25
+
+[[solids]]
+name = "heavy"
+density = 2500.0
+youngs_modulus = 1e7
+poisson_ratio = 0.25
+
+[[bodies]]
+name = "a"
+material = "light"
+model = "rigid"
+shape = { type = "box", min = [0.1, 0.006], max = [0.3, 0.106] }
+
+[[bodies]]
+name = "b"
+material = "heavy"
+model = "rigid"
+shape = { type = "box", min = [0.6, 0.006], max = [0.9, 0.066] }
+
+[[barriers]]
+name = "floor"
+shape = { type = "box", min = [0.0, -0.05], max = [1.0, 0.0] }
+panels = [2]
+
+[contact]
+model = "spring-dashpot"
+friction = 0.5
+restitution = 0.1
+"#;
+    let loaded =
+        granmix_core::scene::load_scene_str(text, "panel_blocks.toml", &[]).expect("scene");
+    let mut sim = AnySimulation::new(&loaded).expect("simulation");
+    sim.sample();
+    sim.advance_to(0.4).expect("settle");
+    sim.sample();
+    sim.advance_to(0.5).expect("advance");
+    let s = sim.sample();
+    let b = &s.barriers[0];
+    assert_eq!(b.panels.len(), 2);
+    let g = 9.81;
+    let weights = [1000.0 * 0.2 * 0.1 * g, 2500.0 * 0.3 * 0.06 * g];
+    for (k, w) in weights.iter().enumerate() {
+        let fy = -b.panels[k][1];
+        assert!(
+            (fy - w).abs() <= 0.01 * w,
+            "panel {k}: carries {fy} N/m, block weight {w} N/m"
+        );
+        assert!(
+            b.panels[k][0].abs() <= 0.01 * w,
+            "panel {k}: shear {}",
+            b.panels[k][0]
+        );
+    }
+    for k in 0..2 {
+        let sum: f64 = b.panels.iter().map(|p| p[k]).sum();
+        assert!(
+            (sum - b.force[k]).abs() <= 1e-12 * weights[1],
+            "component {k}"
+        );
+    }
+}

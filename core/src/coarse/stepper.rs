@@ -36,7 +36,7 @@ pub struct CoarseStepper<const D: usize> {
     /// Impulse (force, torque) of the fine grains + contacts on each body over the
     /// fine step (3D).
     impulse: Vec<(Vector3<Real>, Vector3<Real>)>,
-    /// Contact load on each wall object over the fine step, impulse / Δt_f.
+    /// Contact load on each barrier load slot (panel) over the fine step, impulse / Δt_f.
     pub wall_loads: Vec<Load>,
     /// Seconds spent in contact evaluation since last taken.
     pub contact_secs: f64,
@@ -121,7 +121,7 @@ impl<const D: usize> CoarseStepper<D> {
             *imp = Default::default();
         }
         self.wall_loads.clear();
-        self.wall_loads.resize(walls.objects.len(), Load::default());
+        self.wall_loads.resize(walls.load_slots(), Load::default());
         for _ in 0..kappa {
             self.substep(coarse, walls, dt);
         }

@@ -390,13 +390,6 @@ pub fn validate(s: &Scene) -> Check {
                         format!("expected {} panel count(s), each 1 to 64", d - 1),
                     );
                 }
-                if !s.bodies.is_empty() {
-                    return fail(
-                        format!("{p}.panels"),
-                        "panels are not available with coarse grains (their contact loads \
-                         are not split among panels)",
-                    );
-                }
             }
             if w.input.is_some() {
                 if key != "barriers" {
