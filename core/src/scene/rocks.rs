@@ -153,18 +153,9 @@ fn check(scene: &Scene, p: &str, f: &RockFillSpec) -> Result<(), Fail> {
         );
     }
     if !scene.solids.iter().any(|s| s.name == f.material) {
-        let known: Vec<_> = scene.solids.iter().map(|s| s.name.as_str()).collect();
         return bad(
             "material",
-            format!(
-                "unknown solid `{}` (known solids: {})",
-                f.material,
-                if known.is_empty() {
-                    "none".to_string()
-                } else {
-                    known.join(", ")
-                }
-            ),
+            super::validate::unknown_solid(scene, &f.material),
         );
     }
     if !(0.0..=0.5).contains(&f.content) {

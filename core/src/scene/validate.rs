@@ -482,25 +482,7 @@ fn validate_coarse(s: &Scene, fine_names: &HashSet<&str>) -> Check {
             );
         }
         if !solids.contains(b.material.as_str()) {
-            let known: Vec<_> = s.solids.iter().map(|m| m.name.as_str()).collect();
-            let hint = if fine_names.contains(b.material.as_str()) {
-                " (it is a fine-grain [[materials]] entry; bodies take a [[solids]] entry)"
-                    .to_string()
-            } else {
-                String::new()
-            };
-            return fail(
-                format!("{p}.material"),
-                format!(
-                    "unknown solid `{}`{hint} (known solids: {})",
-                    b.material,
-                    if known.is_empty() {
-                        "none".to_string()
-                    } else {
-                        known.join(", ")
-                    }
-                ),
-            );
+            return fail(format!("{p}.material"), unknown_solid(s, &b.material));
         }
         validate_solid_shape(&format!("{p}.shape"), &b.shape, d, "be a body")?;
         if let Some(r) = &b.rotation {
@@ -549,4 +531,23 @@ fn validate_coarse(s: &Scene, fine_names: &HashSet<&str>) -> Check {
         }
     }
     Ok(())
+}
+
+/// "unknown solid `name` (known solids: …)", with a hint when `name` is a fine-grain
+/// material: bodies and rock fills take a `[[solids]]` entry.
+pub(crate) fn unknown_solid(s: &Scene, name: &str) -> String {
+    let known: Vec<_> = s.solids.iter().map(|m| m.name.as_str()).collect();
+    let hint = if s.materials.iter().any(|m| m.name == name) {
+        " (it is a fine-grain [[materials]] entry; bodies take a [[solids]] entry)"
+    } else {
+        ""
+    };
+    format!(
+        "unknown solid `{name}`{hint} (known solids: {})",
+        if known.is_empty() {
+            "none".to_string()
+        } else {
+            known.join(", ")
+        }
+    )
 }
