@@ -12,3 +12,7 @@ cargo test --release --workspace
 # the FMU tests pack FMUs with the granmix binary and the granmix-fmu library
 cargo build --release -p granmix -p granmix-fmu
 .venv/bin/python -m pytest -q tests/python
+# smoke run of the stability suite on tiny cases (the full sweeps are benchmarks)
+smoke="$(mktemp -d)"
+./target/release/granmix bench --suite stability --quick --out "$smoke"
+rm -rf "$smoke"

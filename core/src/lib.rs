@@ -17,6 +17,7 @@ pub mod mesh;
 pub mod neighbors;
 pub mod observe;
 pub mod panels;
+pub mod rng;
 pub mod scene;
 pub mod simulation;
 pub mod stepper;

@@ -103,6 +103,15 @@ impl<const D: usize> World<D> {
             let m = &materials[mi as usize];
             let shape = Shape::<D>::from_spec(&r.shape, &scene.assets);
             let mut pts = shape.fill(dp);
+            if r.jitter > 0.0 {
+                let mut rng =
+                    crate::rng::Rng(r.jitter_seed ^ (ri as u64).wrapping_mul(0x9E37_79B9));
+                for p in &mut pts {
+                    for k in 0..D {
+                        p[k] += (2.0 * rng.uniform() - 1.0) * r.jitter * dp;
+                    }
+                }
+            }
             if !solids.is_empty() {
                 pts.retain(|p| !inside_solid(p));
             }

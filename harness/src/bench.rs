@@ -26,6 +26,13 @@ pub struct BenchArgs {
     /// Output directory for bench.json, bench.png and run outputs.
     #[arg(long, default_value = "out/bench")]
     out: PathBuf,
+    /// Run a suite instead of the validation cases: `stability` (where the solver
+    /// breaks, and that it breaks loudly).
+    #[arg(long, value_parser = ["stability"])]
+    suite: Option<String>,
+    /// Also write the suite's Markdown report here (e.g. docs/stability.md).
+    #[arg(long)]
+    report: Option<PathBuf>,
 }
 
 /// How a case is scored.
@@ -243,6 +250,14 @@ fn cases() -> Vec<Case> {
 }
 
 pub fn bench(a: &BenchArgs) -> Result<ExitCode> {
+    if a.suite.as_deref() == Some("stability") {
+        let loud = crate::stability::stability(&a.scenes, &a.out, a.quick, a.report.as_deref())?;
+        if !loud {
+            eprintln!("a sweep failed without the guard's diagnostic (see above)");
+            return Ok(ExitCode::from(1));
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
     let all = cases();
     if a.list {
         for c in &all {

@@ -6,6 +6,7 @@ mod pack;
 mod plot;
 mod run;
 mod series;
+mod stability;
 mod vtk;
 
 use clap::{Parser, Subcommand};

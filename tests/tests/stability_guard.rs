@@ -54,3 +54,39 @@ fn non_finite_state_stops_with_diagnostic() {
         other => panic!("expected a blow-up diagnostic, got {other:?}"),
     }
 }
+
+/// A boulder launched faster than `simulation.max_speed` is rejected by the scene
+/// check; one that only exceeds it in flight stops the run with the speed diagnostic,
+/// naming the body.
+#[test]
+fn runaway_boulder_stops_with_diagnostic() {
+    let loaded = load(
+        "stability_impact_2d.toml",
+        &[
+            "simulation.dp=0.008",
+            "bodies.0.shape.center=[0.15, 0.18]",
+            "bodies.0.velocity=[0.0, -90.0]",
+        ],
+    );
+    let too_fast = granmix_core::scene::load_scene_file(
+        &granmix_tests::scene_path("stability_impact_2d.toml"),
+        &["bodies.0.velocity=[0.0, -150.0]".to_string()],
+    )
+    .expect_err("a boulder faster than max_speed must be rejected");
+    assert!(
+        too_fast.to_string().contains("bodies[0].velocity")
+            && too_fast.to_string().contains("max_speed"),
+        "{too_fast}"
+    );
+    let mut loaded = loaded;
+    loaded.scene.simulation.max_speed = 50.0; // below the launch speed, past the check
+    let mut sim = AnySimulation::new(&loaded).unwrap();
+    let end = runner::run(&mut sim, &loaded.scene.simulation, |_, _| true, |_| {});
+    let RunEnd::Blowup(b) = end else {
+        panic!("expected the guard to stop the run, got {end:?}")
+    };
+    assert_eq!(b.quantity, "speed");
+    assert_eq!(b.body.as_deref(), Some("disc"));
+    assert_eq!(b.limit, Some(50.0));
+    assert!(b.to_string().contains("body `disc`"), "{b}");
+}

@@ -41,6 +41,8 @@ pub struct CoarseStepper<const D: usize> {
     /// Seconds spent in contact evaluation since last taken.
     pub contact_secs: f64,
     gravity: Vector3<Real>,
+    /// Runaway bound on any coarse particle's speed (`simulation.max_speed`).
+    max_speed: Real,
 }
 
 impl<const D: usize> CoarseStepper<D> {
@@ -67,6 +69,7 @@ impl<const D: usize> CoarseStepper<D> {
             wall_loads: Vec::new(),
             contact_secs: 0.0,
             gravity: to3(gravity),
+            max_speed: scene.simulation.max_speed,
         }
     }
 
@@ -222,18 +225,21 @@ impl<const D: usize> CoarseStepper<D> {
         }
     }
 
-    /// Stop on non-finite coarse state.
+    /// Stop on non-finite coarse state or a speed beyond `simulation.max_speed`.
     fn check(&self, coarse: &Coarse<D>, step: u64, time: Real) -> Result<(), Blowup> {
         let p = &coarse.particles;
         for i in 0..p.len() {
+            let speed = p.vel[i].norm();
             let bad = if !p.vel[i].iter().all(|x| x.is_finite()) {
-                Some(("velocity", p.vel[i].norm()))
+                Some(("velocity", speed, None))
             } else if !p.pos[i].iter().all(|x| x.is_finite()) {
-                Some(("position", p.pos[i].norm()))
+                Some(("position", p.pos[i].norm(), None))
+            } else if speed > self.max_speed {
+                Some(("speed", speed, Some(self.max_speed)))
             } else {
                 None
             };
-            if let Some((q, v)) = bad {
+            if let Some((q, v, limit)) = bad {
                 let b = &coarse.bodies[p.body[i] as usize];
                 return Err(Blowup {
                     step,
@@ -243,7 +249,7 @@ impl<const D: usize> CoarseStepper<D> {
                     position: p.pos[i].iter().copied().collect(),
                     quantity: q.to_string(),
                     value: v,
-                    limit: None,
+                    limit,
                 });
             }
         }

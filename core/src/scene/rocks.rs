@@ -8,27 +8,12 @@ use super::validate::validate_shape;
 use crate::geometry::Shape;
 use std::f64::consts::PI;
 
+use crate::rng::Rng;
+
 type Fail = (String, String);
 
 /// Largest placement attempts per rock before the fill gives up.
 const ATTEMPTS: usize = 20_000;
-
-/// SplitMix64: small, fast and reproducible across platforms.
-struct Rng(u64);
-
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [0, 1).
-    fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 type P = [f64; 2];
 

@@ -227,6 +227,17 @@ pub struct RegionSpec {
     /// Initial velocity (m/s). Default at rest.
     #[serde(default)]
     pub velocity: Option<Vec<f64>>,
+    /// Random displacement of each particle off the lattice, uniform in ±jitter·dp
+    /// along every axis (fraction of dp, 0 to 0.3). Default 0: a regular lattice.
+    #[serde(default)]
+    pub jitter: f64,
+    /// Seed of the jitter's random sequence (the same seed gives the same particles).
+    #[serde(default = "default_jitter_seed")]
+    pub jitter_seed: u64,
+}
+
+fn default_jitter_seed() -> u64 {
+    1
 }
 
 /// A shape, selected by `type`.

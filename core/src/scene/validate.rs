@@ -332,6 +332,15 @@ pub fn validate(s: &Scene) -> Check {
 
     for (i, r) in s.regions.iter().enumerate() {
         let p = format!("regions[{i}]");
+        if !(0.0..=0.3).contains(&r.jitter) {
+            return fail(
+                format!("{p}.jitter"),
+                format!(
+                    "must lie in [0, 0.3] (a fraction of dp), found {}",
+                    r.jitter
+                ),
+            );
+        }
         if !names.contains(r.material.as_str()) {
             let known: Vec<_> = s.materials.iter().map(|m| m.name.as_str()).collect();
             return fail(
@@ -490,6 +499,17 @@ fn validate_coarse(s: &Scene, fine_names: &HashSet<&str>) -> Check {
         }
         if let Some(v) = &b.velocity {
             vec_len(&format!("{p}.velocity"), v, d)?;
+            let speed = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+            if speed > s.simulation.max_speed {
+                return fail(
+                    format!("{p}.velocity"),
+                    format!(
+                        "speed {speed} m/s exceeds simulation.max_speed = {} m/s (the \
+                         stability guard's bound); raise max_speed for a faster impact",
+                        s.simulation.max_speed
+                    ),
+                );
+            }
         }
         if let Some(w) = &b.angular_velocity {
             vec_len(
