@@ -149,6 +149,18 @@ pub struct Binned<'a, const D: usize> {
 }
 
 /// Neighbour lists of all fine particles within the list radius (cut-off + skin).
+/// Make room for one more particle's neighbours (at most a few hundred) growing by an
+/// eighth instead of doubling: the lists are the solver's largest arrays, and
+/// doubling would leave up to half of them unused. Growth only happens while the
+/// lists lengthen; a steady run reuses them without allocating.
+#[inline]
+fn headroom(v: &mut Vec<u32>) {
+    const ROOM: usize = 512;
+    if v.capacity() - v.len() < ROOM {
+        v.reserve_exact((v.len() / 8).max(4 * ROOM));
+    }
+}
+
 #[derive(Clone, Debug, Default)]
 pub struct NeighborLists {
     pub chunks: Vec<ChunkList>,
@@ -188,6 +200,9 @@ impl NeighborLists {
             cl.coff.push(0);
             for i in start..end {
                 let xi = pos[i];
+                headroom(&mut cl.fine);
+                headroom(&mut cl.wall);
+                headroom(&mut cl.coarse);
                 fine_grid.for_each_near(&xi, |j| {
                     if j as usize != i && (xi - pos[j as usize]).norm_squared() < r2 {
                         cl.fine.push(j);

@@ -27,8 +27,9 @@ pub struct BenchArgs {
     #[arg(long, default_value = "out/bench")]
     out: PathBuf,
     /// Run a suite instead of the validation cases: `stability` (where the solver
-    /// breaks, and that it breaks loudly).
-    #[arg(long, value_parser = ["stability"])]
+    /// breaks, and that it breaks loudly) or `scale` (throughput and memory from 10 k
+    /// to 2 M particles).
+    #[arg(long, value_parser = ["stability", "scale"])]
     suite: Option<String>,
     /// Also write the suite's Markdown report here (e.g. docs/stability.md).
     #[arg(long)]
@@ -256,6 +257,10 @@ pub fn bench(a: &BenchArgs) -> Result<ExitCode> {
             eprintln!("a sweep failed without the guard's diagnostic (see above)");
             return Ok(ExitCode::from(1));
         }
+        return Ok(ExitCode::SUCCESS);
+    }
+    if a.suite.as_deref() == Some("scale") {
+        crate::scale::scale(&a.scenes, &a.out, a.quick, a.report.as_deref())?;
         return Ok(ExitCode::SUCCESS);
     }
     let all = cases();

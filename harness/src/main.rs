@@ -5,6 +5,7 @@ mod check;
 mod pack;
 mod plot;
 mod run;
+mod scale;
 mod series;
 mod stability;
 mod vtk;

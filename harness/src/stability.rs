@@ -106,6 +106,16 @@ fn sweeps() -> Vec<Sweep> {
     ]
 }
 
+impl Measure {
+    fn label(&self) -> &'static str {
+        match self {
+            Measure::Runout => "run-out (m)",
+            Measure::Depth { .. } => "penetration depth (m)",
+            Measure::RestingEnergy => "kinetic energy over the 2nd half / peak",
+        }
+    }
+}
+
 /// One run of a sweep.
 struct Outcome {
     /// None: ran through; Some: the guard's diagnostic (or the silent failure found).
@@ -127,9 +137,30 @@ fn step_budget(end: f64, dt0: f64) -> u64 {
     ((end / dt0.max(1e-300)) * 50.0).clamp(1e6, 1e9) as u64
 }
 
+/// A run the scene check or the set-up refused: a loud failure with its message.
+fn refused(msg: String) -> Outcome {
+    Outcome {
+        failure: Some(format!("refused: {msg}")),
+        loud: true,
+        value: None,
+        wall: 0.0,
+        steps: 0,
+        particles: 0,
+        kappa: 0,
+        dt_fine: 0.0,
+        dt_coarse: 0.0,
+    }
+}
+
 fn run_one(scene: &Path, set: &[String], measure: Measure, quiet: bool) -> Result<Outcome> {
-    let loaded = load(scene, set)?;
-    let mut sim = AnySimulation::new(&loaded).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let loaded = match load(scene, set) {
+        Ok(l) => l,
+        Err(e) => return Ok(refused(format!("{e:#}"))),
+    };
+    let mut sim = match AnySimulation::new(&loaded) {
+        Ok(s) => s,
+        Err(e) => return Ok(refused(e.to_string())),
+    };
     let end = loaded.scene.simulation.end_time;
     let every = loaded.scene.simulation.output_interval.min(end);
     let budget = step_budget(end, sim.stable_dt());
@@ -314,6 +345,7 @@ pub fn stability(scenes: &Path, out: &Path, quick: bool, report: Option<&Path>) 
         }
         doc.push(json!({
             "sweep": s.name, "scene": s.scene, "parameter": s.parameter, "note": s.note,
+            "measure": s.measure.label(),
             "largest_stable": largest,
             "fails_at": first_failure.as_ref().map(|f| f.0),
             "failure": first_failure.as_ref().map(|f| f.1.clone()),
@@ -370,8 +402,11 @@ pub fn markdown(doc: &Value) -> String {
     }
     for w in &sweeps {
         s += &format!(
-            "\n## {}\n\n| value | particles | fine steps | wall [s] | κ | Δt_f [s] | Δt_c [s] | measure | outcome |\n|---|---|---|---|---|---|---|---|---|\n",
-            w["sweep"].as_str().unwrap_or("")
+            "\n## {}\n\n{}; {}. Measure: {}.\n\n| value | particles | fine steps | wall [s] | κ | Δt_f [s] | Δt_c [s] | measure | outcome |\n|---|---|---|---|---|---|---|---|---|\n",
+            w["sweep"].as_str().unwrap_or(""),
+            w["parameter"].as_str().unwrap_or(""),
+            w["note"].as_str().unwrap_or(""),
+            w["measure"].as_str().unwrap_or("")
         );
         for r in w["runs"].as_array().cloned().unwrap_or_default() {
             let e = |k: &str| {

@@ -218,10 +218,14 @@ pub fn validate(s: &Scene) -> Check {
     positive("simulation.dp", sim.dp)?;
     positive("simulation.output_interval", sim.output_interval)?;
     positive("simulation.max_speed", sim.max_speed)?;
-    if !(sim.cfl > 0.0 && sim.cfl <= 1.0) {
+    if !(sim.cfl > 0.0 && sim.cfl <= 2.0) {
         return fail(
             "simulation.cfl",
-            format!("must lie in (0, 1], found {}", sim.cfl),
+            format!(
+                "must lie in (0, 2], found {} (0.4 is the default; the stable limit is \
+                 measured by `granmix bench --suite stability`)",
+                sim.cfl
+            ),
         );
     }
     if let Some(r) = sim.settle_ratio {
