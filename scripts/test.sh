@@ -12,9 +12,10 @@ cargo test --release --workspace
 # the FMU tests pack FMUs with the granmix binary and the granmix-fmu library
 cargo build --release -p granmix -p granmix-fmu
 .venv/bin/python -m pytest -q tests/python
-# smoke runs of the stability and scale suites on tiny cases (the full suites are
+# smoke runs of the accuracy, stability and scale suites on tiny cases (the full suites are
 # benchmarks)
 smoke="$(mktemp -d)"
+./target/release/granmix bench --suite accuracy --quick --out "$smoke"
 ./target/release/granmix bench --suite stability --quick --out "$smoke"
 ./target/release/granmix bench --suite scale --quick --out "$smoke"
 rm -rf "$smoke"

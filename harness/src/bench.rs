@@ -26,10 +26,11 @@ pub struct BenchArgs {
     /// Output directory for bench.json, bench.png and run outputs.
     #[arg(long, default_value = "out/bench")]
     out: PathBuf,
-    /// Run a suite instead of the validation cases: `stability` (where the solver
-    /// breaks, and that it breaks loudly) or `scale` (throughput and memory from 10 k
-    /// to 2 M particles).
-    #[arg(long, value_parser = ["stability", "scale"])]
+    /// Run a suite instead of the validation cases: `accuracy` (run time against
+    /// error, every scheme, three resolutions), `stability` (where the solver breaks,
+    /// and that it breaks loudly) or `scale` (throughput and memory from 10 k to 2 M
+    /// particles).
+    #[arg(long, value_parser = ["accuracy", "stability", "scale"])]
     suite: Option<String>,
     /// Also write the suite's Markdown report here (e.g. docs/stability.md).
     #[arg(long)]
@@ -38,7 +39,7 @@ pub struct BenchArgs {
 
 /// How a case is scored.
 #[derive(Clone, Copy)]
-enum Metric {
+pub(crate) enum Metric {
     /// Final run-out against a reference length (m).
     Runout(f64),
     /// Mid-depth vertical stress against −ρ g H/2 (Pa) from the probe `mid`.
@@ -50,15 +51,92 @@ enum Metric {
     /// §6 blocks: the time block 2 lands (β first within 5° of 0) against seed 000's
     /// ≈ 0.4 s; arrival and the final β are reported beside it.
     BlockLanding(f64),
+    /// §5 incline: distance the first body slid by the end, against the analytic
+    /// ½ g (sin θ − μ cos θ) t² (m).
+    Slide(f64),
+    /// §7 rings: largest change of the total momentum over the run, relative to the
+    /// bodies' summed momentum magnitude at the start (2 KE₀ / v₀); reference 0.
+    MomentumDrift,
+}
+
+impl Metric {
+    /// (value, reference) of a finished run.
+    pub(crate) fn evaluate(&self, rep: &crate::run::RunReport) -> (Option<f64>, Option<f64>) {
+        let last = rep.samples.last().cloned().unwrap_or_default();
+        match *self {
+            Metric::Runout(r) => (Some(last.runout), Some(r)),
+            Metric::ProbeSigmaYy(r) => (
+                last.probes
+                    .iter()
+                    .find(|p| p.0 == "mid")
+                    .map(|p| p.1.stress.0[1]),
+                Some(r),
+            ),
+            Metric::Crater(r) => (
+                last.bodies
+                    .first()
+                    .map(|b| r.surface - (b.position[2] - r.radius)),
+                Some(r.depth()),
+            ),
+            Metric::Speed => (None, None),
+            Metric::BlockLanding(r) => (
+                granmix_core::observe::block_events(&rep.samples, "block1", "block2").landing,
+                Some(r),
+            ),
+            Metric::Slide(r) => {
+                let first = rep.samples.first().and_then(|s| s.bodies.first().cloned());
+                let end = last.bodies.first().cloned();
+                let d = first.zip(end).map(|(a, b)| {
+                    (0..3)
+                        .map(|k| (b.position[k] - a.position[k]).powi(2))
+                        .sum::<f64>()
+                        .sqrt()
+                });
+                (d, Some(r))
+            }
+            Metric::MomentumDrift => {
+                let Some(s0) = rep.samples.first() else {
+                    return (None, Some(0.0));
+                };
+                let v0 = s0
+                    .bodies
+                    .first()
+                    .map(|b| b.velocity.iter().map(|x| x * x).sum::<f64>().sqrt())
+                    .unwrap_or(0.0);
+                let scale = 2.0 * s0.coarse_kinetic_energy / v0.max(1e-300);
+                let drift = rep
+                    .samples
+                    .iter()
+                    .map(|s| {
+                        (0..3)
+                            .map(|k| (s.momentum[k] - s0.momentum[k]).powi(2))
+                            .sum::<f64>()
+                            .sqrt()
+                    })
+                    .fold(0.0, f64::max);
+                (Some(drift / scale.max(1e-300)), Some(0.0))
+            }
+        }
+    }
+
+    /// Relative error of `value` against `reference` (the value itself when the
+    /// reference is 0).
+    pub(crate) fn error(value: Option<f64>, reference: Option<f64>) -> Option<f64> {
+        match (value, reference) {
+            (Some(v), Some(0.0)) => Some(v.abs()),
+            (Some(v), Some(r)) => Some((v - r).abs() / r.abs()),
+            _ => None,
+        }
+    }
 }
 
 /// Eq. (62): D = (0.14/μ) (ρ_b/ρ_g)^½ (2R)^⅔ (H + D)^⅓, with the initial bed surface.
 #[derive(Clone, Copy)]
-struct CraterRef {
-    radius: f64,
-    mu: f64,
-    height: f64,
-    surface: f64,
+pub(crate) struct CraterRef {
+    pub(crate) radius: f64,
+    pub(crate) mu: f64,
+    pub(crate) height: f64,
+    pub(crate) surface: f64,
 }
 
 impl CraterRef {
@@ -66,7 +144,7 @@ impl CraterRef {
     const RHO_BED: f64 = 1510.0;
 
     /// Fixed point of Eq. (62) (a contraction: D^⅓ grows slowly).
-    fn depth(&self) -> f64 {
+    pub(crate) fn depth(&self) -> f64 {
         let a = 0.14 / self.mu
             * (Self::RHO_BALL / Self::RHO_BED).sqrt()
             * (2.0 * self.radius).powf(2.0 / 3.0);
@@ -78,7 +156,7 @@ impl CraterRef {
     }
 
     /// Scene overrides of this run.
-    fn overrides(&self) -> Vec<String> {
+    pub(crate) fn overrides(&self) -> Vec<String> {
         let v0 = (2.0 * 9.81 * self.height).sqrt();
         vec![
             format!("bodies.0.shape.radius={}", self.radius),
@@ -259,6 +337,10 @@ pub fn bench(a: &BenchArgs) -> Result<ExitCode> {
         }
         return Ok(ExitCode::SUCCESS);
     }
+    if a.suite.as_deref() == Some("accuracy") {
+        crate::accuracy::accuracy(&a.scenes, &a.out, a.quick, a.report.as_deref())?;
+        return Ok(ExitCode::SUCCESS);
+    }
     if a.suite.as_deref() == Some("scale") {
         crate::scale::scale(&a.scenes, &a.out, a.quick, a.report.as_deref())?;
         return Ok(ExitCode::SUCCESS);
@@ -320,32 +402,8 @@ pub fn bench(a: &BenchArgs) -> Result<ExitCode> {
                 interactive: false,
                 vtk: false,
             })?;
-            let last = rep.samples.last().cloned().unwrap_or_default();
-            let (value, reference) = match c.metric {
-                Metric::Runout(r) => (Some(last.runout), Some(r)),
-                Metric::ProbeSigmaYy(r) => (
-                    last.probes
-                        .iter()
-                        .find(|p| p.0 == "mid")
-                        .map(|p| p.1.stress.0[1]),
-                    Some(r),
-                ),
-                Metric::Crater(r) => (
-                    last.bodies
-                        .first()
-                        .map(|b| r.surface - (b.position[2] - r.radius)),
-                    Some(r.depth()),
-                ),
-                Metric::Speed => (None, None),
-                Metric::BlockLanding(r) => (
-                    granmix_core::observe::block_events(&rep.samples, "block1", "block2").landing,
-                    Some(r),
-                ),
-            };
-            let err = match (value, reference) {
-                (Some(v), Some(r)) => Some((v - r).abs() / r.abs()),
-                _ => None,
-            };
+            let (value, reference) = c.metric.evaluate(&rep);
+            let err = Metric::error(value, reference);
             if let (Some(e), Some(tol)) = (err, c.tolerance) {
                 if k + 1 == nlev && !a.quick && e > tol {
                     failed = true;

@@ -1,5 +1,6 @@
 //! `granmix`: run, check and benchmark granular-mixture scenes.
 
+mod accuracy;
 mod bench;
 mod check;
 mod pack;

@@ -211,7 +211,9 @@ fn run_one(scene: &Path, set: &[String], measure: Measure, quiet: bool) -> Resul
             loud = false;
         }
     }
+    let stopped = failure.is_some();
     let value = match measure {
+        _ if stopped => None,
         Measure::Runout => Some(last.runout),
         Measure::Depth { surface, radius } => {
             let up = sim.dimension() - 1;

@@ -1,0 +1,355 @@
+//! `granmix bench --suite accuracy`: run time against error. Every validation case
+//! with a reference runs at three or more resolutions, under each scheme that applies
+//! (multi-rate and single-rate stepping, elastic and rigid boulders). Each run records
+//! wall time, particle-steps per second, peak resident memory and the error against the
+//! reference. The suite writes `accuracy.json`, `accuracy.png` (error against wall
+//! time, log–log, one curve per case and scheme) and a Markdown report generated from
+//! the JSON (`--report docs/benchmarks.md`), with the multi-rate speed-up next to seed
+//! 000 Table 3.
+
+use crate::bench::{CraterRef, Metric};
+use crate::plot::{loglog, Curve};
+use crate::run::{run, RunOptions};
+use anyhow::Result;
+use serde_json::{json, Value};
+use std::path::Path;
+
+/// One curve: a case under one scheme at several resolutions.
+struct Series {
+    case: &'static str,
+    scheme: &'static str,
+    scene: &'static str,
+    /// Resolution label and its overrides, coarsest first.
+    levels: Vec<(String, Vec<String>)>,
+    common: Vec<String>,
+    metric: Metric,
+    note: &'static str,
+}
+
+fn dp_levels(dps: &[f64], unit: f64, name: &str) -> Vec<(String, Vec<String>)> {
+    dps.iter()
+        .map(|d| {
+            (
+                format!("{}{name}", d / unit),
+                vec![format!("simulation.dp={d}")],
+            )
+        })
+        .collect()
+}
+
+fn series() -> Vec<Series> {
+    let mut v = Vec::new();
+    let r0 = 0.1;
+    for (a, case) in [
+        (0.5, "collapse_3d_a0.5"),
+        (1.0, "collapse_3d_a1"),
+        (1.5, "collapse_3d_a1.5"),
+    ] {
+        v.push(Series {
+            case,
+            scheme: "single-rate",
+            scene: "column_collapse_3d.toml",
+            levels: [10.0, 15.0, 20.0]
+                .iter()
+                .map(|k| (format!("r0/{k}"), vec![format!("simulation.dp={}", r0 / k)]))
+                .collect(),
+            common: vec![format!("regions.0.shape.height={}", a * r0)],
+            metric: Metric::Runout(r0 * (1.0 + 1.24 * a)),
+            note: "Lube et al. 2004: r∞ = r0 (1 + 1.24 a)",
+        });
+    }
+    v.push(Series {
+        case: "collapse_2d",
+        scheme: "single-rate",
+        scene: "column_collapse_2d.toml",
+        levels: dp_levels(&[0.008, 0.004, 0.002], 0.001, " mm"),
+        common: vec!["materials.0.friction_angle=30".into()],
+        metric: Metric::Runout(0.2 * (1.0 + 1.2 * 0.5)),
+        note: "Lube et al. 2005 (quasi-2D), φ = 30°: L∞ = L0 (1 + 1.2 a)",
+    });
+    v.push(Series {
+        case: "geostatic",
+        scheme: "single-rate",
+        scene: "geostatic_layer.toml",
+        levels: dp_levels(&[0.02, 0.01, 0.005], 0.001, " mm"),
+        common: vec!["simulation.end_time=1.0".into()],
+        metric: Metric::ProbeSigmaYy(-2040.0 * 9.81 * 0.1),
+        note: "σ_v = −ρ g (H − z) at mid-depth",
+    });
+    let crater = CraterRef {
+        radius: 0.02,
+        mu: 0.3,
+        height: 0.2,
+        surface: 0.1,
+    };
+    for (scheme, set) in [
+        ("multi-rate, elastic", vec![]),
+        (
+            "single-rate, elastic",
+            vec!["simulation.time_stepping=\"single-rate\"".to_string()],
+        ),
+        (
+            "multi-rate, rigid",
+            vec!["bodies.0.model=\"rigid\"".to_string()],
+        ),
+    ] {
+        let mut common = crater.overrides();
+        common.extend(set);
+        v.push(Series {
+            case: "crater_R0.02_mu0.3_H0.2",
+            scheme,
+            scene: "impact_crater.toml",
+            levels: dp_levels(&[0.006, 0.005, 0.004], 0.001, " mm"),
+            common,
+            metric: Metric::Crater(crater),
+            note: "Uehara et al. 2003, seed 000 Eq. (62)",
+        });
+    }
+    let g = 9.81_f64;
+    let (theta, mu, t) = (30f64.to_radians(), 0.3, 0.5);
+    let slide = 0.5 * g * (theta.sin() - mu * theta.cos()) * t * t;
+    v.push(Series {
+        case: "incline",
+        scheme: "rigid",
+        scene: "incline_block.toml",
+        levels: dp_levels(&[0.02, 0.01, 0.005], 0.001, " mm"),
+        common: vec![],
+        metric: Metric::Slide(slide),
+        note: "½ g (sin θ − μ cos θ) t², θ = 30°, μ = 0.3, t = 0.5 s",
+    });
+    v.push(Series {
+        case: "rubber_rings",
+        scheme: "multi-rate, elastic",
+        scene: "rubber_rings.toml",
+        levels: dp_levels(&[0.001, 0.0007, 0.0005], 0.001, " mm"),
+        common: vec![],
+        metric: Metric::MomentumDrift,
+        note: "total momentum conserved: drift relative to Σ|p| at the start",
+    });
+    v
+}
+
+/// Zero the process's peak resident set (Linux `clear_refs` 5) so that the next
+/// reading of VmHWM is the peak of what runs in between.
+fn reset_peak_rss() {
+    let _ = std::fs::write("/proc/self/clear_refs", "5");
+}
+
+/// Run the accuracy suite; `quick` runs only the coarsest level of each series.
+pub fn accuracy(scenes: &Path, out: &Path, quick: bool, report: Option<&Path>) -> Result<()> {
+    std::fs::create_dir_all(out)?;
+    let mut runs = Vec::new();
+    let mut curves = Vec::new();
+    println!(
+        "{:<24} {:<22} {:<8} {:>9} {:>9} {:>11} {:>9} {:>11} {:>11} {:>8}",
+        "case",
+        "scheme",
+        "level",
+        "particles",
+        "wall [s]",
+        "Mpart-st/s",
+        "RSS [MB]",
+        "value",
+        "reference",
+        "error"
+    );
+    for s in series() {
+        let levels: Vec<_> = if quick {
+            s.levels.iter().take(1).collect()
+        } else {
+            s.levels.iter().collect()
+        };
+        let mut pts = Vec::new();
+        for (label, over) in levels {
+            let mut set = s.common.clone();
+            set.extend(over.iter().cloned());
+            if quick {
+                set.push("simulation.end_time=0.002".into());
+            }
+            let dir = out
+                .join(s.case)
+                .join(s.scheme.replace([',', ' '], "_"))
+                .join(label.replace(['/', ' '], "_"));
+            reset_peak_rss();
+            let rep = run(&RunOptions {
+                scene: scenes.join(s.scene),
+                out: dir,
+                set,
+                interactive: false,
+                vtk: false,
+            })?;
+            let rss = crate::scale::peak_rss();
+            let (value, reference) = s.metric.evaluate(&rep);
+            let err = Metric::error(value, reference);
+            if let Some(b) = &rep.blowup {
+                eprintln!("{} {} {label}: {b}", s.case, s.scheme);
+            }
+            println!(
+                "{:<24} {:<22} {:<8} {:>9} {:>9.1} {:>11.3} {:>9.0} {:>11} {:>11} {:>8}",
+                s.case,
+                s.scheme,
+                label,
+                rep.particles,
+                rep.wall_time,
+                rep.particle_steps_per_s / 1e6,
+                rss.map(|r| r as f64 / 1e6).unwrap_or(0.0),
+                value.map(|v| format!("{v:.4e}")).unwrap_or("-".into()),
+                reference.map(|v| format!("{v:.4e}")).unwrap_or("-".into()),
+                err.map(|e| format!("{:.2}%", 100.0 * e))
+                    .unwrap_or("-".into()),
+            );
+            if let Some(e) = err {
+                pts.push((rep.wall_time.max(1e-3), e.max(1e-16)));
+            }
+            runs.push(json!({
+                "case": s.case, "scheme": s.scheme, "level": label, "scene": s.scene,
+                "note": s.note, "particles": rep.particles,
+                "steps_fine": rep.summary["steps_fine"], "steps_coarse": rep.summary["steps_coarse"],
+                "kappa": rep.summary["kappa"], "dt_fine": rep.summary["dt_fine"],
+                "dt_coarse": rep.summary["dt_coarse"], "wall_time_s": rep.wall_time,
+                "particle_steps_per_s": rep.particle_steps_per_s, "peak_rss_bytes": rss,
+                "value": value, "reference": reference, "rel_error": err,
+                "blowup": rep.blowup.as_ref().map(|b| b.to_string()),
+            }));
+        }
+        if !pts.is_empty() {
+            curves.push(Curve {
+                label: format!("{} ({})", s.case, s.scheme),
+                points: pts,
+            });
+        }
+    }
+    let doc = json!({
+        "suite": "accuracy", "quick": quick, "threads": rayon::current_num_threads(),
+        "runs": runs,
+    });
+    let path = out.join("accuracy.json");
+    std::fs::write(&path, serde_json::to_string_pretty(&doc)?)?;
+    println!("wrote {}", path.display());
+    if !curves.is_empty() {
+        let png = out.join("accuracy.png");
+        loglog(
+            &png,
+            "granmix bench --suite accuracy: error against run time",
+            "wall time [s]",
+            "relative error",
+            &curves,
+            &[(0.05, "5 %".into())],
+        )?;
+        println!("wrote {}", png.display());
+    }
+    let md = markdown(&doc);
+    std::fs::write(out.join("accuracy.md"), &md)?;
+    if let Some(r) = report {
+        std::fs::write(r, &md)?;
+        println!("wrote {}", r.display());
+    }
+    Ok(())
+}
+
+/// One row of seed 000 Table 3: dp (mm), particles, Δt_f, Δt_c, κ, single-rate and
+/// multi-rate minutes, speed-up.
+type Table3Row = (f64, &'static str, f64, f64, u32, f64, f64, f64);
+
+/// Seed 000 Table 3 (R = 0.02 m, H = 0.2 m, 0.1 s, 32 cores).
+const TABLE3: [Table3Row; 3] = [
+    (4.0, "51.2 k", 6.1e-5, 7.4e-6, 9, 9.7, 1.5, 6.5),
+    (2.0, "426.0 k", 3.1e-5, 3.7e-6, 9, 138.0, 19.9, 6.9),
+    (1.5, "1009.9 k", 2.3e-5, 2.8e-6, 9, 439.2, 57.6, 7.6),
+];
+
+/// The benchmark report as Markdown, generated from the suite's JSON.
+pub fn markdown(doc: &Value) -> String {
+    let runs = doc["runs"].as_array().cloned().unwrap_or_default();
+    let mut s = format!(
+        "# Benchmarks: run time against error\n\n\
+         Generated by `granmix bench --suite accuracy` from `accuracy.json`; do not edit.\n\
+         {} thread(s). Each validation case with a reference runs at three resolutions,\n\
+         under each scheme that applies; *error* is relative to the reference (for the\n\
+         rings, the momentum drift itself). The plot `accuracy.png` beside the JSON shows\n\
+         error against wall time, one curve per case and scheme.\n",
+        doc["threads"]
+    );
+    let mut cases: Vec<String> = Vec::new();
+    for r in &runs {
+        let c = r["case"].as_str().unwrap_or("").to_string();
+        if !cases.contains(&c) {
+            cases.push(c);
+        }
+    }
+    for c in &cases {
+        let mine: Vec<&Value> = runs.iter().filter(|r| r["case"] == c.as_str()).collect();
+        s += &format!(
+            "\n## {c}\n\n{}\n\n| scheme | level | particles | wall [s] | Mparticle-steps/s | peak RSS [MB] | value | reference | error |\n|---|---|---|---|---|---|---|---|---|\n",
+            mine.first().and_then(|r| r["note"].as_str()).unwrap_or("")
+        );
+        for r in mine {
+            let f = |k: &str| {
+                r[k].as_f64()
+                    .map(|x| format!("{x:.4e}"))
+                    .unwrap_or("–".into())
+            };
+            s += &format!(
+                "| {} | {} | {} | {:.1} | {:.3} | {} | {} | {} | {} |\n",
+                r["scheme"].as_str().unwrap_or(""),
+                r["level"].as_str().unwrap_or(""),
+                r["particles"],
+                r["wall_time_s"].as_f64().unwrap_or(0.0),
+                r["particle_steps_per_s"].as_f64().unwrap_or(0.0) / 1e6,
+                r["peak_rss_bytes"]
+                    .as_f64()
+                    .map(|x| format!("{:.0}", x / 1e6))
+                    .unwrap_or("–".into()),
+                f("value"),
+                f("reference"),
+                r["rel_error"]
+                    .as_f64()
+                    .map(|e| format!("{:.2} %", 100.0 * e))
+                    .unwrap_or(
+                        r["blowup"]
+                            .as_str()
+                            .map(|b| format!("blow-up: {}", b.replace('|', "/")))
+                            .unwrap_or("–".into())
+                    ),
+            );
+        }
+    }
+    // multi-rate speed-up next to seed 000 Table 3
+    let crater = |scheme: &str, level: &str| {
+        runs.iter().find(|r| {
+            r["case"] == "crater_R0.02_mu0.3_H0.2" && r["scheme"] == scheme && r["level"] == level
+        })
+    };
+    s += "\n## Multi-rate speed-up (crater R = 0.02 m, H = 0.2 m) against seed 000 Table 3\n\n\
+          | source | dp [mm] | particles | Δt_f [s] | Δt_c [s] | κ | single-rate | multi-rate | speed-up |\n\
+          |---|---|---|---|---|---|---|---|---|\n";
+    for (dp, n, dtf, dtc, k, single, multi, up) in TABLE3 {
+        s += &format!(
+            "| seed 000 (32 cores) | {dp} | {n} | {dtf:.1e} | {dtc:.1e} | {k} | {single} min | {multi} min | {up}× |\n"
+        );
+    }
+    for level in ["6 mm", "5 mm", "4 mm"] {
+        if let (Some(m), Some(si)) = (
+            crater("multi-rate, elastic", level),
+            crater("single-rate, elastic", level),
+        ) {
+            let (tm, ts) = (
+                m["wall_time_s"].as_f64().unwrap_or(0.0),
+                si["wall_time_s"].as_f64().unwrap_or(0.0),
+            );
+            s += &format!(
+                "| granmix ({} threads) | {} | {} | {:.2e} | {:.2e} | {} | {:.2} min | {:.2} min | {:.2}× |\n",
+                doc["threads"],
+                level.trim_end_matches(" mm"),
+                m["particles"],
+                m["dt_fine"].as_f64().unwrap_or(0.0),
+                m["dt_coarse"].as_f64().unwrap_or(0.0),
+                m["kappa"],
+                ts / 60.0,
+                tm / 60.0,
+                ts / tm.max(1e-12)
+            );
+        }
+    }
+    s
+}
