@@ -314,6 +314,9 @@ pub fn bench(a: &BenchArgs) -> Result<ExitCode> {
                 set,
                 interactive: false,
                 vtk: false,
+                publish: None,
+                publish_every: 1,
+                record: None,
             })?;
             let last = rep.samples.last().cloned().unwrap_or_default();
             let (value, reference) = match c.metric {

@@ -1,0 +1,200 @@
+//! `granmix bench-ipc`: what the particle channel costs.
+//!
+//! 1. Publishing one frame of `--particles` records (loan, fill, send to a subscriber
+//!    in another process) against a plain memcpy of the same bytes.
+//! 2. Solver step time of a scene without a publisher, publishing every step with no
+//!    subscriber (no frame is built), and publishing every step to a subscriber in
+//!    another process. The three copies of the simulation step in turn, so machine
+//!    noise hits them alike.
+
+use crate::run::load;
+use anyhow::{bail, Context, Result};
+use granmix_core::AnySimulation;
+use granmix_ipc::pattern::{pattern_info, pattern_record};
+use granmix_ipc::{FramePublisher, Outcome, ParticleRecord};
+use serde_json::json;
+use std::io::{BufRead, BufReader};
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::time::Instant;
+
+#[derive(clap::Args)]
+pub struct BenchIpcArgs {
+    /// Records per frame for the publish-cost measurement.
+    #[arg(long, default_value_t = 1_000_000)]
+    particles: usize,
+    /// Frames timed for the publish cost.
+    #[arg(long, default_value_t = 40)]
+    frames: u64,
+    /// Scene for the solver-overhead measurement.
+    #[arg(long, default_value = "models/scenes/column_collapse_3d.toml")]
+    scene: PathBuf,
+    /// Scene overrides for it (repeatable).
+    #[arg(long = "set", value_name = "KEY.PATH=VALUE")]
+    set: Vec<String>,
+    /// Timed solver steps per configuration.
+    #[arg(long, default_value_t = 20)]
+    steps: u64,
+    /// Output directory for bench_ipc.json.
+    #[arg(long, default_value = "out/bench")]
+    out: PathBuf,
+}
+
+/// A `granmix watch` child process subscribed to `service`; killed on drop.
+struct Watcher(Child);
+
+impl Watcher {
+    fn start(service: &str) -> Result<Self> {
+        let exe = std::env::current_exe().context("locating the granmix binary")?;
+        let mut child = Command::new(exe)
+            .args(["watch", service, "--timeout", "120"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .context("starting `granmix watch`")?;
+        let out = child.stdout.take().context("watch stdout")?;
+        let mut lines = BufReader::new(out).lines();
+        match lines.next() {
+            Some(Ok(l)) if l.starts_with("ready") => {}
+            other => bail!("`granmix watch` did not start: {other:?}"),
+        }
+        // drain the rest so the child never blocks on a full pipe
+        std::thread::spawn(move || for _ in lines {});
+        Ok(Watcher(child))
+    }
+}
+
+impl Drop for Watcher {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v[v.len() / 2]
+}
+
+fn mean(v: &[f64]) -> f64 {
+    v.iter().sum::<f64>() / v.len().max(1) as f64
+}
+
+pub fn bench_ipc(a: &BenchIpcArgs) -> Result<()> {
+    let tag = format!("bench-{}", std::process::id());
+    // 1. publish cost against memcpy
+    let n = a.particles;
+    let src: Vec<ParticleRecord> = (0..n).map(|i| pattern_record(0, i)).collect();
+    let mut dst = vec![ParticleRecord::default(); n];
+    let mut memcpy = Vec::new();
+    for _ in 0..a.frames {
+        let t = Instant::now();
+        dst.copy_from_slice(&src);
+        memcpy.push(t.elapsed().as_secs_f64());
+        std::hint::black_box(&dst);
+    }
+    let mut publisher = FramePublisher::open(&format!("{tag}-frames"), n)?;
+    let watcher = Watcher::start(publisher.name())?;
+    let mut publish = Vec::new();
+    for k in 0..a.frames {
+        let info = pattern_info(k, n);
+        let t = Instant::now();
+        let out = publisher.publish_with(&info, |recs| recs.copy_from_slice(&src));
+        let dt = t.elapsed().as_secs_f64();
+        if let Outcome::Sent(_) = out {
+            publish.push(dt);
+        }
+    }
+    drop(watcher);
+    let bytes = n * std::mem::size_of::<ParticleRecord>();
+    let (m_copy, m_pub) = (median(memcpy), median(publish.clone()));
+    println!(
+        "publish {} records ({:.1} MB): {:.3} ms per frame (median of {} sent); memcpy of the same bytes {:.3} ms ({:.2}x)",
+        n,
+        bytes as f64 / 1e6,
+        1e3 * m_pub,
+        publish.len(),
+        1e3 * m_copy,
+        m_pub / m_copy
+    );
+
+    // 2. solver steps with and without publishing
+    let loaded = load(&a.scene, &a.set)?;
+    let mut base = AnySimulation::new(&loaded).map_err(|e| anyhow::anyhow!("{e}"))?;
+    for _ in 0..2 {
+        base.step(f64::INFINITY)
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+    }
+    let (f, c) = base.particle_counts();
+    let mut sims = [base.clone(), base.clone(), base];
+    let mut quiet = FramePublisher::open(&format!("{tag}-quiet"), f + c)?;
+    let mut loud = FramePublisher::open(&format!("{tag}-loud"), f + c)?;
+    let watcher = Watcher::start(loud.name())?;
+    let mut times: [Vec<f64>; 3] = Default::default();
+    for _ in 0..a.steps {
+        for (k, sim) in sims.iter_mut().enumerate() {
+            let t = Instant::now();
+            sim.step(f64::INFINITY)
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+            match k {
+                1 => {
+                    quiet.publish(sim);
+                }
+                2 => {
+                    loud.publish(sim);
+                }
+                _ => {}
+            }
+            times[k].push(t.elapsed().as_secs_f64());
+        }
+    }
+    drop(watcher);
+    let [plain, no_sub, with_sub] = times.map(|v| mean(&v));
+    let overhead = |x: f64| 100.0 * (x - plain) / plain;
+    println!(
+        "solver, {} particles, {} steps each: {:.2} ms/step without publisher; {:.2} ms ({:+.2} %) publishing with no subscriber; {:.2} ms ({:+.2} %) publishing every step to a subscriber ({} frames sent)",
+        f + c,
+        a.steps,
+        1e3 * plain,
+        1e3 * no_sub,
+        overhead(no_sub),
+        1e3 * with_sub,
+        overhead(with_sub),
+        loud.stats().sent
+    );
+    // the three copies must have stepped identically: publishing only reads
+    if sims[0].steps() != sims[2].steps() || sims[0].time().to_bits() != sims[2].time().to_bits() {
+        bail!("publishing changed the solver's course");
+    }
+    std::fs::create_dir_all(&a.out)?;
+    let report = json!({
+        "publish": {
+            "particles": n,
+            "bytes": bytes,
+            "frames": publish.len(),
+            "publish_ms_median": 1e3 * m_pub,
+            "memcpy_ms_median": 1e3 * m_copy,
+            "ratio": m_pub / m_copy,
+        },
+        "solver": {
+            "scene": a.scene.display().to_string(),
+            "set": a.set,
+            "particles": f + c,
+            "steps": a.steps,
+            "ms_per_step_plain": 1e3 * plain,
+            "ms_per_step_no_subscriber": 1e3 * no_sub,
+            "ms_per_step_subscriber": 1e3 * with_sub,
+            "overhead_no_subscriber_percent": overhead(no_sub),
+            "overhead_subscriber_percent": overhead(with_sub),
+            "frames_sent": loud.stats().sent,
+            "frames_dropped": loud.stats().dropped,
+        },
+    });
+    let path = a.out.join("bench_ipc.json");
+    std::fs::write(&path, serde_json::to_string_pretty(&report)?)?;
+    println!("written {}", path.display());
+    Ok(())
+}
