@@ -19,6 +19,8 @@ pub mod service;
 pub mod subscriber;
 
 pub use error::IpcError;
+/// The Foxglove schemas used in recordings (for readers and tests).
+pub use foxglove;
 pub use payload::{FrameHeader, ParticleRecord, SCHEMA_VERSION};
 pub use publisher::{FrameInfo, FramePublisher, Outcome, PublishStats};
 pub use recorder::{RecordCounts, Recorder, SceneInfo};
