@@ -82,17 +82,25 @@ def service_name(spec: str) -> str:
 class Subscriber:
     """A subscriber on one particle service; keep it alive while receiving."""
 
-    def __init__(self, spec: str):
+    def __init__(self, spec: str, buffer: int = 0):
+        """Open (or create) the service. With `buffer` > 0 the subscriber queues that
+        many frames before the oldest is dropped; this needs the subscriber to create
+        the service (start it before the publisher)."""
         iox2.set_log_level_from_env_or(iox2.LogLevel.Error)
         self.name = service_name(spec)
         self.node = iox2.NodeBuilder.new().create(iox2.ServiceType.Ipc)
-        self.service = (
+        builder = (
             self.node.service_builder(iox2.ServiceName.new(self.name))
             .publish_subscribe(iox2.Slice[ParticleRecord])
             .user_header(FrameHeader)
-            .open_or_create()
         )
-        self.subscriber = self.service.subscriber_builder().create()
+        if buffer > 0:
+            builder = builder.subscriber_max_buffer_size(buffer)
+        self.service = builder.open_or_create()
+        sub = self.service.subscriber_builder()
+        if buffer > 0:
+            sub = sub.buffer_size(buffer)
+        self.subscriber = sub.create()
 
     def receive(self):
         """The next frame as (header dict, structured numpy array), or None.
@@ -146,10 +154,13 @@ def main() -> int:
     ap.add_argument("--timeout", type=float, default=30.0, help="give up after S s without a frame")
     ap.add_argument("--json", help="write the received headers (and checks) to this file")
     ap.add_argument(
+        "--buffer", type=int, default=0, help="queue N frames (start before the publisher)"
+    )
+    ap.add_argument(
         "--check-pattern", action="store_true", help="compare frames with the test pattern"
     )
     a = ap.parse_args()
-    sub = Subscriber(a.service)
+    sub = Subscriber(a.service, a.buffer)
     print(f"ready: subscribed to {sub.name}", flush=True)
     headers, mismatches, received = [], 0, 0
     while a.frames == 0 or received < a.frames:
