@@ -43,11 +43,8 @@ pub fn pattern(a: &PatternArgs) -> Result<()> {
     }
     for k in 0..a.frames {
         let info = pattern_info(k, a.particles);
-        let out = p.publish_with(&info, |recs| {
-            for (i, r) in recs.iter_mut().enumerate() {
-                *r = pattern_record(k, i);
-            }
-        });
+        let records: Vec<_> = (0..a.particles).map(|i| pattern_record(k, i)).collect();
+        let out = p.publish_slice(&info, &records);
         if !matches!(out, Outcome::Sent(_)) {
             bail!("frame {k}: {out:?}");
         }

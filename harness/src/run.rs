@@ -202,9 +202,22 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
     for (name, secs) in sim.timers().entries() {
         stages.insert(name.to_string(), json!(secs));
     }
+    // the sinks count as observation: frames built and records written
+    sim.timers_mut().add(Stage::Observe, publish_secs);
+    let mut skipped_list = sim.skipped();
+    match &publisher {
+        None => skipped_list.push(("publish".into(), "no --publish".into())),
+        Some(p) if p.stats().sent + p.stats().dropped == 0 => {
+            skipped_list.push(("publish".into(), "no subscriber: no frame was built".into()))
+        }
+        Some(_) => {}
+    }
+    if opts.record.is_none() {
+        skipped_list.push(("record".into(), "no --record".into()));
+    }
     let mut skipped = Map::new();
-    for (name, why) in sim.skipped() {
-        skipped.insert(name, json!(why));
+    for (name, why) in &skipped_list {
+        skipped.insert(name.clone(), json!(why));
     }
     let last = samples.last().cloned().unwrap_or_default();
     let mut obs = Map::new();
@@ -284,7 +297,7 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         serde_json::to_string_pretty(&summary)?,
     )?;
     if opts.interactive {
-        print_table(&sim, wall, n, pss, &opts.out);
+        print_table(&sim, &skipped_list, wall, n, pss, &opts.out);
     }
     Ok(RunReport {
         summary,
@@ -322,7 +335,14 @@ fn write_bodies_json(path: &Path, dim: usize, samples: &[Sample]) -> Result<()> 
     Ok(())
 }
 
-fn print_table(sim: &AnySimulation, wall: f64, n: usize, pss: f64, out: &Path) {
+fn print_table(
+    sim: &AnySimulation,
+    skipped: &[(String, String)],
+    wall: f64,
+    n: usize,
+    pss: f64,
+    out: &Path,
+) {
     println!(
         "\n{} fine particles, {} steps in {:.2} s: {:.3} M particle-steps/s",
         n,
@@ -339,7 +359,6 @@ fn print_table(sim: &AnySimulation, wall: f64, n: usize, pss: f64, out: &Path) {
             100.0 * secs / wall.max(1e-12)
         );
     }
-    let skipped = sim.skipped();
     if !skipped.is_empty() {
         println!("skipped for this scene:");
         for (name, why) in skipped {

@@ -75,7 +75,7 @@ impl FrameHeader {
 /// The records as raw bytes (for recording and checksums); safe: the record is plain
 /// `#[repr(C)]` data without padding (checked by a test).
 pub fn record_bytes(records: &[ParticleRecord]) -> Vec<u8> {
-    let mut out = Vec::with_capacity(records.len() * std::mem::size_of::<ParticleRecord>());
+    let mut out = Vec::with_capacity(std::mem::size_of_val(records));
     for r in records {
         append_record(&mut out, r);
     }

@@ -50,6 +50,17 @@ pub struct FrameInfo {
     pub dimension: u32,
 }
 
+/// How a frame's records get into the loaned sample.
+enum Fill<'a, F: FnOnce(&mut [ParticleRecord])> {
+    /// One copy of ready records.
+    Copy(&'a [ParticleRecord]),
+    /// Written in place (in parallel) into a zeroed slice.
+    With(F),
+}
+
+/// The `F` of a [`Fill::Copy`].
+type NoFill = fn(&mut [ParticleRecord]);
+
 /// Publisher of particle frames on one service.
 pub struct FramePublisher {
     name: String,
@@ -157,12 +168,27 @@ impl FramePublisher {
         })
     }
 
+    /// Publish a copy of `records` (one memcpy into shared memory), if anybody listens.
+    pub fn publish_slice(&mut self, info: &FrameInfo, records: &[ParticleRecord]) -> Outcome {
+        debug_assert_eq!(records.len(), info.fine_count + info.coarse_count);
+        self.publish_via(info, Fill::<NoFill>::Copy(records))
+    }
+
     /// Publish a frame of `info.fine_count + info.coarse_count` records written by
-    /// `fill` straight into shared memory (if anybody listens).
+    /// `fill` straight into shared memory (if anybody listens). The loaned slice
+    /// starts zeroed.
     pub fn publish_with(
         &mut self,
         info: &FrameInfo,
         fill: impl FnOnce(&mut [ParticleRecord]),
+    ) -> Outcome {
+        self.publish_via(info, Fill::With(fill))
+    }
+
+    fn publish_via<F: FnOnce(&mut [ParticleRecord])>(
+        &mut self,
+        info: &FrameInfo,
+        fill: Fill<'_, F>,
     ) -> Outcome {
         if self.sequence % CLEANUP_EVERY == CLEANUP_EVERY - 1 {
             // reclaim what subscribers that died still hold; never waits
@@ -183,16 +209,33 @@ impl FramePublisher {
         outcome
     }
 
-    fn send(&mut self, info: &FrameInfo, fill: impl FnOnce(&mut [ParticleRecord])) -> Outcome {
+    fn send<F: FnOnce(&mut [ParticleRecord])>(
+        &mut self,
+        info: &FrameInfo,
+        fill: Fill<'_, F>,
+    ) -> Outcome {
         if !self.wants_frame() {
             return Outcome::NoSubscriber;
         }
         let n = info.fine_count + info.coarse_count;
-        let mut sample = match self.publisher.loan_slice(n) {
+        let sample = match self.publisher.loan_slice_uninit(n) {
             Ok(s) => s,
             Err(e) => return Outcome::Dropped(format!("no sample to loan: {e:?}")),
         };
-        fill(sample.payload_mut());
+        let mut sample = match fill {
+            Fill::Copy(records) if records.len() == n => sample.write_from_slice(records),
+            Fill::Copy(records) => {
+                return Outcome::Dropped(format!(
+                    "header counts {n} particles, the frame has {}",
+                    records.len()
+                ))
+            }
+            Fill::With(f) => {
+                let mut s = sample.write_from_fn(|_| ParticleRecord::default());
+                f(s.payload_mut());
+                s
+            }
+        };
         *sample.user_header_mut() = FrameHeader {
             time: info.time,
             step: info.step,

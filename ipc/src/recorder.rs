@@ -274,7 +274,7 @@ impl Recorder {
     ) -> Result<(), IpcError> {
         let mut bytes = std::mem::take(&mut self.bytes);
         bytes.clear();
-        bytes.reserve(records.len() * std::mem::size_of::<ParticleRecord>());
+        bytes.reserve(std::mem::size_of_val(records));
         for r in records {
             append_record(&mut bytes, r);
         }
