@@ -35,7 +35,7 @@ struct Window {
 }
 
 pub fn watch(a: &WatchArgs) -> Result<()> {
-    let sub = FrameSubscriber::open(&a.service)?;
+    let sub = FrameSubscriber::open_interruptible(&a.service)?;
     println!("ready: subscribed to {}", sub.name());
     std::io::stdout().flush().ok();
     let mut recorder = match &a.record {
@@ -65,11 +65,17 @@ pub fn watch(a: &WatchArgs) -> Result<()> {
             break;
         }
         if a.stall {
-            std::thread::sleep(Duration::from_millis(50));
+            if !sub.idle(Duration::from_millis(50)) {
+                break;
+            }
             continue;
         }
         let Some(frame) = sub.receive()? else {
-            std::thread::sleep(Duration::from_micros(500));
+            // Ctrl-C or SIGTERM: stop, and close the recording properly
+            if !sub.idle(Duration::from_micros(500)) {
+                println!("interrupted");
+                break;
+            }
             continue;
         };
         let h = *frame.header();
@@ -89,7 +95,16 @@ pub fn watch(a: &WatchArgs) -> Result<()> {
         win.latency_max = win.latency_max.max(latency);
         last_frame = Instant::now();
         let el = window_start.elapsed().as_secs_f64();
-        if total == 1 || el >= 1.0 {
+        if total == 1 {
+            println!(
+                "first frame: t = {:.6} s  step {}  {} + {} particles  latency {:.3} ms",
+                h.time,
+                h.step,
+                h.fine_count,
+                h.coarse_count,
+                1e3 * latency
+            );
+        } else if el >= 1.0 {
             println!(
                 "t = {:.6} s  step {}  {} + {} particles  {:.1} frames/s  latency mean {:.3} ms max {:.3} ms  missed {}",
                 h.time,
@@ -101,6 +116,8 @@ pub fn watch(a: &WatchArgs) -> Result<()> {
                 1e3 * win.latency_max,
                 gaps
             );
+        }
+        if total == 1 || el >= 1.0 {
             std::io::stdout().flush().ok();
             win = Window::default();
             window_start = Instant::now();

@@ -100,7 +100,7 @@ impl FramePublisher {
     /// the solver.
     pub fn open_with(spec: &str, particles: usize, delivery: Delivery) -> Result<Self, IpcError> {
         let name = service::service_name(spec)?;
-        let node = service::node(&name)?;
+        let node = service::node(&name, false)?;
         let service = service::open(&node, &name, delivery)?;
         let strategy = match delivery {
             Delivery::Overflow => BackpressureStrategy::DiscardData,

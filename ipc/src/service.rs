@@ -35,13 +35,18 @@ pub fn service_name(spec: &str) -> Result<String, IpcError> {
 }
 
 /// A node for this process's ports. Signal handling is left to the host (the FMU runs
-/// inside someone else's process).
-pub fn node(service: &str) -> Result<Node<Flavor>, IpcError> {
+/// inside someone else's process) unless `signals`: then SIGINT and SIGTERM are caught
+/// and reported by [`Node::wait`], so a standalone subscriber can shut down cleanly.
+pub fn node(service: &str, signals: bool) -> Result<Node<Flavor>, IpcError> {
     // iceoryx2 warns on stderr that it runs without a config file; only errors
     // matter here (IOX2_LOG_LEVEL overrides)
     set_log_level_from_env_or(LogLevel::Error);
     NodeBuilder::new()
-        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .signal_handling_mode(if signals {
+            SignalHandlingMode::HandleTerminationRequests
+        } else {
+            SignalHandlingMode::Disabled
+        })
         .create::<Flavor>()
         .map_err(|e| IpcError::Setup {
             service: service.to_string(),

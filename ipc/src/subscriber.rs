@@ -6,6 +6,7 @@ use crate::service::{self, Delivery, Flavor, ParticleService};
 use iceoryx2::node::Node;
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::sample::Sample;
+use std::time::Duration;
 
 /// One received frame, borrowed from shared memory until dropped.
 pub struct Frame {
@@ -25,17 +26,27 @@ impl Frame {
 /// Subscriber on one particle service.
 pub struct FrameSubscriber {
     name: String,
-    _node: Node<Flavor>,
+    node: Node<Flavor>,
     _service: ParticleService,
     subscriber: Subscriber<Flavor, [ParticleRecord], FrameHeader>,
 }
 
 impl FrameSubscriber {
     /// Open the service named by `spec` (see [`service::service_name`]), creating it
-    /// when no publisher has yet.
+    /// when no publisher has yet. Signals are left to the process.
     pub fn open(spec: &str) -> Result<Self, IpcError> {
+        Self::open_with(spec, false)
+    }
+
+    /// [`Self::open`] for a standalone subscriber process: SIGINT and SIGTERM are
+    /// caught, and [`Self::idle`] reports them.
+    pub fn open_interruptible(spec: &str) -> Result<Self, IpcError> {
+        Self::open_with(spec, true)
+    }
+
+    fn open_with(spec: &str, signals: bool) -> Result<Self, IpcError> {
         let name = service::service_name(spec)?;
-        let node = service::node(&name)?;
+        let node = service::node(&name, signals)?;
         let svc = service::open(&node, &name, Delivery::Overflow)?;
         let subscriber = svc
             .subscriber_builder()
@@ -47,7 +58,7 @@ impl FrameSubscriber {
             })?;
         Ok(FrameSubscriber {
             name,
-            _node: node,
+            node,
             _service: svc,
             subscriber,
         })
@@ -56,6 +67,12 @@ impl FrameSubscriber {
     /// The full service name.
     pub fn name(&self) -> &str {
         &self.name
+    }
+
+    /// Wait `d` between polls; false once termination was requested (SIGINT or
+    /// SIGTERM, for [`Self::open_interruptible`] subscribers).
+    pub fn idle(&self, d: Duration) -> bool {
+        self.node.wait(d).is_ok()
     }
 
     /// The next frame, if one is waiting; checks it against this build's layout.
