@@ -2,10 +2,11 @@
 //!
 //! 1. Publishing one frame of `--particles` records (loan, fill, send to a subscriber
 //!    in another process) against a plain memcpy of the same bytes.
-//! 2. Solver step time of a scene without a publisher, publishing every step with no
-//!    subscriber (no frame is built), and publishing every step to a subscriber in
-//!    another process. The three copies of the simulation step in turn, so machine
-//!    noise hits them alike.
+//! 2. Solver step time of a scene in three modes: without a publisher, publishing
+//!    with no subscriber (no frame is built), and publishing to a subscriber in
+//!    another process. One simulation takes one step in each mode in turn, the first
+//!    mode rotating, so noise, drifts and memory layout hit all three alike; the
+//!    publish call inside the step is also timed on its own.
 
 use crate::run::load;
 use anyhow::{bail, Context, Result};
@@ -141,24 +142,27 @@ pub fn bench_ipc(a: &BenchIpcArgs) -> Result<()> {
             .map_err(|e| anyhow::anyhow!("{e}"))?;
     }
     let (f, c) = base.particle_counts();
-    let mut sims = [base.clone(), base.clone(), base];
+    let mut sim = base;
     let mut quiet = FramePublisher::open(&format!("{tag}-quiet"), f + c)?;
     let mut loud = FramePublisher::open(&format!("{tag}-loud"), f + c)?;
     let watcher = Watcher::start(loud.name())?;
     let mut times: [Vec<f64>; 3] = Default::default();
     let mut frame_times = Vec::new();
-    for _ in 0..a.steps {
-        for (k, sim) in sims.iter_mut().enumerate() {
+    for block in 0..a.steps as usize {
+        // one step in each mode per block, the first mode rotating, so slow drifts
+        // and periodic work (neighbour rebuilds) spread over all three
+        for j in 0..3 {
+            let k = (block + j) % 3;
             let t = Instant::now();
             sim.step(f64::INFINITY)
                 .map_err(|e| anyhow::anyhow!("{e}"))?;
             match k {
                 1 => {
-                    quiet.publish(sim);
+                    quiet.publish(&sim);
                 }
                 2 => {
                     let tp = Instant::now();
-                    if let Outcome::Sent(_) = loud.publish(sim) {
+                    if let Outcome::Sent(_) = loud.publish(&sim) {
                         frame_times.push(tp.elapsed().as_secs_f64());
                     }
                 }
@@ -188,14 +192,16 @@ pub fn bench_ipc(a: &BenchIpcArgs) -> Result<()> {
         1e3 * m_sim_copy,
         m_frame / m_sim_copy
     );
-    let [plain, no_sub, with_sub] = times.map(|v| mean(&v));
+    // medians: a neighbour rebuild makes a few steps much longer
+    let [plain, no_sub, with_sub] = times.clone().map(median);
+    let [plain_mean, no_sub_mean, with_sub_mean] = times.clone().map(|v| mean(&v));
     let overhead = |x: f64| 100.0 * (x - plain) / plain;
     println!(
         "publishing one frame per step costs {:.3} % of a step without publisher (measured inside the step)",
         100.0 * m_frame / plain
     );
     println!(
-        "solver, {} particles, {} steps each: {:.2} ms/step without publisher; {:.2} ms ({:+.2} %) publishing with no subscriber; {:.2} ms ({:+.2} %) publishing every step to a subscriber ({} frames sent)",
+        "solver, {} particles, {} steps in each mode, median: {:.2} ms/step without publisher; {:.2} ms ({:+.2} %) publishing with no subscriber; {:.2} ms ({:+.2} %) publishing every step to a subscriber ({} frames sent)",
         f + c,
         a.steps,
         1e3 * plain,
@@ -205,10 +211,6 @@ pub fn bench_ipc(a: &BenchIpcArgs) -> Result<()> {
         overhead(with_sub),
         loud.stats().sent
     );
-    // the three copies must have stepped identically: publishing only reads
-    if sims[0].steps() != sims[2].steps() || sims[0].time().to_bits() != sims[2].time().to_bits() {
-        bail!("publishing changed the solver's course");
-    }
     std::fs::create_dir_all(&a.out)?;
     let report = json!({
         "publish": {
@@ -227,6 +229,7 @@ pub fn bench_ipc(a: &BenchIpcArgs) -> Result<()> {
             "particles": f + c,
             "steps": a.steps,
             "ms_per_step_plain": 1e3 * plain,
+            "ms_per_step_mean": [1e3 * plain_mean, 1e3 * no_sub_mean, 1e3 * with_sub_mean],
             "ms_per_step_no_subscriber": 1e3 * no_sub,
             "ms_per_step_subscriber": 1e3 * with_sub,
             "overhead_no_subscriber_percent": overhead(no_sub),
@@ -235,6 +238,11 @@ pub fn bench_ipc(a: &BenchIpcArgs) -> Result<()> {
             "publish_share_of_step_percent": 100.0 * m_frame / plain,
             "memcpy_same_bytes_ms_median": 1e3 * m_sim_copy,
             "frames_sent": loud.stats().sent,
+            "step_ms": {
+                "plain": times[0].iter().map(|t| 1e3 * t).collect::<Vec<_>>(),
+                "no_subscriber": times[1].iter().map(|t| 1e3 * t).collect::<Vec<_>>(),
+                "subscriber": times[2].iter().map(|t| 1e3 * t).collect::<Vec<_>>(),
+            },
             "frames_dropped": loud.stats().dropped,
         },
     });
