@@ -3,7 +3,7 @@
 use crate::guard::Blowup;
 use crate::math::Real;
 use crate::scene::{LoadedScene, SceneError};
-use crate::simulation::{Frame, Sample, Simulation};
+use crate::simulation::{Frame, ParticleState, Sample, Simulation};
 use crate::stepper::StepStats;
 use crate::timers::StageTimers;
 use std::fmt;
@@ -100,6 +100,19 @@ impl AnySimulation {
     }
     pub fn frame(&self) -> Frame {
         dispatch!(self, s => s.frame())
+    }
+    /// Fine and coarse particle counts.
+    pub fn particle_counts(&self) -> (usize, usize) {
+        dispatch!(self, s => s.particle_counts())
+    }
+    /// Fill `out` with `make` of every particle, fine first then coarse (see
+    /// [`Simulation::fill_particles`]).
+    pub fn fill_particles<T: Send>(
+        &self,
+        out: &mut [T],
+        make: impl Fn(&ParticleState) -> T + Sync + Send,
+    ) {
+        dispatch!(self, s => s.fill_particles(out, make))
     }
     pub fn timers(&self) -> &StageTimers {
         dispatch!(self, s => &s.stepper.timers)

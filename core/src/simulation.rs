@@ -104,6 +104,26 @@ pub struct Frame {
     pub coarse_fine_force: Vec<[f32; 3]>,
 }
 
+/// One particle as handed to bulk sinks (the particle channel, recordings): 3D layout
+/// (z = 0 in 2D), single precision. Fine particles carry their material index in
+/// `group`, coarse-grain particles their body index; coarse particles have no pressure
+/// or plastic strain (0).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ParticleState {
+    /// Position (m).
+    pub position: [f32; 3],
+    /// Velocity (m/s).
+    pub velocity: [f32; 3],
+    /// Pressure −tr(σ)/3 (Pa).
+    pub pressure: f32,
+    /// Accumulated plastic strain (Eq. 10).
+    pub plastic_strain: f32,
+    /// Particle id (fine: the stable id; coarse: the index among coarse particles).
+    pub id: u32,
+    /// Material index (fine) or body index (coarse).
+    pub group: u32,
+}
+
 /// One simulation in `D` dimensions. Cloning copies the whole state (world, stepper
 /// scratch and neighbour lists, load accumulators), so a clone steps on bitwise
 /// identically: the FMU's state rollback.
@@ -345,6 +365,54 @@ impl<const D: usize> Simulation<D> {
         }
         self.interval_start = w.time;
         s
+    }
+
+    /// Fill `out` (length [`Self::particle_count`]: fine particles first, then coarse)
+    /// with `make` of every particle's [`ParticleState`], in parallel. Reads only: the
+    /// solver state is untouched, so publishing cannot change results.
+    pub fn fill_particles<T: Send>(
+        &self,
+        out: &mut [T],
+        make: impl Fn(&ParticleState) -> T + Sync + Send,
+    ) {
+        use rayon::prelude::*;
+        let f = &self.world.fine;
+        let c = &self.world.coarse.particles;
+        let (fine_out, coarse_out) = out.split_at_mut(f.len().min(out.len()));
+        fine_out
+            .par_iter_mut()
+            .with_min_len(4096)
+            .enumerate()
+            .for_each(|(i, o)| {
+                *o = make(&ParticleState {
+                    position: arr(&f.pos[i]),
+                    velocity: arr(&f.vel[i]),
+                    pressure: (-f.stress[i].trace() / 3.0) as f32,
+                    plastic_strain: f.plastic_strain[i] as f32,
+                    id: f.id[i],
+                    group: f.material[i] as u32,
+                })
+            });
+        coarse_out
+            .par_iter_mut()
+            .with_min_len(4096)
+            .take(c.len())
+            .enumerate()
+            .for_each(|(i, o)| {
+                *o = make(&ParticleState {
+                    position: arr(&c.pos[i]),
+                    velocity: arr(&c.vel[i]),
+                    pressure: 0.0,
+                    plastic_strain: 0.0,
+                    id: i as u32,
+                    group: c.body[i],
+                })
+            });
+    }
+
+    /// Fine and coarse particle counts.
+    pub fn particle_counts(&self) -> (usize, usize) {
+        (self.world.fine.len(), self.world.coarse.particles.len())
     }
 
     /// Particle snapshot for writers.

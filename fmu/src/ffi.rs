@@ -202,7 +202,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
             Ok(d) => d,
             Err(e) => return fail(e),
         };
-        let (model, expected) = match load_model(&dir) {
+        let (mut model, expected) = match load_model(&dir) {
             Ok(m) => m,
             Err(e) => return fail(e),
         };
@@ -212,6 +212,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
                 "GUID {given} does not match this FMU's {expected} (modelDescription.xml and resources out of step?)"
             ));
         }
+        model.set_instance_name(&name);
         logger.log(
             OK,
             "logAll",
@@ -222,6 +223,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
             state: State::Instantiated,
             model,
             resources: dir,
+            strings: Vec::new(),
         })) as fmi2Component
     })
 }
@@ -314,6 +316,7 @@ pub unsafe extern "C" fn fmi2Terminate(c: fmi2Component) -> fmi2Status {
     unsafe {
         with_instance(c, "fmi2Terminate", allowed::TERMINATE, |i| {
             i.state = State::Terminated;
+            i.model.terminate()?;
             Ok(OK)
         })
     }
@@ -442,7 +445,8 @@ pub unsafe extern "C" fn fmi2GetBoolean(
     }
 }
 
-/// fmi2GetString: granmix has no String variables, so any value reference is an error.
+/// fmi2GetString: the strings stay valid until the next fmi2GetString on this
+/// instance (the instance keeps them).
 ///
 /// # Safety
 /// See the module documentation.
@@ -451,16 +455,22 @@ pub unsafe extern "C" fn fmi2GetString(
     c: fmi2Component,
     vr: *const fmi2ValueReference,
     nvr: usize,
-    _value: *mut fmi2String,
+    value: *mut fmi2String,
 ) -> fmi2Status {
     unsafe {
-        with_instance(c, "fmi2GetString", allowed::GET, |_| {
-            match slice(vr, nvr)?.first() {
-                Some(r) => Err(format!(
-                    "value reference {r}: the model has no String variables"
-                )),
-                None => Ok(OK),
+        with_instance(c, "fmi2GetString", allowed::GET, |i| {
+            let vrs = slice(vr, nvr)?;
+            let out = slice_mut(value, nvr)?;
+            let mut held = Vec::with_capacity(nvr);
+            for &r in vrs {
+                lookup(i.model.variables(), r, Kind::String)?;
+                held.push(c_string(&i.model.get_string(r)?));
             }
+            for (o, h) in out.iter_mut().zip(&held) {
+                *o = h.as_ptr();
+            }
+            i.strings = held;
+            Ok(OK)
         })
     }
 }
@@ -515,7 +525,7 @@ pub unsafe extern "C" fn fmi2SetBoolean(
     }
 }
 
-/// fmi2SetString: no String variables.
+/// fmi2SetString: String parameters, before step mode.
 ///
 /// # Safety
 /// See the module documentation.
@@ -524,16 +534,26 @@ pub unsafe extern "C" fn fmi2SetString(
     c: fmi2Component,
     vr: *const fmi2ValueReference,
     nvr: usize,
-    _value: *const fmi2String,
+    value: *const fmi2String,
 ) -> fmi2Status {
     unsafe {
-        with_instance(c, "fmi2SetString", allowed::SET, |_| {
-            match slice(vr, nvr)?.first() {
-                Some(r) => Err(format!(
-                    "value reference {r}: the model has no String variables"
-                )),
-                None => Ok(OK),
+        with_instance(c, "fmi2SetString", allowed::SET, |i| {
+            let vrs = slice(vr, nvr)?;
+            let vals = slice(value, nvr)?;
+            for (&p, &r) in vals.iter().zip(vrs) {
+                let var = lookup(i.model.variables(), r, Kind::String)?;
+                if var.causality == Causality::Parameter && i.state == State::StepMode {
+                    return Err(format!(
+                        "parameter `{}` is fixed once initialisation has ended",
+                        var.name
+                    ));
+                }
+                let Some(text) = string(p) else {
+                    return Err(format!("`{}`: null string", var.name));
+                };
+                i.model.set_string(r, &text)?;
             }
+            Ok(OK)
         })
     }
 }

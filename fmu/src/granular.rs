@@ -12,8 +12,9 @@ use crate::xml::{self, ModelInfo};
 use granmix_core::scene::{load_scene_in, BarrierInput, LoadedScene};
 use granmix_core::simulation::Sample;
 use granmix_core::AnySimulation;
+use granmix_ipc::{FramePublisher, Recorder, SceneInfo};
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 const AXES: [&str; 3] = ["x", "y", "z"];
 const STATE_TAG: &str = "granmix-state/1";
@@ -50,6 +51,12 @@ enum Slot {
     /// A scene value set through an override `key.path=value`.
     SceneValue(String),
     MultiRate,
+    /// Publish particle frames at every communication point.
+    IpcEnabled,
+    /// The particle service (String).
+    IpcService,
+    /// MCAP file to record to (String; empty: no recording).
+    RecordPath,
 }
 
 /// The variable table of a scene, with what each entry is bound to.
@@ -370,6 +377,34 @@ fn build_table(loaded: &LoadedScene, sim: &AnySimulation) -> Result<Table, Strin
         .of_kind(Kind::Boolean),
         Slot::MultiRate,
     );
+    push(
+        Variable::parameter(
+            "ipc.enabled",
+            None,
+            "publish every particle at each communication point over iceoryx2 (docs/ipc.md)",
+            0.0,
+        )
+        .of_kind(Kind::Boolean),
+        Slot::IpcEnabled,
+    );
+    push(
+        Variable::text_parameter(
+            "ipc.service",
+            "particle service: an instance name (granmix/<name>/particles) or a full \
+             service name; empty: the FMU instance name",
+            "",
+        ),
+        Slot::IpcService,
+    );
+    push(
+        Variable::text_parameter(
+            "record.path",
+            "record particles, bodies, loads and energies at each communication point \
+             to this MCAP file; empty: no recording",
+            "",
+        ),
+        Slot::RecordPath,
+    );
     Ok(Table {
         variables: vars,
         slots,
@@ -386,6 +421,30 @@ struct StepRecord {
     drives: Vec<(usize, [f64; 3])>,
 }
 
+/// Where the bulk outputs go, opened when initialisation ends. Shared by the copies
+/// a master keeps for rollback, so a repeated step is published and recorded again.
+#[derive(Default)]
+struct Sinks {
+    publisher: Option<FramePublisher>,
+    recorder: Option<Recorder>,
+}
+
+impl Sinks {
+    /// Close the recording (writes its summary).
+    fn finish(&mut self) -> Result<(), String> {
+        match self.recorder.take() {
+            Some(r) => r.finish().map(|_| ()).map_err(|e| e.to_string()),
+            None => Ok(()),
+        }
+    }
+}
+
+impl Drop for Sinks {
+    fn drop(&mut self) {
+        let _ = self.finish();
+    }
+}
+
 /// The granular FMU model.
 #[derive(Clone)]
 pub struct Granular {
@@ -400,6 +459,11 @@ pub struct Granular {
     last: Sample,
     history: Vec<StepRecord>,
     initialised: bool,
+    /// Values of String parameters by value reference (empty for other kinds).
+    texts: Vec<String>,
+    /// The FMU instance name (default particle service).
+    instance: String,
+    sinks: Option<Arc<Mutex<Sinks>>>,
 }
 
 fn build_sim(loaded: &LoadedScene) -> Result<AnySimulation, String> {
@@ -427,6 +491,11 @@ impl Granular {
             .map(|v| v.start.unwrap_or(0.0))
             .collect();
         let last = sim.sample();
+        let texts = table
+            .variables
+            .iter()
+            .map(|v| v.start_text.clone().unwrap_or_default())
+            .collect();
         Ok(Granular {
             loaded: Arc::new(loaded),
             dir: Arc::new(dir.to_path_buf()),
@@ -437,6 +506,9 @@ impl Granular {
             last,
             history: Vec::new(),
             initialised: false,
+            texts,
+            instance: String::from("granmix"),
+            sinks: None,
         })
     }
 
@@ -460,11 +532,75 @@ impl Granular {
     }
 
     fn params_changed(&self) -> bool {
-        self.table.variables.iter().enumerate().any(|(i, v)| {
-            v.start.is_some()
-                && v.causality == crate::variables::Causality::Parameter
+        self.table.slots.iter().enumerate().any(|(i, slot)| {
+            matches!(slot, Slot::SceneValue(_) | Slot::MultiRate)
                 && self.values[i].to_bits() != self.built_with[i].to_bits()
         })
+    }
+
+    fn text_of(&self, wanted: Slot) -> &str {
+        self.table
+            .slots
+            .iter()
+            .position(|s| *s == wanted)
+            .map(|i| self.texts[i].as_str())
+            .unwrap_or("")
+    }
+
+    /// Open the particle channel and the recording the parameters ask for.
+    fn open_sinks(&mut self) -> Result<(), String> {
+        let enabled = self
+            .table
+            .slots
+            .iter()
+            .position(|s| *s == Slot::IpcEnabled)
+            .is_some_and(|i| self.values[i] != 0.0);
+        let mut sinks = Sinks::default();
+        if enabled {
+            let spec = match self.text_of(Slot::IpcService) {
+                "" => self.instance.clone(),
+                s => s.to_string(),
+            };
+            let (f, c) = self.sim.particle_counts();
+            sinks.publisher =
+                Some(FramePublisher::open(&spec, f + c).map_err(|e| format!("ipc.service: {e}"))?);
+        }
+        let path = self.text_of(Slot::RecordPath).to_string();
+        if !path.is_empty() {
+            let l = &self.loaded;
+            let info = SceneInfo {
+                text: l.text.clone(),
+                file: l.file.clone(),
+                name: l.scene.simulation.name.clone(),
+                dimension: self.sim.dimension(),
+            };
+            sinks.recorder = Some(
+                Recorder::create(Path::new(&path), &info)
+                    .map_err(|e| format!("record.path: {e}"))?,
+            );
+        }
+        self.sinks = (sinks.publisher.is_some() || sinks.recorder.is_some())
+            .then(|| Arc::new(Mutex::new(sinks)));
+        Ok(())
+    }
+
+    /// Publish and record the state at the current communication point. Publishing
+    /// never fails the step (a frame nobody can take is dropped); recording errors do.
+    fn emit(&mut self) -> Result<(), String> {
+        let Some(sinks) = &self.sinks else {
+            return Ok(());
+        };
+        let mut s = sinks
+            .lock()
+            .map_err(|_| "output sinks poisoned".to_string())?;
+        if let Some(p) = s.publisher.as_mut() {
+            p.publish(&self.sim);
+        }
+        if let Some(r) = s.recorder.as_mut() {
+            r.record(&self.sim, &self.last)
+                .map_err(|e| format!("record.path: {e}"))?;
+        }
+        Ok(())
     }
 
     /// Rebuild the simulation when parameters changed since it was built.
@@ -553,8 +689,42 @@ impl Model for Granular {
             Slot::KineticCoarse => s.coarse_kinetic_energy,
             Slot::StepsFine => s.steps as f64,
             Slot::StepsCoarse => s.steps_coarse as f64,
-            Slot::BarrierInput(..) | Slot::SceneValue(_) | Slot::MultiRate => self.values[i],
+            Slot::BarrierInput(..)
+            | Slot::SceneValue(_)
+            | Slot::MultiRate
+            | Slot::IpcEnabled
+            | Slot::IpcService
+            | Slot::RecordPath => self.values[i],
         })
+    }
+
+    fn get_string(&mut self, vr: u32) -> Result<String, String> {
+        Ok(self.texts[vr as usize].clone())
+    }
+
+    fn set_string(&mut self, vr: u32, value: &str) -> Result<(), String> {
+        if self.initialised {
+            return Err(format!(
+                "`{}` is fixed once initialisation has ended",
+                self.table.variables[vr as usize].name
+            ));
+        }
+        self.texts[vr as usize] = value.to_string();
+        Ok(())
+    }
+
+    fn set_instance_name(&mut self, name: &str) {
+        self.instance = name.to_string();
+    }
+
+    fn terminate(&mut self) -> Result<(), String> {
+        match self.sinks.take() {
+            Some(s) => s
+                .lock()
+                .map_err(|_| "output sinks poisoned".to_string())?
+                .finish(),
+            None => Ok(()),
+        }
     }
 
     fn set(&mut self, vr: u32, value: f64) -> Result<(), String> {
@@ -572,7 +742,8 @@ impl Model for Granular {
     fn exit_initialization(&mut self) -> Result<(), String> {
         self.ensure_built()?;
         self.initialised = true;
-        Ok(())
+        self.open_sinks()?;
+        self.emit()
     }
 
     fn do_step(&mut self, t: f64, h: f64) -> Result<(), String> {
@@ -611,7 +782,8 @@ impl Model for Granular {
             };
             drives.push((b, v));
         }
-        self.advance(StepRecord { end: t + h, drives })
+        self.advance(StepRecord { end: t + h, drives })?;
+        self.emit()
     }
 
     fn time(&self) -> f64 {
@@ -619,7 +791,9 @@ impl Model for Granular {
     }
 
     fn reset(&mut self) -> Result<(), String> {
+        let instance = std::mem::take(&mut self.instance);
         *self = Granular::new((*self.loaded).clone(), &self.dir)?;
+        self.instance = instance;
         Ok(())
     }
 
@@ -680,6 +854,9 @@ impl Model for Granular {
             m.values[i] = r.f64()?;
         }
         m.initialised = initialised;
+        m.texts = self.texts.clone();
+        m.instance = self.instance.clone();
+        m.sinks = self.sinks.clone();
         let steps = r.u64()?;
         for _ in 0..steps {
             let end = r.f64()?;

@@ -45,6 +45,8 @@ pub struct Instance {
     pub model: Box<dyn Model>,
     /// The unpacked `resources/` directory.
     pub resources: PathBuf,
+    /// Strings handed out by the last `fmi2GetString`, alive until the next one.
+    pub strings: Vec<std::ffi::CString>,
 }
 
 /// Turn an `fmuResourceLocation` URI (`file:///path/` or `file:/path`) into a path.

@@ -11,6 +11,24 @@ pub trait Model: Send {
     fn get(&mut self, vr: u32) -> Result<f64, String>;
     /// Set parameter or input `vr` (the FFI layer has checked causality and state).
     fn set(&mut self, vr: u32, value: f64) -> Result<(), String>;
+    /// Current value of String variable `vr`.
+    fn get_string(&mut self, vr: u32) -> Result<String, String> {
+        Err(format!(
+            "value reference {vr}: the model has no String variables"
+        ))
+    }
+    /// Set String parameter `vr` (the FFI layer has checked causality and state).
+    fn set_string(&mut self, vr: u32, _value: &str) -> Result<(), String> {
+        Err(format!(
+            "value reference {vr}: the model has no String variables"
+        ))
+    }
+    /// The instance name the master gave in `fmi2Instantiate`.
+    fn set_instance_name(&mut self, _name: &str) {}
+    /// `fmi2Terminate`: close what the model writes.
+    fn terminate(&mut self) -> Result<(), String> {
+        Ok(())
+    }
     /// Leave initialisation mode: parameters are final.
     fn exit_initialization(&mut self) -> Result<(), String>;
     /// Advance from `t` by `h`, landing exactly on `t + h`.

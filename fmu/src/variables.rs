@@ -7,6 +7,7 @@ pub enum Kind {
     Real,
     Integer,
     Boolean,
+    String,
 }
 
 /// FMI 2.0 causality (the subset granmix uses).
@@ -31,8 +32,11 @@ pub struct Variable {
     /// SI unit, e.g. `N/m`; `None` for dimensionless values.
     pub unit: Option<&'static str>,
     pub description: String,
-    /// Start value: required for parameters and inputs, absent for outputs.
+    /// Start value: required for parameters and inputs, absent for outputs
+    /// (String variables use [`Variable::start_text`]).
     pub start: Option<f64>,
+    /// Start value of a String parameter.
+    pub start_text: Option<String>,
 }
 
 impl Variable {
@@ -49,6 +53,7 @@ impl Variable {
             unit,
             description: description.into(),
             start: None,
+            start_text: None,
         }
     }
     /// A Real input with start value `start`.
@@ -75,6 +80,19 @@ impl Variable {
             causality: Causality::Parameter,
             start: Some(start),
             ..Variable::output(name, unit, description)
+        }
+    }
+    /// A String parameter with start value `start`.
+    pub fn text_parameter(
+        name: impl Into<String>,
+        description: impl Into<String>,
+        start: &str,
+    ) -> Self {
+        Variable {
+            kind: Kind::String,
+            causality: Causality::Parameter,
+            start_text: Some(start.to_string()),
+            ..Variable::output(name, None, description)
         }
     }
     /// The same variable with another base type.

@@ -148,6 +148,7 @@ pub fn model_description(info: &ModelInfo, table: &[Variable]) -> String {
                 Kind::Real => num(s),
                 Kind::Integer => format!("{}", s as i64),
                 Kind::Boolean => (if s != 0.0 { "true" } else { "false" }).to_string(),
+                Kind::String => String::new(),
             };
             let _ = write!(attrs, r#" start="{s}""#);
         }
@@ -161,6 +162,12 @@ pub fn model_description(info: &ModelInfo, table: &[Variable]) -> String {
                 "Integer"
             }
             Kind::Boolean => "Boolean",
+            Kind::String => {
+                attrs.clear(); // no units on strings
+                let text = v.start_text.as_deref().unwrap_or("");
+                let _ = write!(attrs, r#" start="{}""#, esc(text));
+                "String"
+            }
         };
         let _ = writeln!(w, "      <{tag}{attrs}/>\n    </ScalarVariable>");
     }

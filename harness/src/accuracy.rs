@@ -171,13 +171,7 @@ pub fn accuracy(scenes: &Path, out: &Path, quick: bool, report: Option<&Path>) -
                 .join(s.scheme.replace([',', ' '], "_"))
                 .join(label.replace(['/', ' '], "_"));
             reset_peak_rss();
-            let rep = run(&RunOptions {
-                scene: scenes.join(s.scene),
-                out: dir,
-                set,
-                interactive: false,
-                vtk: false,
-            })?;
+            let rep = run(&RunOptions::batch(scenes.join(s.scene), dir, set))?;
             let rss = crate::scale::peak_rss();
             let (value, reference) = s.metric.evaluate(&rep);
             let err = Metric::error(value, reference);

@@ -395,13 +395,7 @@ pub fn bench(a: &BenchArgs) -> Result<ExitCode> {
             let mut set = c.common.clone();
             set.extend(over.iter().cloned());
             let dir = a.out.join(&c.name).join(label.replace('/', "_"));
-            let rep = run(&RunOptions {
-                scene: a.scenes.join(c.scene),
-                out: dir,
-                set,
-                interactive: false,
-                vtk: false,
-            })?;
+            let rep = run(&RunOptions::batch(a.scenes.join(c.scene), dir, set))?;
             let (value, reference) = c.metric.evaluate(&rep);
             let err = Metric::error(value, reference);
             if let (Some(e), Some(tol)) = (err, c.tolerance) {

@@ -2,14 +2,17 @@
 
 mod accuracy;
 mod bench;
+mod bench_ipc;
 mod check;
 mod pack;
+mod pattern;
 mod plot;
 mod run;
 mod scale;
 mod series;
 mod stability;
 mod vtk;
+mod watch;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -47,6 +50,16 @@ enum Command {
         /// No progress bar or stage table.
         #[arg(long, short)]
         quiet: bool,
+        /// Publish particle frames over iceoryx2 on `granmix/<SERVICE>/particles`
+        /// (default SERVICE: the scene's file name), or on SERVICE itself if it has a `/`.
+        #[arg(long, value_name = "SERVICE", num_args = 0..=1, default_missing_value = "")]
+        publish: Option<String>,
+        /// Publish a frame every N fine steps.
+        #[arg(long, value_name = "N", default_value_t = 10)]
+        publish_every: u64,
+        /// Record the run to an MCAP file (particles, bodies, loads, energies, scene).
+        #[arg(long, value_name = "FILE.mcap")]
+        record: Option<PathBuf>,
     },
     /// Validate a scene and print particle counts, Δt and estimated cost.
     Check {
@@ -58,6 +71,13 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Package a scene (or a structure file) as an FMI 2.0 Co-Simulation FMU.
     PackFmu(pack::PackArgs),
+    /// Subscribe to a particle service: frame rate, particle count, latency; can record.
+    Watch(watch::WatchArgs),
+    /// Measure the particle channel: publish cost against memcpy, solver overhead.
+    BenchIpc(bench_ipc::BenchIpcArgs),
+    /// Publish a checkable test pattern on a new service (for the channel tests).
+    #[command(hide = true)]
+    IpcPattern(pattern::PatternArgs),
 }
 
 fn main() -> ExitCode {
@@ -88,6 +108,9 @@ fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
             set,
             no_vtk,
             quiet,
+            publish,
+            publish_every,
+            record,
         } => {
             let out = out.unwrap_or_else(|| {
                 PathBuf::from("out").join(
@@ -97,12 +120,25 @@ fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
                         .unwrap_or_default(),
                 )
             });
+            let publish = publish.map(|p| {
+                if p.is_empty() {
+                    scene
+                        .file_stem()
+                        .map(|s| s.to_string_lossy().into_owned())
+                        .unwrap_or_else(|| "granmix".into())
+                } else {
+                    p
+                }
+            });
             let rep = run::run(&run::RunOptions {
                 scene,
                 out: out.clone(),
                 set,
                 interactive: !quiet,
                 vtk: !no_vtk,
+                publish,
+                publish_every,
+                record,
             })?;
             if let Some(b) = rep.blowup {
                 eprintln!("error: {b}");
@@ -123,6 +159,18 @@ fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
         Command::Bench(args) => bench::bench(&args),
         Command::PackFmu(args) => {
             pack::pack(&args)?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Watch(args) => {
+            watch::watch(&args)?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::BenchIpc(args) => {
+            bench_ipc::bench_ipc(&args)?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::IpcPattern(args) => {
+            pattern::pattern(&args)?;
             Ok(ExitCode::SUCCESS)
         }
     }

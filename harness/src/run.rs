@@ -2,13 +2,14 @@
 
 use crate::series::{self, CsvSeries};
 use crate::vtk::VtkSeries;
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use granmix_core::guard::Blowup;
 use granmix_core::runner::{self, RunEnd};
 use granmix_core::scene::{load_scene_file, LoadedScene};
 use granmix_core::simulation::Sample;
 use granmix_core::timers::Stage;
 use granmix_core::AnySimulation;
+use granmix_ipc::{FramePublisher, Recorder, SceneInfo};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{json, Map, Value};
 use std::path::{Path, PathBuf};
@@ -24,6 +25,29 @@ pub struct RunOptions {
     pub interactive: bool,
     /// Write VTK snapshots.
     pub vtk: bool,
+    /// Publish particle frames on this service (instance name or full service name).
+    pub publish: Option<String>,
+    /// Publish every this many fine steps (≥ 1).
+    pub publish_every: u64,
+    /// Record the run to this MCAP file.
+    pub record: Option<PathBuf>,
+}
+
+impl RunOptions {
+    /// A quiet batch run (benchmarks): no progress bar, no VTK, no publishing or
+    /// recording.
+    pub fn batch(scene: PathBuf, out: PathBuf, set: Vec<String>) -> Self {
+        RunOptions {
+            scene,
+            out,
+            set,
+            interactive: false,
+            vtk: false,
+            publish: None,
+            publish_every: 1,
+            record: None,
+        }
+    }
 }
 
 /// What a run produced.
@@ -81,6 +105,38 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         ProgressBar::hidden()
     };
 
+    if opts.publish_every == 0 {
+        bail!("--publish-every must be at least 1");
+    }
+    let mut publisher = match &opts.publish {
+        Some(spec) => {
+            let (f, c) = sim.particle_counts();
+            let p = FramePublisher::open(spec, f + c)?;
+            if opts.interactive {
+                eprintln!(
+                    "publishing particle frames every {} steps on `{}`",
+                    opts.publish_every,
+                    p.name()
+                );
+            }
+            Some(p)
+        }
+        None => None,
+    };
+    let mut recorder = match &opts.record {
+        Some(path) => Some(Recorder::create(
+            path,
+            &SceneInfo {
+                text: loaded.text.clone(),
+                file: opts.scene.display().to_string(),
+                name: sim_spec.name.clone(),
+                dimension: dim,
+            },
+        )?),
+        None => None,
+    };
+    let mut publish_secs = 0.0;
+
     let mut samples: Vec<Sample> = Vec::new();
     let mut io_error: Option<anyhow::Error> = None;
     let start = Instant::now();
@@ -98,6 +154,10 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
                 .and_then(|_| match vtk.as_mut() {
                     Some(v) => v.write(&sim.frame()).context("writing VTK snapshot"),
                     None => Ok(()),
+                })
+                .and_then(|_| match recorder.as_mut() {
+                    Some(r) => r.record(sim, s).map_err(anyhow::Error::from),
+                    None => Ok(()),
                 });
             sim.timers_mut()
                 .add(Stage::Observe, t.elapsed().as_secs_f64());
@@ -111,6 +171,13 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
             }
         },
         |sim| {
+            if let Some(p) = publisher.as_mut() {
+                if sim.steps() % opts.publish_every == 0 {
+                    let t = Instant::now();
+                    p.publish(sim);
+                    publish_secs += t.elapsed().as_secs_f64();
+                }
+            }
             if last_ui.elapsed().as_millis() > 200 {
                 last_ui = Instant::now();
                 let el = start.elapsed().as_secs_f64();
@@ -126,6 +193,10 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
     if let Some(e) = io_error {
         return Err(e);
     }
+    let record_counts = match recorder {
+        Some(r) => Some(r.finish()?),
+        None => None,
+    };
     let blowup = match &ended {
         RunEnd::Blowup(b) => Some(b.clone()),
         _ => None,
@@ -148,9 +219,22 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
     for (name, secs) in sim.timers().entries() {
         stages.insert(name.to_string(), json!(secs));
     }
+    // the sinks count as observation: frames built and records written
+    sim.timers_mut().add(Stage::Observe, publish_secs);
+    let mut skipped_list = sim.skipped();
+    match &publisher {
+        None => skipped_list.push(("publish".into(), "no --publish".into())),
+        Some(p) if p.stats().sent + p.stats().dropped == 0 => {
+            skipped_list.push(("publish".into(), "no subscriber: no frame was built".into()))
+        }
+        Some(_) => {}
+    }
+    if opts.record.is_none() {
+        skipped_list.push(("record".into(), "no --record".into()));
+    }
     let mut skipped = Map::new();
-    for (name, why) in sim.skipped() {
-        skipped.insert(name, json!(why));
+    for (name, why) in &skipped_list {
+        skipped.insert(name.clone(), json!(why));
     }
     let last = samples.last().cloned().unwrap_or_default();
     let mut obs = Map::new();
@@ -207,6 +291,22 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         "particle_steps_per_s": pss,
         "stages": stages,
         "skipped": skipped,
+        "publish": publisher.as_ref().map(|p| {
+            let st = p.stats();
+            json!({
+                "service": p.name(),
+                "every": opts.publish_every,
+                "frames_sent": st.sent,
+                "frames_dropped": st.dropped,
+                "first_drop": st.first_drop,
+                "no_subscriber": st.no_subscriber,
+                "seconds": publish_secs,
+            })
+        }),
+        "record": opts.record.as_ref().map(|p| json!({
+            "path": p.display().to_string(),
+            "messages": record_counts,
+        })),
         "observables": obs,
     });
     std::fs::write(
@@ -214,7 +314,7 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         serde_json::to_string_pretty(&summary)?,
     )?;
     if opts.interactive {
-        print_table(&sim, wall, n, pss, &opts.out);
+        print_table(&sim, &skipped_list, wall, n, pss, &opts.out);
     }
     Ok(RunReport {
         summary,
@@ -252,7 +352,14 @@ fn write_bodies_json(path: &Path, dim: usize, samples: &[Sample]) -> Result<()> 
     Ok(())
 }
 
-fn print_table(sim: &AnySimulation, wall: f64, n: usize, pss: f64, out: &Path) {
+fn print_table(
+    sim: &AnySimulation,
+    skipped: &[(String, String)],
+    wall: f64,
+    n: usize,
+    pss: f64,
+    out: &Path,
+) {
     println!(
         "\n{} fine particles, {} steps in {:.2} s: {:.3} M particle-steps/s",
         n,
@@ -269,7 +376,6 @@ fn print_table(sim: &AnySimulation, wall: f64, n: usize, pss: f64, out: &Path) {
             100.0 * secs / wall.max(1e-12)
         );
     }
-    let skipped = sim.skipped();
     if !skipped.is_empty() {
         println!("skipped for this scene:");
         for (name, why) in skipped {

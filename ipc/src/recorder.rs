@@ -1,0 +1,390 @@
+//! [`Recorder`]: an MCAP file that opens in Foxglove with no plug-in.
+//!
+//! | topic | schema | encoding | one message per |
+//! |---|---|---|---|
+//! | `/particles` | `foxglove.PointCloud` | protobuf | recorded frame |
+//! | `/bodies` | `foxglove.FrameTransforms` | protobuf | sample, scenes with bodies |
+//! | `/barriers` | `granmix.BarrierLoads` | JSON (JSON Schema) | sample |
+//! | `/energy` | `granmix.Energies` | JSON (JSON Schema) | sample |
+//!
+//! Message log times are simulation time in ns. The PointCloud's data are the
+//! [`ParticleRecord`] bytes themselves (stride 40), so `/particles` holds exactly what
+//! the particle channel carries. The scene goes in as the attachment `scene.toml` and
+//! the metadata record `granmix`. The protobuf schemas are foxglove's own descriptors
+//! (from the `foxglove` crate).
+
+use crate::error::IpcError;
+use crate::payload::{append_record, ParticleRecord};
+use foxglove::messages::packed_element_field::NumericType;
+use foxglove::messages::{
+    FrameTransform, FrameTransforms, PackedElementField, PointCloud, Pose, Quaternion, Timestamp,
+    Vector3,
+};
+use foxglove::Encode;
+use granmix_core::simulation::Sample;
+use granmix_core::AnySimulation;
+use serde_json::json;
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+
+/// Topic names.
+pub const TOPIC_PARTICLES: &str = "/particles";
+pub const TOPIC_BODIES: &str = "/bodies";
+pub const TOPIC_BARRIERS: &str = "/barriers";
+pub const TOPIC_ENERGY: &str = "/energy";
+/// Frame id of the simulation's coordinates.
+pub const WORLD_FRAME: &str = "world";
+
+const BARRIER_SCHEMA: &str = r#"{
+  "title": "granmix.BarrierLoads",
+  "description": "Loads on every barrier, impulse-averaged over the sampling interval",
+  "type": "object",
+  "properties": {
+    "time": {"type": "number", "description": "simulation time (s)"},
+    "barriers": {
+      "type": "array",
+      "items": {
+        "type": "object",
+        "properties": {
+          "name": {"type": "string"},
+          "force": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3, "description": "N (N/m in 2D)"},
+          "moment": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3, "description": "N·m about the reference point (N in 2D)"},
+          "peak_force": {"type": "number", "description": "largest resultant of any solver step in the interval"}
+        },
+        "required": ["name", "force", "moment", "peak_force"]
+      }
+    }
+  },
+  "required": ["time", "barriers"]
+}"#;
+
+const ENERGY_SCHEMA: &str = r#"{
+  "title": "granmix.Energies",
+  "description": "Energies and step counts at a sample (J, or J/m in 2D)",
+  "type": "object",
+  "properties": {
+    "time": {"type": "number"},
+    "steps": {"type": "integer"},
+    "steps_coarse": {"type": "integer"},
+    "kinetic_fine": {"type": "number"},
+    "potential_fine": {"type": "number"},
+    "kinetic_coarse": {"type": "number"},
+    "potential_coarse": {"type": "number"},
+    "strain": {"type": "number"},
+    "contact": {"type": "number"}
+  },
+  "required": ["time", "steps", "kinetic_fine", "potential_fine", "kinetic_coarse"]
+}"#;
+
+/// Messages written per topic.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct RecordCounts {
+    pub particles: u64,
+    pub bodies: u64,
+    pub barriers: u64,
+    pub energy: u64,
+}
+
+/// The scene stored in a recording.
+#[derive(Clone, Debug)]
+pub struct SceneInfo {
+    /// Scene file text (TOML).
+    pub text: String,
+    /// Where it came from.
+    pub file: String,
+    /// Scene name, if any.
+    pub name: Option<String>,
+    pub dimension: usize,
+}
+
+struct Channels {
+    particles: u16,
+    bodies: u16,
+    barriers: u16,
+    energy: u16,
+}
+
+/// An open MCAP recording.
+pub struct Recorder {
+    path: PathBuf,
+    writer: mcap::Writer<BufWriter<File>>,
+    channels: Channels,
+    counts: RecordCounts,
+    /// Scratch for particle records and the encoded message (reused).
+    records: Vec<ParticleRecord>,
+    bytes: Vec<u8>,
+    out: Vec<u8>,
+}
+
+fn rec_err(path: &Path, reason: impl std::fmt::Display) -> IpcError {
+    IpcError::Record {
+        path: path.display().to_string(),
+        reason: reason.to_string(),
+    }
+}
+
+/// Simulation time (s) as MCAP log time (ns); negative or non-finite times clamp to 0.
+fn nanos(t: f64) -> u64 {
+    if t.is_finite() && t > 0.0 {
+        (t * 1e9).round() as u64
+    } else {
+        0
+    }
+}
+
+fn stamp(t: f64) -> Timestamp {
+    let ns = nanos(t);
+    Timestamp::new((ns / 1_000_000_000) as u32, (ns % 1_000_000_000) as u32)
+}
+
+/// The PointCloud fields over a [`ParticleRecord`].
+fn point_fields() -> Vec<PackedElementField> {
+    let f = |name: &str, offset: u32, t: NumericType| PackedElementField {
+        name: name.to_string(),
+        offset,
+        r#type: t as i32,
+    };
+    vec![
+        f("x", 0, NumericType::Float32),
+        f("y", 4, NumericType::Float32),
+        f("z", 8, NumericType::Float32),
+        f("vx", 12, NumericType::Float32),
+        f("vy", 16, NumericType::Float32),
+        f("vz", 20, NumericType::Float32),
+        f("pressure", 24, NumericType::Float32),
+        f("plastic_strain", 28, NumericType::Float32),
+        f("id", 32, NumericType::Uint32),
+        f("group", 36, NumericType::Uint32),
+    ]
+}
+
+fn add_channel<T: Encode>(
+    w: &mut mcap::Writer<BufWriter<File>>,
+    topic: &str,
+) -> mcap::McapResult<u16> {
+    let schema = T::get_schema().expect("foxglove messages carry their schema");
+    let id = w.add_schema(&schema.name, &schema.encoding, &schema.data)?;
+    w.add_channel(id, topic, &T::get_message_encoding(), &BTreeMap::new())
+}
+
+impl Recorder {
+    /// Create `path` and store `scene` in it.
+    pub fn create(path: &Path, scene: &SceneInfo) -> Result<Self, IpcError> {
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| rec_err(path, e))?;
+        }
+        let file = File::create(path).map_err(|e| rec_err(path, format!("cannot create: {e}")))?;
+        let opts = mcap::WriteOptions::new()
+            .profile("")
+            .library(format!("granmix {}", env!("CARGO_PKG_VERSION")))
+            .compression(Some(mcap::Compression::Zstd));
+        let mut w = opts
+            .create(BufWriter::with_capacity(1 << 20, file))
+            .map_err(|e| rec_err(path, e))?;
+        let e = |x| rec_err(path, x);
+        let particles = add_channel::<PointCloud>(&mut w, TOPIC_PARTICLES).map_err(e)?;
+        let bodies = add_channel::<FrameTransforms>(&mut w, TOPIC_BODIES).map_err(e)?;
+        let json_channel = |w: &mut mcap::Writer<_>, name: &str, schema: &str, topic: &str| {
+            let id = w.add_schema(name, "jsonschema", schema.as_bytes())?;
+            w.add_channel(id, topic, "json", &BTreeMap::new())
+        };
+        let barriers = json_channel(
+            &mut w,
+            "granmix.BarrierLoads",
+            BARRIER_SCHEMA,
+            TOPIC_BARRIERS,
+        )
+        .map_err(e)?;
+        let energy =
+            json_channel(&mut w, "granmix.Energies", ENERGY_SCHEMA, TOPIC_ENERGY).map_err(e)?;
+        w.attach(&mcap::Attachment {
+            log_time: 0,
+            create_time: 0,
+            name: "scene.toml".into(),
+            media_type: "application/toml".into(),
+            data: scene.text.as_bytes().into(),
+        })
+        .map_err(e)?;
+        let mut meta = BTreeMap::new();
+        meta.insert("version".to_string(), env!("CARGO_PKG_VERSION").to_string());
+        meta.insert("scene_file".to_string(), scene.file.clone());
+        meta.insert(
+            "scene_name".to_string(),
+            scene.name.clone().unwrap_or_default(),
+        );
+        meta.insert("dimension".to_string(), scene.dimension.to_string());
+        meta.insert("scene".to_string(), scene.text.clone());
+        w.write_metadata(&mcap::records::Metadata {
+            name: "granmix".into(),
+            metadata: meta,
+        })
+        .map_err(e)?;
+        Ok(Recorder {
+            path: path.to_path_buf(),
+            writer: w,
+            channels: Channels {
+                particles,
+                bodies,
+                barriers,
+                energy,
+            },
+            counts: RecordCounts::default(),
+            records: Vec::new(),
+            bytes: Vec::new(),
+            out: Vec::new(),
+        })
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    pub fn counts(&self) -> RecordCounts {
+        self.counts
+    }
+
+    fn write(
+        &mut self,
+        channel: u16,
+        sequence: u64,
+        time: f64,
+        data: &[u8],
+    ) -> Result<(), IpcError> {
+        let t = nanos(time);
+        self.writer
+            .write_to_known_channel(
+                &mcap::records::MessageHeader {
+                    channel_id: channel,
+                    sequence: sequence as u32,
+                    log_time: t,
+                    publish_time: t,
+                },
+                data,
+            )
+            .map_err(|e| rec_err(&self.path, e))
+    }
+
+    /// Write one `/particles` message from the records of a frame.
+    pub fn write_particles(
+        &mut self,
+        time: f64,
+        records: &[ParticleRecord],
+    ) -> Result<(), IpcError> {
+        let mut bytes = std::mem::take(&mut self.bytes);
+        bytes.clear();
+        bytes.reserve(std::mem::size_of_val(records));
+        for r in records {
+            append_record(&mut bytes, r);
+        }
+        let msg = PointCloud {
+            timestamp: Some(stamp(time)),
+            frame_id: WORLD_FRAME.into(),
+            pose: Some(Pose {
+                position: Some(Vector3::default()),
+                orientation: Some(Quaternion {
+                    x: 0.0,
+                    y: 0.0,
+                    z: 0.0,
+                    w: 1.0,
+                }),
+            }),
+            point_stride: std::mem::size_of::<ParticleRecord>() as u32,
+            fields: point_fields(),
+            data: foxglove::bytes::Bytes::from(bytes),
+        };
+        let mut out = std::mem::take(&mut self.out);
+        out.clear();
+        msg.encode(&mut out).map_err(|e| rec_err(&self.path, e))?;
+        // take the particle buffer back for the next frame
+        self.bytes = Vec::from(msg.data);
+        let r = self.write(self.channels.particles, self.counts.particles, time, &out);
+        self.out = out;
+        r?;
+        self.counts.particles += 1;
+        Ok(())
+    }
+
+    /// Write the particles of `sim` now.
+    pub fn record_particles(&mut self, sim: &AnySimulation) -> Result<(), IpcError> {
+        let (f, c) = sim.particle_counts();
+        let mut records = std::mem::take(&mut self.records);
+        records.resize(f + c, ParticleRecord::default());
+        sim.fill_particles(&mut records, |p| ParticleRecord::from(p));
+        let r = self.write_particles(sim.time(), &records);
+        self.records = records;
+        r
+    }
+
+    /// Write bodies (when there are any), barrier loads and energies of `s`.
+    pub fn record_sample(&mut self, s: &Sample) -> Result<(), IpcError> {
+        if !s.bodies.is_empty() {
+            let msg = FrameTransforms {
+                transforms: s
+                    .bodies
+                    .iter()
+                    .map(|b| FrameTransform {
+                        timestamp: Some(stamp(s.time)),
+                        parent_frame_id: WORLD_FRAME.into(),
+                        child_frame_id: b.name.clone(),
+                        translation: Some(Vector3 {
+                            x: b.position[0],
+                            y: b.position[1],
+                            z: b.position[2],
+                        }),
+                        rotation: Some(Quaternion {
+                            w: b.orientation[0],
+                            x: b.orientation[1],
+                            y: b.orientation[2],
+                            z: b.orientation[3],
+                        }),
+                    })
+                    .collect(),
+            };
+            let mut out = Vec::new();
+            msg.encode(&mut out).map_err(|e| rec_err(&self.path, e))?;
+            self.write(self.channels.bodies, self.counts.bodies, s.time, &out)?;
+            self.counts.bodies += 1;
+        }
+        let barriers = json!({
+            "time": s.time,
+            "barriers": s.barriers.iter().map(|b| json!({
+                "name": b.name,
+                "force": b.force,
+                "moment": b.moment,
+                "peak_force": b.peak_force,
+            })).collect::<Vec<_>>(),
+        });
+        let data = serde_json::to_vec(&barriers).map_err(|e| rec_err(&self.path, e))?;
+        self.write(self.channels.barriers, self.counts.barriers, s.time, &data)?;
+        self.counts.barriers += 1;
+        let energy = json!({
+            "time": s.time,
+            "steps": s.steps,
+            "steps_coarse": s.steps_coarse,
+            "kinetic_fine": s.kinetic_energy,
+            "potential_fine": s.potential_energy,
+            "kinetic_coarse": s.coarse_kinetic_energy,
+            "potential_coarse": s.coarse_potential_energy,
+            "strain": s.strain_energy,
+            "contact": s.contact_energy,
+        });
+        let data = serde_json::to_vec(&energy).map_err(|e| rec_err(&self.path, e))?;
+        self.write(self.channels.energy, self.counts.energy, s.time, &data)?;
+        self.counts.energy += 1;
+        Ok(())
+    }
+
+    /// Particles of `sim` plus everything in `s`: one full sample.
+    pub fn record(&mut self, sim: &AnySimulation, s: &Sample) -> Result<(), IpcError> {
+        self.record_particles(sim)?;
+        self.record_sample(s)
+    }
+
+    /// Write the summary and close the file.
+    pub fn finish(mut self) -> Result<RecordCounts, IpcError> {
+        self.writer.finish().map_err(|e| rec_err(&self.path, e))?;
+        Ok(self.counts)
+    }
+}
