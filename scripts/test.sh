@@ -15,7 +15,7 @@ cargo build --release -p granmix -p granmix-fmu
 # smoke runs of the accuracy, stability and scale suites on tiny cases (the full suites are
 # benchmarks)
 smoke="$(mktemp -d)"
-./target/release/granmix bench --suite accuracy --quick --out "$smoke"
-./target/release/granmix bench --suite stability --quick --out "$smoke"
-./target/release/granmix bench --suite scale --quick --out "$smoke"
+"${CARGO_TARGET_DIR:-target}"/release/granmix bench --suite accuracy --quick --out "$smoke"
+"${CARGO_TARGET_DIR:-target}"/release/granmix bench --suite stability --quick --out "$smoke"
+"${CARGO_TARGET_DIR:-target}"/release/granmix bench --suite scale --quick --out "$smoke"
 rm -rf "$smoke"
