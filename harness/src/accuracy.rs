@@ -39,22 +39,19 @@ fn dp_levels(dps: &[f64], unit: f64, name: &str) -> Vec<(String, Vec<String>)> {
 
 fn series() -> Vec<Series> {
     let mut v = Vec::new();
-    let r0 = 0.1;
     for (a, case) in [
         (0.5, "collapse_3d_a0.5"),
         (1.0, "collapse_3d_a1"),
         (1.5, "collapse_3d_a1.5"),
     ] {
+        let (levels, common, metric) = crate::bench::collapse_3d(a);
         v.push(Series {
             case,
             scheme: "single-rate",
             scene: "column_collapse_3d.toml",
-            levels: [10.0, 15.0, 20.0]
-                .iter()
-                .map(|k| (format!("r0/{k}"), vec![format!("simulation.dp={}", r0 / k)]))
-                .collect(),
-            common: vec![format!("regions.0.shape.height={}", a * r0)],
-            metric: Metric::Runout(r0 * (1.0 + 1.24 * a)),
+            levels,
+            common,
+            metric,
             note: "Lube et al. 2004: r∞ = r0 (1 + 1.24 a)",
         });
     }

@@ -180,19 +180,33 @@ struct Case {
     note: &'static str,
 }
 
+/// A resolution label and its scene overrides.
+pub(crate) type Level = (String, Vec<String>);
+
+/// VALIDATION §2 at aspect ratio `a`: the levels r0/10, r0/15, r0/20, the column
+/// height override and Lube's run-out r∞ = r0 (1 + 1.24 a), r0 = 0.1 m.
+pub(crate) fn collapse_3d(a: f64) -> (Vec<Level>, Vec<String>, Metric) {
+    let r0 = 0.1;
+    (
+        [10.0, 15.0, 20.0]
+            .iter()
+            .map(|k| (format!("r0/{k}"), vec![format!("simulation.dp={}", r0 / k)]))
+            .collect(),
+        vec![format!("regions.0.shape.height={}", a * r0)],
+        Metric::Runout(r0 * (1.0 + 1.24 * a)),
+    )
+}
+
 fn cases() -> Vec<Case> {
     let mut v = Vec::new();
-    let r0 = 0.1;
     for a in [0.5, 1.0, 1.5] {
+        let (levels, common, metric) = collapse_3d(a);
         v.push(Case {
             name: format!("collapse_3d_a{a}"),
             scene: "column_collapse_3d.toml",
-            levels: [10.0, 15.0, 20.0]
-                .iter()
-                .map(|k| (format!("r0/{k}"), vec![format!("simulation.dp={}", r0 / k)]))
-                .collect(),
-            common: vec![format!("regions.0.shape.height={}", a * r0)],
-            metric: Metric::Runout(r0 * (1.0 + 1.24 * a)),
+            levels,
+            common,
+            metric,
             tolerance: Some(0.05),
             note: "Lube et al. 2004: r∞ = r0 (1 + 1.24 a)",
         });
