@@ -132,8 +132,47 @@ fn reset_peak_rss() {
     let _ = std::fs::write("/proc/self/clear_refs", "5");
 }
 
-/// Run the accuracy suite; `quick` runs only the coarsest level of each series.
-pub fn accuracy(scenes: &Path, out: &Path, quick: bool, report: Option<&Path>) -> Result<()> {
+/// Process CPU time (user + system) in seconds, from `/proc/self/stat` (USER_HZ = 100).
+/// Unlike wall time it is little affected by other jobs sharing the machine.
+fn cpu_time() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // fields after the parenthesised command name; utime and stime are fields 14 and 15
+    let rest = &s[s.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: f64 = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}
+
+/// How the accuracy suite runs.
+pub struct AccuracyOptions<'a> {
+    pub scenes: &'a Path,
+    pub out: &'a Path,
+    /// Only the coarsest level of each series, for a few steps (smoke run).
+    pub quick: bool,
+    pub report: Option<&'a Path>,
+    /// Only these cases (all when empty).
+    pub cases: &'a [String],
+    /// Reuse a run's `record.json` when it was made with the same overrides, so that
+    /// an interrupted suite continues where it stopped.
+    pub resume: bool,
+}
+
+/// Run the accuracy suite.
+pub fn accuracy(o: &AccuracyOptions) -> Result<()> {
+    let (scenes, out, quick, report) = (o.scenes, o.out, o.quick, o.report);
+    let all = series();
+    if let Some(bad) = o
+        .cases
+        .iter()
+        .find(|c| !all.iter().any(|s| s.case == c.as_str()))
+    {
+        let mut names: Vec<&str> = all.iter().map(|s| s.case).collect();
+        names.dedup();
+        anyhow::bail!(
+            "bench --suite accuracy: unknown --case {bad:?}; cases are {}",
+            names.join(", ")
+        );
+    }
     std::fs::create_dir_all(out)?;
     let mut runs = Vec::new();
     let mut curves = Vec::new();
@@ -150,7 +189,10 @@ pub fn accuracy(scenes: &Path, out: &Path, quick: bool, report: Option<&Path>) -
         "reference",
         "error"
     );
-    for s in series() {
+    for s in all {
+        if !o.cases.is_empty() && !o.cases.iter().any(|c| c == s.case) {
+            continue;
+        }
         let levels: Vec<_> = if quick {
             s.levels.iter().take(1).collect()
         } else {
@@ -167,41 +209,66 @@ pub fn accuracy(scenes: &Path, out: &Path, quick: bool, report: Option<&Path>) -
                 .join(s.case)
                 .join(s.scheme.replace([',', ' '], "_"))
                 .join(label.replace(['/', ' '], "_"));
-            reset_peak_rss();
-            let rep = run(&RunOptions::batch(scenes.join(s.scene), dir, set))?;
-            let rss = crate::scale::peak_rss();
-            let (value, reference) = s.metric.evaluate(&rep);
-            let err = Metric::error(value, reference);
-            if let Some(b) = &rep.blowup {
-                eprintln!("{} {} {label}: {b}", s.case, s.scheme);
-            }
+            let record = dir.join("record.json");
+            let cached = o
+                .resume
+                .then(|| std::fs::read_to_string(&record).ok())
+                .flatten()
+                .and_then(|t| serde_json::from_str::<Value>(&t).ok())
+                .filter(|r| r["overrides"] == json!(set));
+            let r = match cached {
+                Some(r) => r,
+                None => {
+                    reset_peak_rss();
+                    let cpu0 = cpu_time();
+                    let rep = run(&RunOptions::batch(scenes.join(s.scene), dir, set.clone()))?;
+                    let cpu = cpu_time().zip(cpu0).map(|(b, a)| b - a);
+                    let rss = crate::scale::peak_rss();
+                    let (value, reference) = s.metric.evaluate(&rep);
+                    let err = Metric::error(value, reference);
+                    if let Some(b) = &rep.blowup {
+                        eprintln!("{} {} {label}: {b}", s.case, s.scheme);
+                    }
+                    let r = json!({
+                        "case": s.case, "scheme": s.scheme, "level": label, "scene": s.scene,
+                        "note": s.note, "overrides": set, "particles": rep.particles,
+                        "steps_fine": rep.summary["steps_fine"], "steps_coarse": rep.summary["steps_coarse"],
+                        "kappa": rep.summary["kappa"], "dt_fine": rep.summary["dt_fine"],
+                        "dt_coarse": rep.summary["dt_coarse"], "wall_time_s": rep.wall_time,
+                        "cpu_time_s": cpu,
+                        "particle_steps_per_s": rep.particle_steps_per_s, "peak_rss_bytes": rss,
+                        "value": value, "reference": reference, "rel_error": err,
+                        "blowup": rep.blowup.as_ref().map(|b| b.to_string()),
+                    });
+                    std::fs::write(&record, serde_json::to_string_pretty(&r)?)?;
+                    r
+                }
+            };
+            let fmt = |k: &str| {
+                r[k].as_f64()
+                    .map(|v| format!("{v:.4e}"))
+                    .unwrap_or("-".into())
+            };
             println!(
                 "{:<24} {:<22} {:<8} {:>9} {:>9.1} {:>11.3} {:>9.0} {:>11} {:>11} {:>8}",
                 s.case,
                 s.scheme,
                 label,
-                rep.particles,
-                rep.wall_time,
-                rep.particle_steps_per_s / 1e6,
-                rss.map(|r| r as f64 / 1e6).unwrap_or(0.0),
-                value.map(|v| format!("{v:.4e}")).unwrap_or("-".into()),
-                reference.map(|v| format!("{v:.4e}")).unwrap_or("-".into()),
-                err.map(|e| format!("{:.2}%", 100.0 * e))
+                r["particles"],
+                r["wall_time_s"].as_f64().unwrap_or(0.0),
+                r["particle_steps_per_s"].as_f64().unwrap_or(0.0) / 1e6,
+                r["peak_rss_bytes"].as_f64().unwrap_or(0.0) / 1e6,
+                fmt("value"),
+                fmt("reference"),
+                r["rel_error"]
+                    .as_f64()
+                    .map(|e| format!("{:.2}%", 100.0 * e))
                     .unwrap_or("-".into()),
             );
-            if let Some(e) = err {
-                pts.push((rep.wall_time.max(1e-3), e.max(1e-16)));
+            if let (Some(e), Some(w)) = (r["rel_error"].as_f64(), r["wall_time_s"].as_f64()) {
+                pts.push((w.max(1e-3), e.max(1e-16)));
             }
-            runs.push(json!({
-                "case": s.case, "scheme": s.scheme, "level": label, "scene": s.scene,
-                "note": s.note, "particles": rep.particles,
-                "steps_fine": rep.summary["steps_fine"], "steps_coarse": rep.summary["steps_coarse"],
-                "kappa": rep.summary["kappa"], "dt_fine": rep.summary["dt_fine"],
-                "dt_coarse": rep.summary["dt_coarse"], "wall_time_s": rep.wall_time,
-                "particle_steps_per_s": rep.particle_steps_per_s, "peak_rss_bytes": rss,
-                "value": value, "reference": reference, "rel_error": err,
-                "blowup": rep.blowup.as_ref().map(|b| b.to_string()),
-            }));
+            runs.push(r);
         }
         if !pts.is_empty() {
             curves.push(Curve {
@@ -229,11 +296,19 @@ pub fn accuracy(scenes: &Path, out: &Path, quick: bool, report: Option<&Path>) -
         )?;
         println!("wrote {}", png.display());
     }
-    let md = markdown(&doc);
-    std::fs::write(out.join("accuracy.md"), &md)?;
+    std::fs::write(out.join("accuracy.md"), markdown(&doc, "accuracy.png"))?;
     if let Some(r) = report {
-        std::fs::write(r, &md)?;
-        println!("wrote {}", r.display());
+        // the plot goes beside the report, under the report's name
+        let png = r.with_extension("png");
+        let name = png
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        if !curves.is_empty() {
+            std::fs::copy(out.join("accuracy.png"), &png)?;
+        }
+        std::fs::write(r, markdown(&doc, &name))?;
+        println!("wrote {} and {}", r.display(), png.display());
     }
     Ok(())
 }
@@ -250,15 +325,16 @@ const TABLE3: [Table3Row; 3] = [
 ];
 
 /// The benchmark report as Markdown, generated from the suite's JSON.
-pub fn markdown(doc: &Value) -> String {
+pub fn markdown(doc: &Value, plot: &str) -> String {
     let runs = doc["runs"].as_array().cloned().unwrap_or_default();
     let mut s = format!(
         "# Benchmarks: run time against error\n\n\
          Generated by `granmix bench --suite accuracy` from `accuracy.json`; do not edit.\n\
          {} thread(s). Each validation case with a reference runs at three resolutions,\n\
          under each scheme that applies; *error* is relative to the reference (for the\n\
-         rings, the momentum drift itself). The plot `accuracy.png` beside the JSON shows\n\
-         error against wall time, one curve per case and scheme.\n",
+         rings, the momentum drift itself). *cpu* is the process's user + system time,\n\
+         which other jobs on the machine disturb less than the wall time.\n\n\
+         ![error against wall time, one curve per case and scheme]({plot})\n",
         doc["threads"]
     );
     let mut cases: Vec<String> = Vec::new();
@@ -271,7 +347,7 @@ pub fn markdown(doc: &Value) -> String {
     for c in &cases {
         let mine: Vec<&Value> = runs.iter().filter(|r| r["case"] == c.as_str()).collect();
         s += &format!(
-            "\n## {c}\n\n{}\n\n| scheme | level | particles | wall [s] | Mparticle-steps/s | peak RSS [MB] | value | reference | error |\n|---|---|---|---|---|---|---|---|---|\n",
+            "\n## {c}\n\n{}\n\n| scheme | level | particles | wall [s] | cpu [s] | Mparticle-steps/s | peak RSS [MB] | value | reference | error |\n|---|---|---|---|---|---|---|---|---|---|\n",
             mine.first().and_then(|r| r["note"].as_str()).unwrap_or("")
         );
         for r in mine {
@@ -281,11 +357,15 @@ pub fn markdown(doc: &Value) -> String {
                     .unwrap_or("–".into())
             };
             s += &format!(
-                "| {} | {} | {} | {:.1} | {:.3} | {} | {} | {} | {} |\n",
+                "| {} | {} | {} | {:.1} | {} | {:.3} | {} | {} | {} | {} |\n",
                 r["scheme"].as_str().unwrap_or(""),
                 r["level"].as_str().unwrap_or(""),
                 r["particles"],
                 r["wall_time_s"].as_f64().unwrap_or(0.0),
+                r["cpu_time_s"]
+                    .as_f64()
+                    .map(|x| format!("{x:.1}"))
+                    .unwrap_or("–".into()),
                 r["particle_steps_per_s"].as_f64().unwrap_or(0.0) / 1e6,
                 r["peak_rss_bytes"]
                     .as_f64()
@@ -312,11 +392,11 @@ pub fn markdown(doc: &Value) -> String {
         })
     };
     s += "\n## Multi-rate speed-up (crater R = 0.02 m, H = 0.2 m) against seed 000 Table 3\n\n\
-          | source | dp [mm] | particles | Δt_f [s] | Δt_c [s] | κ | single-rate | multi-rate | speed-up |\n\
-          |---|---|---|---|---|---|---|---|---|\n";
+          | source | dp [mm] | particles | Δt_f [s] | Δt_c [s] | κ | single-rate | multi-rate | speed-up (wall) | speed-up (cpu) |\n\
+          |---|---|---|---|---|---|---|---|---|---|\n";
     for (dp, n, dtf, dtc, k, single, multi, up) in TABLE3 {
         s += &format!(
-            "| seed 000 (32 cores) | {dp} | {n} | {dtf:.1e} | {dtc:.1e} | {k} | {single} min | {multi} min | {up}× |\n"
+            "| seed 000 (32 cores) | {dp} | {n} | {dtf:.1e} | {dtc:.1e} | {k} | {single} min | {multi} min | {up}× | – |\n"
         );
     }
     for level in ["6 mm", "5 mm", "4 mm"] {
@@ -329,7 +409,7 @@ pub fn markdown(doc: &Value) -> String {
                 si["wall_time_s"].as_f64().unwrap_or(0.0),
             );
             s += &format!(
-                "| granmix ({} threads) | {} | {} | {:.2e} | {:.2e} | {} | {:.2} min | {:.2} min | {:.2}× |\n",
+                "| granmix ({} threads) | {} | {} | {:.2e} | {:.2e} | {} | {:.2} min | {:.2} min | {:.2}× | {} |\n",
                 doc["threads"],
                 level.trim_end_matches(" mm"),
                 m["particles"],
@@ -338,7 +418,12 @@ pub fn markdown(doc: &Value) -> String {
                 m["kappa"],
                 ts / 60.0,
                 tm / 60.0,
-                ts / tm.max(1e-12)
+                ts / tm.max(1e-12),
+                si["cpu_time_s"]
+                    .as_f64()
+                    .zip(m["cpu_time_s"].as_f64())
+                    .map(|(a, b)| format!("{:.2}×", a / b.max(1e-12)))
+                    .unwrap_or("–".into())
             );
         }
     }

@@ -35,6 +35,10 @@ pub struct BenchArgs {
     /// Also write the suite's Markdown report here (e.g. docs/stability.md).
     #[arg(long)]
     report: Option<PathBuf>,
+    /// With --suite accuracy: reuse the record of each run already made with the same
+    /// overrides under --out, so that an interrupted suite continues where it stopped.
+    #[arg(long)]
+    resume: bool,
 }
 
 /// How a case is scored.
@@ -352,7 +356,14 @@ pub fn bench(a: &BenchArgs) -> Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     if a.suite.as_deref() == Some("accuracy") {
-        crate::accuracy::accuracy(&a.scenes, &a.out, a.quick, a.report.as_deref())?;
+        crate::accuracy::accuracy(&crate::accuracy::AccuracyOptions {
+            scenes: &a.scenes,
+            out: &a.out,
+            quick: a.quick,
+            report: a.report.as_deref(),
+            cases: &a.cases,
+            resume: a.resume,
+        })?;
         return Ok(ExitCode::SUCCESS);
     }
     if a.suite.as_deref() == Some("scale") {
