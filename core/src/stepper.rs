@@ -7,7 +7,7 @@ use crate::fine::artificial_stress::gray2001_artificial_stress;
 use crate::fine::continuity::{continuity_sweep, ContinuityOut, ContinuityParams};
 use crate::fine::momentum::{momentum_sweep, ArtificialStress, CoarseSide, Load, MomentumParams};
 use crate::fine::riemann::Riemann;
-use crate::fine::source::{drift_and_pack, pack, update_velocity, Source};
+use crate::fine::source::{drift_and_pack, pack, Source};
 use crate::fine::state::PermuteScratch;
 use crate::guard::{Blowup, ChunkFailure};
 use crate::kernel::WendlandC2;
@@ -101,7 +101,11 @@ pub struct Stepper<const D: usize> {
     fine_grid: CellGrid<D>,
     wall_grid: CellGrid<D>,
     pub lists: NeighborLists,
-    pos_at_build: Vec<Vect<D>>,
+    /// Positions at the last list build, in single precision: only displacements
+    /// since then are read from them, and `round_off` bounds the rounding.
+    pos_at_build: Vec<nalgebra::SVector<f32, D>>,
+    /// Largest rounding error of a position stored in `pos_at_build` (m).
+    round_off: Real,
     wall_disp_at_build: Vec<Vect<D>>,
     walls_binned: bool,
     /// Largest displacement since the last list build (end of last step).
@@ -112,13 +116,13 @@ pub struct Stepper<const D: usize> {
     drho_new: Vec<Real>,
     eps_new: Vec<Real>,
     art: Vec<Sym>,
-    src: Vec<Source<D>>,
+    src: Vec<Source>,
     chunk_loads: Vec<Load>,
     /// Load on each barrier during the last step.
     pub step_loads: Vec<Load>,
     /// Fine-grain load on each barrier panel during the last step (`Walls::load_slot`).
     pub slot_loads: Vec<Load>,
-    permute: PermuteScratch<D>,
+    permute: PermuteScratch,
     order: Vec<u32>,
     geostatic: Vec<Sym>,
     up: Vect<D>,
@@ -194,6 +198,7 @@ impl<const D: usize> Stepper<D> {
             kernel,
             lists: NeighborLists::default(),
             pos_at_build: Vec::new(),
+            round_off: 0.0,
             wall_disp_at_build: Vec::new(),
             walls_binned: false,
             max_disp: Real::INFINITY,
@@ -249,12 +254,12 @@ impl<const D: usize> Stepper<D> {
     pub fn bytes(&self) -> usize {
         use std::mem::size_of;
         self.lists.bytes()
-            + self.pos_at_build.capacity() * size_of::<Vect<D>>()
+            + self.pos_at_build.capacity() * size_of::<nalgebra::SVector<f32, D>>()
             + self.vel_new.capacity() * size_of::<Vect<D>>()
             + self.stress_new.capacity() * size_of::<Sym>()
             + (self.drho_new.capacity() + self.eps_new.capacity()) * size_of::<Real>()
             + self.art.capacity() * size_of::<Sym>()
-            + self.src.capacity() * size_of::<Source<D>>()
+            + self.src.capacity() * size_of::<Source>()
             + self.order.capacity() * 4
             + self.fine_grid.bytes()
             + self.wall_grid.bytes()
@@ -295,7 +300,16 @@ impl<const D: usize> Stepper<D> {
         world.fine.permute(&self.order, &mut self.permute);
         self.fine_grid.bin(&world.fine.pos);
         self.pos_at_build.clear();
-        self.pos_at_build.extend_from_slice(&world.fine.pos);
+        self.pos_at_build
+            .par_extend(world.fine.pos.par_iter().map(|x| x.cast::<f32>()));
+        // |x − (f32)x| ≤ ½ ulp ≤ |x| ε_f32 / 2 per component
+        let reach = world
+            .fine
+            .pos
+            .par_iter()
+            .map(|x| x.amax())
+            .reduce(|| 0.0, Real::max);
+        self.round_off = reach * (f32::EPSILON as Real) * (D as Real).sqrt();
         let walls_moved = world
             .walls
             .objects
@@ -459,7 +473,6 @@ impl<const D: usize> Stepper<D> {
             let src = &mut self.src;
             let csrc = &self.csrc;
             self.timers.time(Stage::ContinuityStress, || {
-                update_velocity(&fine.vel, src);
                 continuity_sweep(fine, src, &world.materials, walls, lists, &cprm, csrc, out)
             });
         }
@@ -490,7 +503,7 @@ impl<const D: usize> Stepper<D> {
                         r[k] += d[k] * half;
                         let v2 = v[k].norm_squared();
                         vmax2 = vmax2.max(v2);
-                        disp2 = disp2.max((x[k] - x0[k]).norm_squared());
+                        disp2 = disp2.max((x[k] - x0[k].cast::<Real>()).norm_squared());
                         if fail.is_none() {
                             let i = c * CHUNK + k;
                             if !v2.is_finite() {
@@ -550,7 +563,7 @@ impl<const D: usize> Stepper<D> {
             }
         }
         self.vmax = vmax2.sqrt();
-        self.max_disp = disp2.sqrt();
+        self.max_disp = disp2.sqrt() + self.round_off;
         Ok(StepStats {
             vmax: self.vmax,
             rebuilt,

@@ -41,11 +41,11 @@ pub struct ContinuityOut<'a, const D: usize> {
     pub plastic_strain: &'a mut [Real],
 }
 
-/// Sweep with v_{n+1} already in `src` (and `p.vel`).
+/// Sweep with v_{n+1} already in `p.vel`.
 #[allow(clippy::too_many_arguments)]
 pub fn continuity_sweep<const D: usize>(
     p: &FineParticles<D>,
-    src: &[Source<D>],
+    src: &[Source],
     mats: &[FineMaterial],
     walls: &Walls<D>,
     lists: &NeighborLists,
@@ -69,20 +69,24 @@ pub fn continuity_sweep<const D: usize>(
                 let i = c * CHUNK + k;
                 let mi = &mats[p.material[i] as usize];
                 let si = &src[i];
-                let (xi, vi) = (si.pos, si.vel);
+                let (half_inv_z, inv_ci) = si.reciprocals();
+                let (xi, vi) = (p.pos[i], p.vel[i]);
                 let rhoi = p.rho[i];
                 let sig_i = p.stress[i];
                 let geo = prm.geostatic[p.material[i] as usize];
+                // geostatic pressure gradient along `up`: P^H_i − P^H_j = −(r_ij·up) pgeo
+                let pgeo = geo.trace() / 3.0;
                 let mut drho = 0.0;
                 let mut grad = SMatrix::<Real, D, D>::zeros();
                 let mut diff = Sym::ZERO;
                 for &j in &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize] {
-                    let sj = &src[j as usize];
-                    let rij = xi - sj.pos;
+                    let j = j as usize;
+                    let rij = xi - p.pos[j];
                     let r2 = rij.norm_squared();
                     if r2 >= cut2 {
                         continue;
                     }
+                    let (sj, vj) = (&src[j], p.vel[j]);
                     let r = r2.sqrt();
                     // one division for both 1/r and 1/(r² + 0.01h²) of Eq. (25)
                     let den = r2 + reg;
@@ -90,16 +94,21 @@ pub fn continuity_sweep<const D: usize>(
                     let e = rij * (den * inv);
                     let dwv = prm.kernel.dw(r) * sj.vol;
                     let ul = -vi.dot(&e);
-                    let (inv_z, _) =
-                        pair_reciprocals(si.z, sj.z, si.c, sj.c, si.half_inv_z, si.inv_c);
+                    let (inv_z, _) = pair_reciprocals(si.z, sj.z, si.c, sj.c, half_inv_z, inv_ci);
+                    // Eq. (19) with the pressure jump taken relative to the geostatic
+                    // state, as Eq. (26) does for the stress: P_j + (P^H_i − P^H_j). The
+                    // jump's term (P_L − P_R)/(Z_L + Z_R) is a pressure Laplacian; with
+                    // the raw jump it does not vanish at a free surface at rest, and
+                    // resting surface grains gained density without bound.
+                    let pj = sj.p - rij.dot(&prm.up) * pgeo;
                     let ustar = Riemann::u_star(
                         Side::new(si.z, ul, si.p),
-                        Side::new(sj.z, -sj.vel.dot(&e), sj.p),
+                        Side::new(sj.z, -vj.dot(&e), pj),
                         inv_z,
                     );
                     // (v_i − v*)·e_ij = U* − U_L (U measured along −e_ij)
                     drho += 2.0 * (ustar - ul) * dwv;
-                    let vij = vi - sj.vel;
+                    let vij = vi - vj;
                     grad -= vij * e.transpose() * dwv;
                     if prm.zeta > 0.0 {
                         // Ψ_ij of Eq. (26): σ_i − σ_j minus the geostatic gradient
@@ -123,9 +132,13 @@ pub fn continuity_sweep<const D: usize>(
                     let r = r2.sqrt();
                     let e = rij * (1.0 / r);
                     let dwv = prm.kernel.dw(r) * vw;
+                    // Eqs. (32)–(34): U* = u_w, so only the mirrored velocity enters.
+                    // The hydrostatic jump of Eq. (35) is the geostatic state itself,
+                    // which the fine–fine term above subtracts too; it acts in the
+                    // momentum equation only (kept here, it made every grain resting on
+                    // a floor gain density exponentially).
                     let rel = (vi - walls.velocity(w)) * 2.0;
-                    let pw = si.p + rhoi * r * prm.gravity.dot(&(-e)).max(0.0);
-                    drho += (rel.dot(&e) + (si.p - pw) * 2.0 * si.half_inv_z) * dwv;
+                    drho += rel.dot(&e) * dwv;
                     grad -= rel * e.transpose() * dwv;
                 }
                 // coarse grains: free-slip mirrors moving with v̄ (Eqs. 48, 60): only the

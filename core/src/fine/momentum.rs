@@ -66,7 +66,7 @@ pub struct CoarseSide<'a, const D: usize> {
 #[allow(clippy::too_many_arguments)]
 pub fn momentum_sweep<const D: usize>(
     p: &FineParticles<D>,
-    src: &[Source<D>],
+    src: &[Source],
     walls: &Walls<D>,
     lists: &NeighborLists,
     art: &[Sym],
@@ -94,26 +94,28 @@ pub fn momentum_sweep<const D: usize>(
             for (k, vo) in vout.iter_mut().enumerate() {
                 let i = c * CHUNK + k;
                 let si = &src[i];
-                let (xi, vi) = (si.pos, si.vel);
+                let (half_inv_z, inv_ci) = si.reciprocals();
+                let (xi, vi) = (p.pos[i], p.vel[i]);
                 let rhoi = p.rho[i];
                 let inv_rho2 = 2.0 / rhoi;
                 let left = |u: Real| Side::new(si.z, u, si.p);
                 let mut acc = Vect::<D>::zeros();
                 for &j in &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize] {
-                    let sj = &src[j as usize];
-                    let rij = xi - sj.pos;
+                    let j = j as usize;
+                    let rij = xi - p.pos[j];
                     let r2 = rij.norm_squared();
                     if r2 >= cut2 {
                         continue;
                     }
+                    let (sj, vj) = (&src[j], p.vel[j]);
                     let r = r2.sqrt();
                     let e = rij * (1.0 / r);
                     let dw = prm.kernel.dw(r);
                     let (inv_z, inv_c) =
-                        pair_reciprocals(si.z, sj.z, si.c, sj.c, si.half_inv_z, si.inv_c);
+                        pair_reciprocals(si.z, sj.z, si.c, sj.c, half_inv_z, inv_ci);
                     let pstar = prm.riemann.p_star(
                         left(-vi.dot(&e)),
-                        Side::new(sj.z, -sj.vel.dot(&e), sj.p),
+                        Side::new(sj.z, -vj.dot(&e), sj.p),
                         inv_z,
                         inv_c,
                     );
@@ -124,7 +126,7 @@ pub fn momentum_sweep<const D: usize>(
                     sstar.0[2] -= pstar;
                     if let Some(a) = &prm.artificial {
                         let f = (prm.kernel.w(r) / a.w_dp).powf(a.exponent);
-                        sstar.axpy(0.5 * f, &art[i].add(&art[j as usize]));
+                        sstar.axpy(0.5 * f, &art[i].add(&art[j]));
                     }
                     acc += sstar.dot_vec(&e) * (inv_rho2 * dw * sj.vol);
                 }
@@ -161,7 +163,7 @@ pub fn momentum_sweep<const D: usize>(
                         let du = 2.0 * (ul - uw);
                         // Eq. (35): hydrostatic increase towards the wall.
                         let pr = si.p + rhoi * r * prm.gravity.dot(&(-e)).max(0.0);
-                        let beta = prm.riemann.limiter(du, si.inv_c);
+                        let beta = prm.riemann.limiter(du, inv_ci);
                         let pstar = 0.5 * (si.p + pr) + 0.5 * beta * si.z * du;
                         let mut sstar = si.dev;
                         sstar.0[0] -= pstar;
@@ -198,7 +200,7 @@ pub fn momentum_sweep<const D: usize>(
                         rho: rhoi,
                         stress: &p.stress[i],
                         z: si.z,
-                        inv_c: si.inv_c,
+                        inv_c: inv_ci,
                         c2: si.c * si.c,
                     };
                     let share = 1.0 / (c1 - c0) as Real;

@@ -1,17 +1,18 @@
 //! The per-particle data that neighbours read in the sweeps, packed into one record so
-//! that a neighbour costs one or two cache lines instead of one per array.
+//! that a neighbour costs two cache lines (its position, read first for the distance
+//! test, its velocity and this record) instead of one per array. Positions and
+//! velocities are read from the particle state itself: the distance test then scans a
+//! compact array, and the state is not held twice.
 
 use super::material::FineMaterial;
 use super::state::FineParticles;
-use crate::math::{Real, Sym, Vect};
+use crate::math::{Real, Sym};
 use crate::neighbors::CHUNK;
 use rayon::prelude::*;
 
 /// Neighbour-side view of a fine particle for one step.
 #[derive(Clone, Copy, Debug)]
-pub struct Source<const D: usize> {
-    pub pos: Vect<D>,
-    pub vel: Vect<D>,
+pub struct Source {
     /// Deviatoric stress σˢ.
     pub dev: Sym,
     /// Pressure P = −tr(σ)/3.
@@ -22,49 +23,49 @@ pub struct Source<const D: usize> {
     pub z: Real,
     /// Sound speed c0 (Eq. 22).
     pub c: Real,
-    /// 1/(2 z), 1/c: the pair reciprocals when both particles share a material.
-    pub half_inv_z: Real,
-    pub inv_c: Real,
 }
 
-impl<const D: usize> Source<D> {
-    /// The record of particle `i` at position `pos` and density `rho`.
+impl Source {
+    /// 1/(2 z) and 1/c: the pair reciprocals when both particles share a material
+    /// ([`pair_reciprocals`](super::riemann::pair_reciprocals)). Taken once per
+    /// particle in the sweeps rather than stored, so that a record is 80 bytes.
     #[inline(always)]
-    fn of(p: &FineParticles<D>, mats: &[FineMaterial], i: usize, pos: Vect<D>, rho: Real) -> Self {
+    pub fn reciprocals(&self) -> (Real, Real) {
+        (0.5 / self.z, 1.0 / self.c)
+    }
+}
+
+impl Source {
+    /// The record of particle `i` at density `rho`.
+    #[inline(always)]
+    fn of<const D: usize>(
+        p: &FineParticles<D>,
+        mats: &[FineMaterial],
+        i: usize,
+        rho: Real,
+    ) -> Self {
         let m = &mats[p.material[i] as usize];
         let s = p.stress[i];
         let z = m.rho0 * m.c0;
         Source {
-            pos,
-            vel: p.vel[i],
             dev: s.dev(),
             p: -s.trace() / 3.0,
             vol: p.mass[i] / rho,
             z,
             c: m.c0,
-            half_inv_z: 0.5 / z,
-            inv_c: 1.0 / m.c0,
         }
     }
 }
 
 /// Fill `out` from the particle state (positions at the half step, stress σ_n).
-pub fn pack<const D: usize>(p: &FineParticles<D>, mats: &[FineMaterial], out: &mut Vec<Source<D>>) {
+pub fn pack<const D: usize>(p: &FineParticles<D>, mats: &[FineMaterial], out: &mut Vec<Source>) {
     out.clear();
     out.par_extend(
         (0..p.len())
             .into_par_iter()
             .with_min_len(CHUNK)
-            .map(|i| Source::of(p, mats, i, p.pos[i], p.rho[i])),
+            .map(|i| Source::of(p, mats, i, p.rho[i])),
     );
-}
-
-/// Refresh the velocities (after the momentum sweep).
-pub fn update_velocity<const D: usize>(vel: &[Vect<D>], out: &mut [Source<D>]) {
-    out.par_iter_mut()
-        .zip(vel.par_iter())
-        .with_min_len(CHUNK)
-        .for_each(|(s, v)| s.vel = *v);
 }
 
 /// Eq. (54) fused with [`pack`]: move positions and densities to the half step and fill
@@ -73,7 +74,7 @@ pub fn drift_and_pack<const D: usize>(
     p: &mut FineParticles<D>,
     mats: &[FineMaterial],
     half: Real,
-    out: &mut Vec<Source<D>>,
+    out: &mut Vec<Source>,
 ) {
     let n = p.len();
     let mut pos = std::mem::take(&mut p.pos);
@@ -88,10 +89,20 @@ pub fn drift_and_pack<const D: usize>(
             .map(|(i, (x, r))| {
                 *x += state.vel[i] * half;
                 *r += state.drho[i] * half;
-                Source::of(state, mats, i, *x, *r)
+                Source::of(state, mats, i, *r)
             }),
     );
     debug_assert_eq!(out.len(), n);
     p.pos = pos;
     p.rho = rho;
+}
+
+#[cfg(test)]
+mod tests {
+    /// A neighbour record holds 10 numbers.
+    #[test]
+    fn a_record_is_80_bytes() {
+        assert_eq!(std::mem::size_of::<super::Source>(), 80);
+        assert_eq!(std::mem::size_of::<super::Source>(), 80);
+    }
 }

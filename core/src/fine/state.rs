@@ -64,33 +64,79 @@ impl<const D: usize> FineParticles<D> {
             + self.id.capacity() * 4
     }
 
-    /// Reorder every array by `order` (new index k holds old particle order[k]).
-    /// `scratch` buffers are reused so that no allocation happens after warm-up.
-    pub fn permute(&mut self, order: &[u32], scratch: &mut PermuteScratch<D>) {
-        fn apply<T: Copy + Send + Sync>(v: &mut Vec<T>, order: &[u32], tmp: &mut Vec<T>) {
-            use rayon::prelude::*;
-            tmp.clear();
-            tmp.par_extend(order.par_iter().map(|&o| v[o as usize]));
-            std::mem::swap(v, tmp);
-        }
-        apply(&mut self.pos, order, &mut scratch.vec);
-        apply(&mut self.vel, order, &mut scratch.vec);
-        apply(&mut self.rho, order, &mut scratch.real);
-        apply(&mut self.drho, order, &mut scratch.real);
-        apply(&mut self.plastic_strain, order, &mut scratch.real);
-        apply(&mut self.mass, order, &mut scratch.real);
-        apply(&mut self.stress, order, &mut scratch.sym);
-        apply(&mut self.material, order, &mut scratch.u16);
-        apply(&mut self.id, order, &mut scratch.u32);
+    /// Reorder every array by `order` (new index k holds old particle order[k]), in
+    /// place. The arrays are permuted by following the cycles of `order`, so the only
+    /// extra memory is one mark bit per particle in `scratch` (a gathered copy would
+    /// hold a second copy of the largest array). No allocation after warm-up.
+    pub fn permute(&mut self, order: &[u32], scratch: &mut PermuteScratch) {
+        let done = &mut scratch.done;
+        cycle_apply(&mut self.pos, order, done);
+        cycle_apply(&mut self.vel, order, done);
+        cycle_apply(&mut self.rho, order, done);
+        cycle_apply(&mut self.drho, order, done);
+        cycle_apply(&mut self.plastic_strain, order, done);
+        cycle_apply(&mut self.mass, order, done);
+        cycle_apply(&mut self.stress, order, done);
+        cycle_apply(&mut self.material, order, done);
+        cycle_apply(&mut self.id, order, done);
     }
 }
 
-/// Reusable buffers for [`FineParticles::permute`].
+/// `v[k] = v_old[order[k]]` for all k, in place, by walking each cycle of `order` once
+/// with one element held aside; `done` is a bitset scratch (resized here).
+fn cycle_apply<T: Copy>(v: &mut [T], order: &[u32], done: &mut Vec<u64>) {
+    debug_assert_eq!(v.len(), order.len());
+    done.clear();
+    done.resize(order.len().div_ceil(64), 0);
+    for start in 0..order.len() {
+        if done[start / 64] & (1 << (start % 64)) != 0 {
+            continue;
+        }
+        let held = v[start];
+        let mut k = start;
+        loop {
+            done[k / 64] |= 1 << (k % 64);
+            let from = order[k] as usize;
+            if from == start {
+                v[k] = held;
+                break;
+            }
+            v[k] = v[from];
+            k = from;
+        }
+    }
+}
+
+/// Reusable scratch for [`FineParticles::permute`]: one mark bit per particle.
 #[derive(Clone, Default, Debug)]
-pub struct PermuteScratch<const D: usize> {
-    vec: Vec<Vect<D>>,
-    real: Vec<Real>,
-    sym: Vec<Sym>,
-    u16: Vec<u16>,
-    u32: Vec<u32>,
+pub struct PermuteScratch {
+    done: Vec<u64>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The in-place cycle walk equals a gathered copy, for a permutation with cycles of
+    /// many lengths (and fixed points).
+    #[test]
+    fn in_place_permutation_equals_a_gathered_copy() {
+        let n = 1000u32;
+        let mut order: Vec<u32> = (0..n).collect();
+        let mut x = 12345u64;
+        for k in (1..n as usize).rev() {
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            if k % 7 != 0 {
+                order.swap(k, (x >> 33) as usize % (k + 1));
+            }
+        }
+        let v: Vec<u64> = (0..n as u64).map(|i| i * i + 3).collect();
+        let want: Vec<u64> = order.iter().map(|&o| v[o as usize]).collect();
+        let mut got = v.clone();
+        let mut done = Vec::new();
+        cycle_apply(&mut got, &order, &mut done);
+        assert_eq!(got, want);
+    }
 }
