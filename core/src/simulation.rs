@@ -63,7 +63,8 @@ pub struct Sample {
     pub max_speed: Real,
     pub barriers: Vec<BarrierSample>,
     pub probes: Vec<(String, ProbeValue)>,
-    /// Coarse sub-steps so far and κ of the last step.
+    /// Coarse sub-steps so far, and κ of the last full step (not one shortened to
+    /// land on an output time).
     pub steps_coarse: u64,
     pub kappa: usize,
     /// Fine step Δt_f (Eq. 51) and coarse sub-step Δt_c of the last step.
@@ -145,6 +146,8 @@ pub struct Simulation<const D: usize> {
     /// Stable Δt_f (Eq. 51) and Δt_c (Eq. 52 and contacts) of the last step.
     last_dt_f: Real,
     last_dt_c: Real,
+    /// κ = ⌈Δt_f/Δt_c⌉ of the last full (not output-clipped) step.
+    last_kappa: usize,
 }
 
 fn arr<const D: usize>(v: &Vect<D>) -> [f32; 3] {
@@ -194,6 +197,7 @@ impl<const D: usize> Simulation<D> {
             dt_cap: scene.simulation.output_interval,
             last_dt_f: 0.0,
             last_dt_c: 0.0,
+            last_kappa: 1,
         })
     }
 
@@ -209,6 +213,9 @@ impl<const D: usize> Simulation<D> {
         let (dt, kappa) = choose_step(dt_f, dt_c, max_dt, self.stepper.params.scheme);
         self.last_dt_f = dt_f;
         self.last_dt_c = dt_c;
+        // the step itself may be shortened to land on an output time; κ is reported
+        // for the full step, as in seed 000 Table 3
+        self.last_kappa = choose_step(dt_f, dt_c, self.dt_cap, self.stepper.params.scheme).1;
         let st = self.stepper.step(&mut self.world, dt, kappa)?;
         for (b, l) in self.stepper.step_loads.iter().enumerate() {
             self.impulse[b].force += l.force * dt;
@@ -320,7 +327,7 @@ impl<const D: usize> Simulation<D> {
         let (steps_coarse, kappa, strain, contact) = match &self.stepper.coarse {
             Some(c) => (
                 c.steps,
-                c.kappa,
+                self.last_kappa,
                 c.tlsph
                     .strain_energy(cp, &w.coarse.bodies, &w.coarse.solids, w.dp.powi(D as i32)),
                 c.contacts.energy,

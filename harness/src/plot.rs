@@ -13,6 +13,16 @@ fn register_font() {
     });
 }
 
+/// A log-axis tick label: plain decimals from 0.01 to 10⁴, powers of ten beyond.
+fn tick(v: f64) -> String {
+    if (0.01..1e4).contains(&v) {
+        let s = format!("{v:.2}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{v:.0e}")
+    }
+}
+
 /// One named curve of (x, y) points.
 pub struct Curve {
     pub label: String,
@@ -62,6 +72,8 @@ pub fn loglog(
         .x_desc(xlabel)
         .y_desc(ylabel)
         .label_style(("sans-serif", 14))
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
         .draw()
         .map_err(|e| anyhow!("{e}"))?;
     for (k, c) in curves.iter().enumerate() {
@@ -109,6 +121,7 @@ pub fn loglog(
     }
     chart
         .configure_series_labels()
+        .position(SeriesLabelPosition::LowerRight)
         .background_style(WHITE.mix(0.8))
         .border_style(BLACK)
         .label_font(("sans-serif", 14))
@@ -116,4 +129,15 @@ pub fn loglog(
         .map_err(|e| anyhow!("{e}"))?;
     root.present().map_err(|e| anyhow!("{e}"))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn tick_labels_are_short() {
+        assert_eq!(super::tick(1e-7), "1e-7");
+        assert_eq!(super::tick(0.1), "0.1");
+        assert_eq!(super::tick(100.0), "100");
+        assert_eq!(super::tick(1e5), "1e5");
+    }
 }

@@ -57,7 +57,10 @@ fn barrier_load_history() {
     assert!(s[n - 1].kinetic_energy < 1e-4 * ke_peak);
 }
 
-/// retained_layer_2d: ½ K_a ρ g H² ≤ F ≤ ½ K0 ρ g H² once settled.
+/// retained_layer_2d: ½ K_a ρ g H² ≤ F ≤ ½ K0 ρ g H² at the end of the run (1 s).
+/// The deposit has not settled by then: its kinetic energy stays above 1e-4 of the
+/// peak and the load is still falling (K = 0.59 at 0.4 s, 0.48 at 1 s); see
+/// docs/method.md, *Known limitations*.
 #[test]
 fn retained_layer_earth_pressure() {
     let (s, end, _) = run("retained_layer_2d.toml", &["simulation.dp=0.0075"]);
