@@ -30,8 +30,7 @@ pub struct CoarseStepper<const D: usize> {
     pub amax: Real,
     /// Coarse sub-steps taken so far.
     pub steps: u64,
-    /// κ and Δt_c of the last fine step.
-    pub kappa: usize,
+    /// Coarse sub-step Δt_f/κ of the last fine step.
     pub dt: Real,
     /// Impulse (force, torque) of the fine grains + contacts on each body over the
     /// fine step (3D).
@@ -63,7 +62,6 @@ impl<const D: usize> CoarseStepper<D> {
                 .fold(0.0, Real::max),
             amax: 0.0,
             steps: 0,
-            kappa: 1,
             dt: 0.0,
             impulse: vec![Default::default(); coarse.bodies.len()],
             wall_loads: Vec::new(),
@@ -116,7 +114,6 @@ impl<const D: usize> CoarseStepper<D> {
         time: Real,
     ) -> Result<(), Blowup> {
         let dt = dt_f / kappa as Real;
-        self.kappa = kappa;
         self.dt = dt;
         let p = &mut coarse.particles;
         p.pos_start.copy_from_slice(&p.pos);

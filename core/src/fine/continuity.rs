@@ -5,8 +5,9 @@
 //! ∇v_i    = −Σ_j (v_i − v_j) ⊗ ∇_i W_ij V_j                Eq. (24) (sign so that a
 //!           linear field v = A x gives ∇v = A with ∇_i W = W' e_ij, e_ij from j to i)
 //! D_i     = 2ζ h c0 Σ_j Ψ_ij (r_ij·∇_i W_ij)/(r² + 0.01h²) V_j      Eqs. (25)–(26)
-//! Walls are no-slip mirrors: v_w,dummy = 2 v_wall − v_i, and the one-sided pressure
-//! jump to the wall pressure of Eq. (35) enters the density rate.
+//! v* takes the pressure jump relative to the geostatic state (see the pair loop).
+//! Walls are no-slip mirrors, v_w,dummy = 2 v_wall − v_i; the wall pressure of Eq. (35)
+//! acts in the momentum equation only.
 
 use super::material::FineMaterial;
 use super::plasticity::update_stress;
