@@ -29,6 +29,10 @@ pub struct StepParams {
     pub eta: Real,
     /// Stress-diffusion ζ of Eq. (25).
     pub zeta: Real,
+    /// ξ of the hourglass penalty (0: off).
+    pub hourglass: Real,
+    /// Gravity ramp time (s); 0: full gravity from the start.
+    pub gravity_ramp: Real,
     /// Verlet skin (m).
     pub skin: Real,
     /// Speed bound of the stability guard (m/s).
@@ -53,6 +57,8 @@ impl StepParams {
             cfl: s.simulation.cfl,
             eta: n.eta.unwrap_or(20.0 * d),
             zeta: n.stress_diffusion,
+            hourglass: n.hourglass,
+            gravity_ramp: s.simulation.gravity_ramp,
             skin: n.neighbor_skin * s.simulation.dp,
             max_speed: s.simulation.max_speed,
             artificial: cohesive
@@ -112,9 +118,6 @@ pub struct Stepper<const D: usize> {
     max_disp: Real,
     vmax: Real,
     vel_new: Vec<Vect<D>>,
-    stress_new: Vec<Sym>,
-    drho_new: Vec<Real>,
-    eps_new: Vec<Real>,
     art: Vec<Sym>,
     src: Vec<Source>,
     chunk_loads: Vec<Load>,
@@ -125,6 +128,11 @@ pub struct Stepper<const D: usize> {
     permute: PermuteScratch,
     order: Vec<u32>,
     geostatic: Vec<Sym>,
+    /// Per material: ξ G of the hourglass penalty (empty: off).
+    hourglass: Vec<Real>,
+    /// The scene's full gravity, and the ramp factor of the current step.
+    g_full: Vect<D>,
+    g_scale: Real,
     up: Vect<D>,
     pub timers: StageTimers,
     /// Stages left out for this scene, with the reason.
@@ -153,6 +161,15 @@ impl<const D: usize> Stepper<D> {
             .iter()
             .map(|m| geostatic_tensor::<D>(&up, m.k0).scale(m.rho0 * g))
             .collect();
+        let hourglass = if params.hourglass > 0.0 {
+            world
+                .materials
+                .iter()
+                .map(|m| params.hourglass * m.shear)
+                .collect()
+        } else {
+            Vec::new()
+        };
         let cell = kernel.cutoff + params.skin;
         let mut skipped = Vec::new();
         if params.artificial.is_none() {
@@ -204,9 +221,6 @@ impl<const D: usize> Stepper<D> {
             max_disp: Real::INFINITY,
             vmax: 0.0,
             vel_new: Vec::new(),
-            stress_new: Vec::new(),
-            drho_new: Vec::new(),
-            eps_new: Vec::new(),
             art: Vec::new(),
             src: Vec::new(),
             chunk_loads: Vec::new(),
@@ -215,6 +229,9 @@ impl<const D: usize> Stepper<D> {
             permute: PermuteScratch::default(),
             order: Vec::new(),
             geostatic,
+            hourglass,
+            g_full: world.gravity,
+            g_scale: 1.0,
             up,
             timers: StageTimers::default(),
             skipped,
@@ -256,8 +273,6 @@ impl<const D: usize> Stepper<D> {
         self.lists.bytes()
             + self.pos_at_build.capacity() * size_of::<nalgebra::SVector<f32, D>>()
             + self.vel_new.capacity() * size_of::<Vect<D>>()
-            + self.stress_new.capacity() * size_of::<Sym>()
-            + (self.drho_new.capacity() + self.eps_new.capacity()) * size_of::<Real>()
             + self.art.capacity() * size_of::<Sym>()
             + self.src.capacity() * size_of::<Source>()
             + self.order.capacity() * 4
@@ -355,6 +370,11 @@ impl<const D: usize> Stepper<D> {
         let n = world.fine.len();
         let half = 0.5 * dt;
         world.walls.set_time(world.time);
+        self.g_scale = gravity_ramp(world.time + half, self.params.gravity_ramp);
+        world.gravity = self.g_full * self.g_scale;
+        if let Some(c) = self.coarse.as_mut() {
+            c.set_gravity(&world.gravity);
+        }
         if let Some(c) = self.coarse.as_ref().filter(|_| n > 0) {
             let t = std::time::Instant::now();
             c.update_normals(&mut world.coarse);
@@ -387,9 +407,6 @@ impl<const D: usize> Stepper<D> {
             rebuilt = true;
         }
         self.vel_new.resize(n, Vect::<D>::zeros());
-        self.stress_new.resize(n, Sym::ZERO);
-        self.drho_new.resize(n, 0.0);
-        self.eps_new.resize(n, 0.0);
         let nbs = world.walls.load_slots().max(1);
         self.chunk_loads
             .resize(self.lists.chunks.len() * nbs, Load::default());
@@ -421,10 +438,14 @@ impl<const D: usize> Stepper<D> {
             dt,
             artificial,
             wall_friction: self.params.wall_friction,
+            hourglass: &self.hourglass,
         };
+        // updated in place: a particle reads only its own accumulated penalty
+        let mut hourglass = std::mem::take(&mut world.fine.hourglass);
         {
             let (fine, walls, lists, art) = (&world.fine, &world.walls, &self.lists, &self.art);
             let (vel_new, loads, src) = (&mut self.vel_new, &mut self.chunk_loads, &mut self.src);
+            let hg = &mut hourglass;
             let side = CoarseSide {
                 src: &self.csrc,
                 coupling: Coupling {
@@ -437,9 +458,12 @@ impl<const D: usize> Stepper<D> {
                 reactions: &mut self.reactions,
             };
             self.timers.time(Stage::Momentum, || {
-                momentum_sweep(fine, src, walls, lists, art, &mprm, vel_new, loads, side)
+                momentum_sweep(
+                    fine, src, walls, lists, art, &mprm, vel_new, hg, loads, side,
+                )
             });
         }
+        world.fine.hourglass = hourglass;
         if self.coarse.is_some() {
             let t = std::time::Instant::now();
             coupling::gather_reactions(&self.reactions, &mut world.coarse.particles.f_fine);
@@ -461,14 +485,24 @@ impl<const D: usize> Stepper<D> {
             dt,
             zeta: self.params.zeta,
             geostatic: &self.geostatic,
+            geostatic_scale: self.g_scale,
             up: self.up,
         };
+        // advanced in place: the sweep reads none of these of a neighbour (the
+        // neighbours' stress comes from the packed sources)
+        let mut stress = std::mem::take(&mut world.fine.stress);
+        let mut drho = std::mem::take(&mut world.fine.drho);
+        let mut eps = std::mem::take(&mut world.fine.plastic_strain);
+        let mut vel_grad = std::mem::take(&mut world.fine.vel_grad);
+        let mut elastic = std::mem::take(&mut world.fine.elastic);
         {
             let (fine, walls, lists) = (&world.fine, &world.walls, &self.lists);
             let out = ContinuityOut {
-                drho: &mut self.drho_new,
-                stress: &mut self.stress_new,
-                plastic_strain: &mut self.eps_new,
+                drho: &mut drho,
+                stress: &mut stress,
+                plastic_strain: &mut eps,
+                vel_grad: &mut vel_grad,
+                elastic: &mut elastic,
             };
             let src = &mut self.src;
             let csrc = &self.csrc;
@@ -476,9 +510,11 @@ impl<const D: usize> Stepper<D> {
                 continuity_sweep(fine, src, &world.materials, walls, lists, &cprm, csrc, out)
             });
         }
-        std::mem::swap(&mut world.fine.drho, &mut self.drho_new);
-        std::mem::swap(&mut world.fine.stress, &mut self.stress_new);
-        std::mem::swap(&mut world.fine.plastic_strain, &mut self.eps_new);
+        world.fine.drho = drho;
+        world.fine.stress = stress;
+        world.fine.plastic_strain = eps;
+        world.fine.vel_grad = vel_grad;
+        world.fine.elastic = elastic;
 
         // Eq. (56) and the stability guard.
         let max_speed = self.params.max_speed;
@@ -569,5 +605,31 @@ impl<const D: usize> Stepper<D> {
             rebuilt,
             kappa,
         })
+    }
+}
+
+/// Factor on gravity at time `t` for a ramp of length `ramp`: ½(1 − cos(π t/ramp)),
+/// then 1. Smooth (zero rate at both ends), so the ramp excites no wave of its own.
+pub fn gravity_ramp(t: Real, ramp: Real) -> Real {
+    if ramp > 0.0 && t < ramp {
+        0.5 * (1.0 - (std::f64::consts::PI * t / ramp).cos())
+    } else {
+        1.0
+    }
+}
+
+#[cfg(test)]
+mod ramp_tests {
+    use super::gravity_ramp;
+
+    #[test]
+    fn gravity_ramp_is_smooth_and_reaches_full_gravity() {
+        assert_eq!(gravity_ramp(0.3, 0.0), 1.0);
+        assert_eq!(gravity_ramp(0.0, 0.2), 0.0);
+        assert!((gravity_ramp(0.1, 0.2) - 0.5).abs() < 1e-15);
+        assert!((gravity_ramp(0.2 - 1e-9, 0.2) - 1.0).abs() < 1e-12);
+        assert_eq!(gravity_ramp(0.25, 0.2), 1.0);
+        // zero rate at the start: the first steps barely load the grains
+        assert!(gravity_ramp(0.002, 0.2) < 1e-3);
     }
 }

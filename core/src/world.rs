@@ -309,6 +309,8 @@ impl<const D: usize> World<D> {
                 position: v::<D>(&p.position),
             })
             .collect();
+        // the arrays grew by doubling while the regions were filled
+        fine.shrink_to_fit();
         Ok(World {
             fine,
             materials,

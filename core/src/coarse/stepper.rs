@@ -45,6 +45,11 @@ pub struct CoarseStepper<const D: usize> {
 }
 
 impl<const D: usize> CoarseStepper<D> {
+    /// Gravity of the coming sub-steps (changes while the scene ramps it up).
+    pub fn set_gravity(&mut self, gravity: &Vect<D>) {
+        self.gravity = to3(gravity);
+    }
+
     pub fn new(coarse: &Coarse<D>, scene: &Scene, gravity: &Vect<D>) -> Self {
         let dp = scene.simulation.dp;
         CoarseStepper {

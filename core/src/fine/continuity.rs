@@ -31,6 +31,8 @@ pub struct ContinuityParams<'a, const D: usize> {
     pub zeta: Real,
     /// Per material: ρ0 |g| (K0 (I − n n) + n n), the geostatic gradient of Eq. (26).
     pub geostatic: &'a [Sym],
+    /// Factor on `geostatic` while gravity is ramped up (1 otherwise).
+    pub geostatic_scale: Real,
     /// Unit vector opposite to gravity (zero without gravity).
     pub up: Vect<D>,
 }
@@ -38,8 +40,14 @@ pub struct ContinuityParams<'a, const D: usize> {
 /// Output buffers of the sweep.
 pub struct ContinuityOut<'a, const D: usize> {
     pub drho: &'a mut [Real],
+    /// Stress, advanced in place (neighbours are read from the sources).
     pub stress: &'a mut [Sym],
+    /// Accumulated plastic strain, advanced in place.
     pub plastic_strain: &'a mut [Real],
+    /// L_i in single precision, for the hourglass penalty.
+    pub vel_grad: &'a mut [SMatrix<f32, D, D>],
+    /// Whether the stress update stayed elastic.
+    pub elastic: &'a mut [bool],
 }
 
 /// Sweep with v_{n+1} already in `p.vel`.
@@ -64,117 +72,124 @@ pub fn continuity_sweep<const D: usize>(
         .zip(out.drho.par_chunks_mut(CHUNK))
         .zip(out.stress.par_chunks_mut(CHUNK))
         .zip(out.plastic_strain.par_chunks_mut(CHUNK))
+        .zip(out.vel_grad.par_chunks_mut(CHUNK))
+        .zip(out.elastic.par_chunks_mut(CHUNK))
         .enumerate()
-        .for_each(|(c, (((cl, drho_out), stress_out), eps_out))| {
-            for k in 0..drho_out.len() {
-                let i = c * CHUNK + k;
-                let mi = &mats[p.material[i] as usize];
-                let si = &src[i];
-                let (half_inv_z, inv_ci) = si.reciprocals();
-                let (xi, vi) = (p.pos[i], p.vel[i]);
-                let rhoi = p.rho[i];
-                let sig_i = p.stress[i];
-                let geo = prm.geostatic[p.material[i] as usize];
-                // geostatic pressure gradient along `up`: P^H_i − P^H_j = −(r_ij·up) pgeo
-                let pgeo = geo.trace() / 3.0;
-                let mut drho = 0.0;
-                let mut grad = SMatrix::<Real, D, D>::zeros();
-                let mut diff = Sym::ZERO;
-                for &j in &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize] {
-                    let j = j as usize;
-                    let rij = xi - p.pos[j];
-                    let r2 = rij.norm_squared();
-                    if r2 >= cut2 {
-                        continue;
+        .for_each(
+            |(c, (((((cl, drho_out), stress_out), eps_out), lg_out), el_out))| {
+                for k in 0..drho_out.len() {
+                    let i = c * CHUNK + k;
+                    let mi = &mats[p.material[i] as usize];
+                    let si = &src[i];
+                    let (half_inv_z, inv_ci) = si.reciprocals();
+                    let (xi, vi) = (p.pos[i], p.vel[i]);
+                    let rhoi = p.rho[i];
+                    let sig_i = stress_out[k];
+                    let geo = prm.geostatic[p.material[i] as usize].scale(prm.geostatic_scale);
+                    // geostatic pressure gradient along `up`: P^H_i − P^H_j = −(r_ij·up) pgeo
+                    let pgeo = geo.trace() / 3.0;
+                    let mut drho = 0.0;
+                    let mut grad = SMatrix::<Real, D, D>::zeros();
+                    let mut diff = Sym::ZERO;
+                    for &j in &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize] {
+                        let j = j as usize;
+                        let rij = xi - p.pos[j];
+                        let r2 = rij.norm_squared();
+                        if r2 >= cut2 {
+                            continue;
+                        }
+                        let (sj, vj) = (&src[j], p.vel[j]);
+                        let r = r2.sqrt();
+                        // one division for both 1/r and 1/(r² + 0.01h²) of Eq. (25)
+                        let den = r2 + reg;
+                        let inv = 1.0 / (r * den);
+                        let e = rij * (den * inv);
+                        let dwv = prm.kernel.dw(r) * sj.vol;
+                        let ul = -vi.dot(&e);
+                        let (inv_z, _) =
+                            pair_reciprocals(si.z, sj.z, si.c, sj.c, half_inv_z, inv_ci);
+                        // Eq. (19) with the pressure jump taken relative to the geostatic
+                        // state, as Eq. (26) does for the stress: P_j + (P^H_i − P^H_j). The
+                        // jump's term (P_L − P_R)/(Z_L + Z_R) is a pressure Laplacian; with
+                        // the raw jump it does not vanish at a free surface at rest, and
+                        // resting surface grains gained density without bound.
+                        let pj = sj.p - rij.dot(&prm.up) * pgeo;
+                        let ustar = Riemann::u_star(
+                            Side::new(si.z, ul, si.p),
+                            Side::new(sj.z, -vj.dot(&e), pj),
+                            inv_z,
+                        );
+                        // (v_i − v*)·e_ij = U* − U_L (U measured along −e_ij)
+                        drho += 2.0 * (ustar - ul) * dwv;
+                        let vij = vi - vj;
+                        grad -= vij * e.transpose() * dwv;
+                        if prm.zeta > 0.0 {
+                            // Ψ_ij of Eq. (26): σ_i − σ_j minus the geostatic gradient
+                            let mut psi = si.dev.sub(&sj.dev);
+                            let dp = sj.p - si.p;
+                            psi.0[0] += dp;
+                            psi.0[1] += dp;
+                            psi.0[2] += dp;
+                            psi.axpy(-rij.dot(&prm.up), &geo);
+                            diff.axpy(r * r * dwv * inv, &psi);
+                        }
                     }
-                    let (sj, vj) = (&src[j], p.vel[j]);
-                    let r = r2.sqrt();
-                    // one division for both 1/r and 1/(r² + 0.01h²) of Eq. (25)
-                    let den = r2 + reg;
-                    let inv = 1.0 / (r * den);
-                    let e = rij * (den * inv);
-                    let dwv = prm.kernel.dw(r) * sj.vol;
-                    let ul = -vi.dot(&e);
-                    let (inv_z, _) = pair_reciprocals(si.z, sj.z, si.c, sj.c, half_inv_z, inv_ci);
-                    // Eq. (19) with the pressure jump taken relative to the geostatic
-                    // state, as Eq. (26) does for the stress: P_j + (P^H_i − P^H_j). The
-                    // jump's term (P_L − P_R)/(Z_L + Z_R) is a pressure Laplacian; with
-                    // the raw jump it does not vanish at a free surface at rest, and
-                    // resting surface grains gained density without bound.
-                    let pj = sj.p - rij.dot(&prm.up) * pgeo;
-                    let ustar = Riemann::u_star(
-                        Side::new(si.z, ul, si.p),
-                        Side::new(sj.z, -vj.dot(&e), pj),
-                        inv_z,
-                    );
-                    // (v_i − v*)·e_ij = U* − U_L (U measured along −e_ij)
-                    drho += 2.0 * (ustar - ul) * dwv;
-                    let vij = vi - vj;
-                    grad -= vij * e.transpose() * dwv;
-                    if prm.zeta > 0.0 {
-                        // Ψ_ij of Eq. (26): σ_i − σ_j minus the geostatic gradient
-                        let mut psi = si.dev.sub(&sj.dev);
-                        let dp = sj.p - si.p;
-                        psi.0[0] += dp;
-                        psi.0[1] += dp;
-                        psi.0[2] += dp;
-                        psi.axpy(-rij.dot(&prm.up), &geo);
-                        diff.axpy(r * r * dwv * inv, &psi);
+                    let (w0, w1) = (cl.woff[k] as usize, cl.woff[k + 1] as usize);
+                    for &w in &cl.wall[w0..w1] {
+                        let w = w as usize;
+                        let rij = xi - walls.pos[w];
+                        let r2 = rij.norm_squared();
+                        if r2 >= cut2 || r2 == 0.0 {
+                            continue;
+                        }
+                        let r = r2.sqrt();
+                        let e = rij * (1.0 / r);
+                        let dwv = prm.kernel.dw(r) * vw;
+                        // Eqs. (32)–(34): U* = u_w, so only the mirrored velocity enters.
+                        // The hydrostatic jump of Eq. (35) is the geostatic state itself,
+                        // which the fine–fine term above subtracts too; it acts in the
+                        // momentum equation only (kept here, it made every grain resting on
+                        // a floor gain density exponentially).
+                        let rel = (vi - walls.velocity(w)) * 2.0;
+                        drho += rel.dot(&e) * dwv;
+                        grad -= rel * e.transpose() * dwv;
                     }
+                    // coarse grains: free-slip mirrors moving with v̄ (Eqs. 48, 60): only the
+                    // normal relative velocity is reflected (no coarse–fine friction here;
+                    // μ_cf acts in the momentum sweep)
+                    for &j in &cl.coarse[cl.coff[k] as usize..cl.coff[k + 1] as usize] {
+                        let cj = &coarse[j as usize];
+                        let rij = xi - cj.pos;
+                        let r2 = rij.norm_squared();
+                        if r2 >= cut2 || r2 == 0.0 {
+                            continue;
+                        }
+                        let r = r2.sqrt();
+                        let e = rij * (1.0 / r);
+                        let dwv = prm.kernel.dw(r) * cj.vol;
+                        let n = if cj.normal.norm_squared() > 0.0 {
+                            cj.normal
+                        } else {
+                            e
+                        };
+                        let rel = n * (2.0 * (vi - cj.vel).dot(&n));
+                        drho += rel.dot(&e) * dwv;
+                        grad -= rel * e.transpose() * dwv;
+                    }
+                    drho_out[k] = rhoi * drho;
+                    let mut l = Matrix3::<Real>::zeros();
+                    for a in 0..D {
+                        for b in 0..D {
+                            l[(a, b)] = grad[(a, b)];
+                        }
+                    }
+                    let d = diff.scale(2.0 * prm.zeta * h * mi.c0);
+                    let u = update_stress(mi, &l, &sig_i, &d, prm.dt);
+                    stress_out[k] = u.stress;
+                    eps_out[k] += u.plastic_strain;
+                    lg_out[k] = grad.cast::<f32>();
+                    el_out[k] = u.plastic_strain == 0.0;
                 }
-                let (w0, w1) = (cl.woff[k] as usize, cl.woff[k + 1] as usize);
-                for &w in &cl.wall[w0..w1] {
-                    let w = w as usize;
-                    let rij = xi - walls.pos[w];
-                    let r2 = rij.norm_squared();
-                    if r2 >= cut2 || r2 == 0.0 {
-                        continue;
-                    }
-                    let r = r2.sqrt();
-                    let e = rij * (1.0 / r);
-                    let dwv = prm.kernel.dw(r) * vw;
-                    // Eqs. (32)–(34): U* = u_w, so only the mirrored velocity enters.
-                    // The hydrostatic jump of Eq. (35) is the geostatic state itself,
-                    // which the fine–fine term above subtracts too; it acts in the
-                    // momentum equation only (kept here, it made every grain resting on
-                    // a floor gain density exponentially).
-                    let rel = (vi - walls.velocity(w)) * 2.0;
-                    drho += rel.dot(&e) * dwv;
-                    grad -= rel * e.transpose() * dwv;
-                }
-                // coarse grains: free-slip mirrors moving with v̄ (Eqs. 48, 60): only the
-                // normal relative velocity is reflected (no coarse–fine friction here;
-                // μ_cf acts in the momentum sweep)
-                for &j in &cl.coarse[cl.coff[k] as usize..cl.coff[k + 1] as usize] {
-                    let cj = &coarse[j as usize];
-                    let rij = xi - cj.pos;
-                    let r2 = rij.norm_squared();
-                    if r2 >= cut2 || r2 == 0.0 {
-                        continue;
-                    }
-                    let r = r2.sqrt();
-                    let e = rij * (1.0 / r);
-                    let dwv = prm.kernel.dw(r) * cj.vol;
-                    let n = if cj.normal.norm_squared() > 0.0 {
-                        cj.normal
-                    } else {
-                        e
-                    };
-                    let rel = n * (2.0 * (vi - cj.vel).dot(&n));
-                    drho += rel.dot(&e) * dwv;
-                    grad -= rel * e.transpose() * dwv;
-                }
-                drho_out[k] = rhoi * drho;
-                let mut l = Matrix3::<Real>::zeros();
-                for a in 0..D {
-                    for b in 0..D {
-                        l[(a, b)] = grad[(a, b)];
-                    }
-                }
-                let d = diff.scale(2.0 * prm.zeta * h * mi.c0);
-                let u = update_stress(mi, &l, &sig_i, &d, prm.dt);
-                stress_out[k] = u.stress;
-                eps_out[k] = p.plastic_strain[i] + u.plastic_strain;
-            }
-        });
+            },
+        );
 }

@@ -2,6 +2,7 @@
 
 pub mod artificial_stress;
 pub mod continuity;
+pub mod hourglass;
 pub mod material;
 pub mod momentum;
 pub mod plasticity;

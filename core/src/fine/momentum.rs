@@ -7,6 +7,7 @@
 //! (σ_w = σ_i, no-slip); P*_w solves the one-sided Riemann problem along the wall
 //! normal of Eq. (33). The reaction on barrier particles is summed per chunk.
 
+use super::hourglass::{non_affine, pair_weight};
 use super::riemann::{pair_reciprocals, Riemann, Side};
 use super::source::Source;
 use super::state::FineParticles;
@@ -15,7 +16,7 @@ use crate::kernel::WendlandC2;
 use crate::math::{to3, Real, Sym, Vect};
 use crate::neighbors::{NeighborLists, CHUNK};
 use crate::walls::Walls;
-use nalgebra::Vector3;
+use nalgebra::{SVector, Vector3};
 use rayon::prelude::*;
 
 /// Force and moment on a barrier (3D components; in 2D z-force is 0 and only the
@@ -43,7 +44,7 @@ pub struct ArtificialStress {
 }
 
 /// Inputs of the momentum sweep that are not particle arrays.
-pub struct MomentumParams<const D: usize> {
+pub struct MomentumParams<'a, const D: usize> {
     pub kernel: WendlandC2,
     pub riemann: Riemann,
     pub gravity: Vect<D>,
@@ -51,6 +52,8 @@ pub struct MomentumParams<const D: usize> {
     pub artificial: Option<ArtificialStress>,
     /// Coulomb coefficient of fine grains on walls (0: off).
     pub wall_friction: Real,
+    /// Per material: ξ G of the hourglass penalty (empty: off).
+    pub hourglass: &'a [Real],
 }
 
 /// Coarse grains seen by the fine sweep: their packed records, the coupling law, and
@@ -61,8 +64,9 @@ pub struct CoarseSide<'a, const D: usize> {
     pub reactions: &'a mut [Vec<(u32, Vect<D>)>],
 }
 
-/// Compute v_{n+1} into `vel_new` and per-chunk barrier loads into `loads`
-/// (`max(1, barriers)` slots per chunk).
+/// Compute v_{n+1} into `vel_new`, advance the accumulated hourglass acceleration in
+/// `hourglass` (in place; each particle reads only its own entry) and per-chunk barrier
+/// loads into `loads` (`max(1, barriers)` slots per chunk).
 #[allow(clippy::too_many_arguments)]
 pub fn momentum_sweep<const D: usize>(
     p: &FineParticles<D>,
@@ -70,8 +74,9 @@ pub fn momentum_sweep<const D: usize>(
     walls: &Walls<D>,
     lists: &NeighborLists,
     art: &[Sym],
-    prm: &MomentumParams<D>,
+    prm: &MomentumParams<'_, D>,
     vel_new: &mut [Vect<D>],
+    hourglass: &mut [SVector<f32, D>],
     loads: &mut [Load],
     coarse: CoarseSide<'_, D>,
 ) {
@@ -83,10 +88,11 @@ pub fn momentum_sweep<const D: usize>(
         .chunks
         .par_iter()
         .zip(vel_new.par_chunks_mut(CHUNK))
+        .zip(hourglass.par_chunks_mut(CHUNK))
         .zip(loads.par_chunks_mut(nbs))
         .zip(coarse.reactions.par_iter_mut())
         .enumerate()
-        .for_each(|(c, (((cl, vout), lout), react))| {
+        .for_each(|(c, ((((cl, vout), hout), lout), react))| {
             for l in lout.iter_mut() {
                 *l = Load::default();
             }
@@ -100,6 +106,17 @@ pub fn momentum_sweep<const D: usize>(
                 let inv_rho2 = 2.0 / rhoi;
                 let left = |u: Real| Side::new(si.z, u, si.p);
                 let mut acc = Vect::<D>::zeros();
+                // hourglass penalty: ξ G_i of an elastic particle (0: off or yielded)
+                let gi = if p.elastic[i] {
+                    prm.hourglass
+                        .get(p.material[i] as usize)
+                        .copied()
+                        .unwrap_or(0.0)
+                } else {
+                    0.0
+                };
+                let li = &p.vel_grad[i];
+                let mut dhg = Vect::<D>::zeros();
                 for &j in &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize] {
                     let j = j as usize;
                     let rij = xi - p.pos[j];
@@ -129,6 +146,12 @@ pub fn momentum_sweep<const D: usize>(
                         sstar.axpy(0.5 * f, &art[i].add(&art[j]));
                     }
                     acc += sstar.dot_vec(&e) * (inv_rho2 * dw * sj.vol);
+                    if gi > 0.0 {
+                        let gj = prm.hourglass[p.material[j] as usize];
+                        let s = pair_weight(true, p.elastic[j]) * 0.5 * (gi + gj);
+                        let vc = non_affine(&(vi - vj), &rij, li, &p.vel_grad[j]);
+                        dhg += vc * (s * dw / r * sj.vol);
+                    }
                 }
                 let (w0, w1) = (cl.woff[k] as usize, cl.woff[k + 1] as usize);
                 if w1 > w0 {
@@ -211,6 +234,14 @@ pub fn momentum_sweep<const D: usize>(
                         }
                     }
                 }
+                // Δa_i = Δt/ρ_i Σ_j ..., accumulated; a yielded particle drops it
+                let hg = &mut hout[k];
+                *hg = if gi > 0.0 {
+                    *hg + (dhg * (prm.dt / rhoi)).cast::<f32>()
+                } else {
+                    SVector::zeros()
+                };
+                acc += hg.cast::<Real>();
                 *vo = vi + (acc + prm.gravity) * prm.dt;
             }
         });

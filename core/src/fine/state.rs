@@ -1,6 +1,7 @@
 //! Fine-grain particle state: structure of arrays.
 
 use crate::math::{Real, Sym, Vect};
+use nalgebra::{SMatrix, SVector};
 
 /// Updated-Lagrangian SPH particles of the fine grains.
 #[derive(Clone, Debug, Default)]
@@ -19,6 +20,13 @@ pub struct FineParticles<const D: usize> {
     pub material: Vec<u16>,
     /// Stable id (the particle's index at creation), kept through re-sorting.
     pub id: Vec<u32>,
+    /// Velocity gradient L of Eq. (24) from the last continuity sweep (single
+    /// precision: it only enters the hourglass penalty).
+    pub vel_grad: Vec<SMatrix<f32, D, D>>,
+    /// Accumulated hourglass acceleration (see [`hourglass`](super::hourglass)).
+    pub hourglass: Vec<SVector<f32, D>>,
+    /// Whether the last stress update stayed elastic (no return mapping).
+    pub elastic: Vec<bool>,
 }
 
 impl<const D: usize> FineParticles<D> {
@@ -47,6 +55,25 @@ impl<const D: usize> FineParticles<D> {
         self.plastic_strain.push(0.0);
         self.mass.push(mass);
         self.material.push(material);
+        self.vel_grad.push(SMatrix::zeros());
+        self.hourglass.push(SVector::zeros());
+        self.elastic.push(true);
+    }
+
+    /// Release the spare capacity left by filling the arrays one particle at a time.
+    pub fn shrink_to_fit(&mut self) {
+        self.pos.shrink_to_fit();
+        self.vel.shrink_to_fit();
+        self.rho.shrink_to_fit();
+        self.drho.shrink_to_fit();
+        self.stress.shrink_to_fit();
+        self.plastic_strain.shrink_to_fit();
+        self.mass.shrink_to_fit();
+        self.material.shrink_to_fit();
+        self.id.shrink_to_fit();
+        self.vel_grad.shrink_to_fit();
+        self.hourglass.shrink_to_fit();
+        self.elastic.shrink_to_fit();
     }
 
     /// Bytes held by the particle arrays.
@@ -62,6 +89,9 @@ impl<const D: usize> FineParticles<D> {
             + self.stress.capacity() * size_of::<Sym>()
             + self.material.capacity() * 2
             + self.id.capacity() * 4
+            + self.vel_grad.capacity() * size_of::<SMatrix<f32, D, D>>()
+            + self.hourglass.capacity() * size_of::<SVector<f32, D>>()
+            + self.elastic.capacity()
     }
 
     /// Reorder every array by `order` (new index k holds old particle order[k]), in
@@ -79,6 +109,9 @@ impl<const D: usize> FineParticles<D> {
         cycle_apply(&mut self.stress, order, done);
         cycle_apply(&mut self.material, order, done);
         cycle_apply(&mut self.id, order, done);
+        cycle_apply(&mut self.vel_grad, order, done);
+        cycle_apply(&mut self.hourglass, order, done);
+        cycle_apply(&mut self.elastic, order, done);
     }
 }
 

@@ -73,6 +73,10 @@ pub struct SimulationSpec {
     /// Earliest time (s) at which the settle criterion may stop the run. Default 0.
     #[serde(default)]
     pub settle_min_time: f64,
+    /// Gravity rises smoothly from 0 to its full value over this time (s),
+    /// g(t) = g ½(1 − cos(π t/T)), to build a resting state quasi-statically. 0: off.
+    #[serde(default)]
+    pub gravity_ramp: f64,
     /// The kinetic energy must stay below `settle_ratio` × peak over this long (s)
     /// before the run counts as settled. Default 0.1 s.
     #[serde(default = "default_settle_window")]
@@ -128,6 +132,10 @@ pub struct NumericsSpec {
     /// Stress-diffusion coefficient ζ of Eq. (25). Default 0.1; 0 switches it off.
     #[serde(default = "default_zeta")]
     pub stress_diffusion: f64,
+    /// ξ of the accumulated hourglass penalty (stiffness ξ G on the non-affine
+    /// displacement of elastic particles). Default 0.1; 0 gives seed 000's scheme.
+    #[serde(default = "default_hourglass")]
+    pub hourglass: f64,
     /// Smoothing length over particle spacing, h/dp. Default 1.3.
     #[serde(default = "default_h_ratio")]
     pub smoothing_ratio: f64,
@@ -154,6 +162,7 @@ impl Default for NumericsSpec {
         NumericsSpec {
             eta: None,
             stress_diffusion: default_zeta(),
+            hourglass: default_hourglass(),
             smoothing_ratio: default_h_ratio(),
             artificial_stress_exponent: default_as_n(),
             artificial_stress_epsilon: default_as_eps(),
@@ -165,6 +174,9 @@ impl Default for NumericsSpec {
 }
 
 fn default_zeta() -> f64 {
+    0.1
+}
+fn default_hourglass() -> f64 {
     0.1
 }
 fn default_h_ratio() -> f64 {

@@ -242,6 +242,9 @@ pub fn validate(s: &Scene) -> Check {
     if sim.settle_min_time.is_nan() || sim.settle_min_time < 0.0 {
         return fail("simulation.settle_min_time", "must be ≥ 0");
     }
+    if !(sim.gravity_ramp >= 0.0 && sim.gravity_ramp.is_finite()) {
+        return fail("simulation.gravity_ramp", "must be ≥ 0 (seconds)");
+    }
 
     let n = &s.numerics;
     if let Some(eta) = n.eta {
@@ -251,6 +254,9 @@ pub fn validate(s: &Scene) -> Check {
     }
     if !(n.stress_diffusion >= 0.0 && n.stress_diffusion.is_finite()) {
         return fail("numerics.stress_diffusion", "must be ≥ 0");
+    }
+    if !(n.hourglass >= 0.0 && n.hourglass.is_finite()) {
+        return fail("numerics.hourglass", "must be ≥ 0");
     }
     if !(n.smoothing_ratio >= 1.0 && n.smoothing_ratio <= 2.0) {
         return fail(
