@@ -175,4 +175,53 @@ mod tests {
         let wrong = sand(25.0, 0.0).alpha_phi * 3.0e5;
         assert!((s.j2().sqrt() / wrong - 1.0).abs() > 0.1);
     }
+
+    /// Lateral earth pressure of a plane-strain element under a fixed vertical stress:
+    /// stretched sideways (a barrier moving away) it reaches the active limit, squeezed
+    /// (a barrier pushed in) the passive limit. The plane-strain Drucker–Prager fit of
+    /// Eq. (6) is built to reproduce Mohr–Coulomb in plane strain, so the limits land
+    /// near Rankine's K_a = (1 − sin φ)/(1 + sin φ) and K_p = 1/K_a (φ = 30°: 1/3 and 3);
+    /// with ψ = 0 instead of the associated ψ = φ they differ by about 5 %.
+    fn lateral_limit(m: &FineMaterial, rate: Real) -> Real {
+        let sv = -1.0e3;
+        let nu = 0.3;
+        let k_start = 0.43; // ν/(1 − ν), an elastic oedometric state
+        let mut s = Sym([k_start * sv, sv, nu * (1.0 + k_start) * sv, 0.0, 0.0, 0.0]);
+        let dt = 1.0;
+        for _ in 0..3000 {
+            // the vertical strain rate that keeps σ_yy = σ_v (σ_yy is affine in it)
+            let probe = |eyy: Real| {
+                let mut l = Matrix3::zeros();
+                l[(0, 0)] = rate;
+                l[(1, 1)] = eyy;
+                update_stress(m, &l, &s, &Sym::ZERO, dt)
+            };
+            let (f0, f1) = (probe(0.0).stress.0[1] - sv, probe(1e-6).stress.0[1] - sv);
+            let eyy = -f0 * 1e-6 / (f1 - f0);
+            s = probe(eyy).stress;
+        }
+        s.0[0] / s.0[1]
+    }
+
+    #[test]
+    fn active_and_passive_earth_pressure() {
+        let rankine = |phi: Real| {
+            let sn = phi.to_radians().sin();
+            (1.0 - sn) / (1.0 + sn)
+        };
+        let m = sand(30.0, 0.0);
+        let ka = lateral_limit(&m, 1e-6);
+        let kp = lateral_limit(&m, -1e-6);
+        let (ka_ref, kp_ref) = (rankine(30.0), 1.0 / rankine(30.0));
+        assert!(
+            (ka / ka_ref - 1.0).abs() < 0.06,
+            "K_a = {ka} vs Rankine {ka_ref}"
+        );
+        assert!(
+            (kp / kp_ref - 1.0).abs() < 0.06,
+            "K_p = {kp} vs Rankine {kp_ref}"
+        );
+        // the check sees a wrong friction angle
+        assert!((lateral_limit(&sand(25.0, 0.0), 1e-6) / ka_ref - 1.0).abs() > 0.15);
+    }
 }
