@@ -128,19 +128,21 @@ impl Coupling {
         if an < 0.0 {
             a -= n * an;
         }
-        // penetration barrier: a fine particle whose centre has crossed the body's
-        // surface in front of surface particle j (within half a spacing of j's normal
-        // line, normal distance below j's depth) is pushed back out by a spring of
-        // frequency c0/dp, weighted by W_ij V_j. Inactive whenever the interface
-        // holds; it stops a fine particle from being trapped inside a boulder.
-        if c.depth < self.dp {
-            let along = rij.dot(&n);
-            let gap = along - c.depth;
-            let lateral2 = r2 - along * along;
-            if gap < 0.0 && lateral2 < 0.25 * self.dp * self.dp {
-                let w = self.kernel.w(r) * c.vol;
-                a -= n * (f.c2 / (self.dp * self.dp) * gap * w);
-            }
+        // penetration barrier (not in seed 000): coarse particle j, at depth d_j below
+        // the body surface, is a ball of radius R_j = (d_j² + dp²/4)^½. The ball of
+        // radius d_j lies inside the body, so a fine particle outside it penetrates
+        // R_j by at most R_j − d_j ≤ dp/2, and one at its rest distance (d_j + dp/2
+        // along the normal) is untouched; on a flat face the balls of the surface
+        // layer meet at the surface midway between particles. Inside a ball the fine
+        // particle is pushed out radially by a spring of frequency c0/dp weighted by
+        // W_ij V_j. The push is continuous in position, at corners and tips too, and
+        // inactive while the interface holds. It stops a fine particle in tension
+        // (which the no-tension interface does not hold back) from being pressed into
+        // a boulder by its neighbours, and pushes out one that got in.
+        let radius2 = c.depth * c.depth + 0.25 * self.dp * self.dp;
+        if r2 < radius2 {
+            let w = self.kernel.w(r) * c.vol;
+            a += e * (f.c2 / (self.dp * self.dp) * (radius2.sqrt() - r) * w);
         }
         if self.mu_cf > 0.0 && n.norm_squared() > 0.0 {
             let an = a.dot(&n);

@@ -156,7 +156,13 @@ pub fn continuity_sweep<const D: usize>(
                     }
                     // coarse grains: free-slip mirrors moving with v̄ (Eqs. 48, 60): only the
                     // normal relative velocity is reflected (no coarse–fine friction here;
-                    // μ_cf acts in the momentum sweep)
+                    // μ_cf acts in the momentum sweep). The mirror plane is the coarse
+                    // particle's tangent plane, which holds for a fine particle in front of
+                    // it (n_j·e_ij > 0); one beside or behind it (at a corner or tip of a
+                    // body resolved by few particles) is reflected along e_ij instead, as
+                    // by an interior particle. Reflected across n_j, such a particle would
+                    // be compressed while it moves away from the body (n_j·e_ij < 0 flips
+                    // the sign of the approach rate).
                     for &j in &cl.coarse[cl.coff[k] as usize..cl.coff[k + 1] as usize] {
                         let cj = &coarse[j as usize];
                         let rij = xi - cj.pos;
@@ -167,7 +173,7 @@ pub fn continuity_sweep<const D: usize>(
                         let r = r2.sqrt();
                         let e = rij * (1.0 / r);
                         let dwv = prm.kernel.dw(r) * cj.vol;
-                        let n = if cj.normal.norm_squared() > 0.0 {
+                        let n = if cj.normal.dot(&e) > 0.0 {
                             cj.normal
                         } else {
                             e
