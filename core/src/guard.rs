@@ -38,6 +38,9 @@ impl fmt::Display for Blowup {
         )?;
         if let Some(l) = self.limit {
             write!(f, " exceeds the bound simulation.max_speed = {l} m/s")?;
+        } else if self.value.is_finite() {
+            // a finite value only fails the guard for being ≤ 0 (density)
+            write!(f, " is not positive")?;
         } else {
             write!(f, " is not finite")?;
         }

@@ -13,7 +13,7 @@ use crate::guard::{Blowup, ChunkFailure};
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Sym, Vect};
 use crate::neighbors::{Binned, CellGrid, NeighborLists, CHUNK};
-use crate::scene::{Scene, TimeStepping};
+use crate::scene::{ContinuityJump, Scene, TimeStepping};
 use crate::timers::{Stage, StageTimers};
 use crate::world::{geostatic_tensor, World};
 use rayon::prelude::*;
@@ -45,6 +45,8 @@ pub struct StepParams {
     pub wall_friction: Real,
     /// Multi-rate (κ coarse sub-steps per fine step) or single-rate.
     pub scheme: TimeStepping,
+    /// Pressure of the continuity equation's jump term.
+    pub continuity_jump: ContinuityJump,
 }
 
 impl StepParams {
@@ -66,6 +68,7 @@ impl StepParams {
             mu_cf: s.contact.mu_cf,
             wall_friction: n.wall_friction,
             scheme: s.simulation.time_stepping,
+            continuity_jump: n.continuity_jump,
         }
     }
 }
@@ -487,6 +490,7 @@ impl<const D: usize> Stepper<D> {
             geostatic: &self.geostatic,
             geostatic_scale: self.g_scale,
             up: self.up,
+            jump: self.params.continuity_jump,
         };
         // advanced in place: the sweep reads none of these of a neighbour (the
         // neighbours' stress comes from the packed sources)

@@ -1,7 +1,7 @@
 //! VALIDATION.md §3: 2D column collapse (plane strain).
 //! Run-out against Lube et al. (2005), (L∞ − L0)/L0 ≈ 1.2 a (±15 %), for a material in
 //! the range of Lube's (φ = 30°); deposit height = H0 for a = 0.5; no numerical
-//! energy gain after release.
+//! energy gain after release; the density of the non-dilatant soil stays at ρ0.
 
 use granmix_tests::{rel, run};
 
@@ -36,6 +36,18 @@ fn collapse_2d_runout_height_and_energy() {
     assert!(
         (top - 0.1).abs() <= 0.004,
         "deposit height at the wall {top:.4} m"
+    );
+
+    // ψ = 0: plastic flow is isochoric and the elastic compression is p/K < 1e-3 here,
+    // so the deposit keeps the density it started with, ρ0 = 2040 kg/m³ (with the
+    // stress's jump in continuity, seed 000's, it spans 0.62–1.21 ρ0 at the end).
+    let (lo, hi) = frame
+        .density
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(a, b), &r| (a.min(r), b.max(r)));
+    assert!(
+        lo >= 0.98 * 2040.0 && hi <= 1.02 * 2040.0,
+        "deposit density spans {lo:.0}–{hi:.0} kg/m³ (ρ0 = 2040)"
     );
 
     // Total mechanical energy (kinetic + potential) never grows beyond round-off of the

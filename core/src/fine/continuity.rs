@@ -5,7 +5,8 @@
 //! ∇v_i    = −Σ_j (v_i − v_j) ⊗ ∇_i W_ij V_j                Eq. (24) (sign so that a
 //!           linear field v = A x gives ∇v = A with ∇_i W = W' e_ij, e_ij from j to i)
 //! D_i     = 2ζ h c0 Σ_j Ψ_ij (r_ij·∇_i W_ij)/(r² + 0.01h²) V_j      Eqs. (25)–(26)
-//! v* takes the pressure jump relative to the geostatic state (see the pair loop).
+//! The pressure jump of v* is taken from density by default, K (ρ/ρ0 − 1), or from the
+//! stress relative to the geostatic state (`numerics.continuity_jump`; see the pair loop).
 //! Walls are no-slip mirrors, v_w,dummy = 2 v_wall − v_i; the wall pressure of Eq. (35)
 //! acts in the momentum equation only.
 
@@ -18,6 +19,7 @@ use crate::coarse::coupling::CoarseSource;
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Sym, Vect};
 use crate::neighbors::{NeighborLists, CHUNK};
+use crate::scene::ContinuityJump;
 use crate::walls::Walls;
 use nalgebra::{Matrix3, SMatrix};
 use rayon::prelude::*;
@@ -35,6 +37,8 @@ pub struct ContinuityParams<'a, const D: usize> {
     pub geostatic_scale: Real,
     /// Unit vector opposite to gravity (zero without gravity).
     pub up: Vect<D>,
+    /// Pressure of the jump term of Eq. (19).
+    pub jump: ContinuityJump,
 }
 
 /// Output buffers of the sweep.
@@ -88,6 +92,12 @@ pub fn continuity_sweep<const D: usize>(
                     let geo = prm.geostatic[p.material[i] as usize].scale(prm.geostatic_scale);
                     // geostatic pressure gradient along `up`: P^H_i − P^H_j = −(r_ij·up) pgeo
                     let pgeo = geo.trace() / 3.0;
+                    let by_density = prm.jump == ContinuityJump::Density;
+                    let pi = if by_density {
+                        mi.bulk * (rhoi / mi.rho0 - 1.0)
+                    } else {
+                        si.p
+                    };
                     let mut drho = 0.0;
                     let mut grad = SMatrix::<Real, D, D>::zeros();
                     let mut diff = Sym::ZERO;
@@ -108,14 +118,24 @@ pub fn continuity_sweep<const D: usize>(
                         let ul = -vi.dot(&e);
                         let (inv_z, _) =
                             pair_reciprocals(si.z, sj.z, si.c, sj.c, half_inv_z, inv_ci);
-                        // Eq. (19) with the pressure jump taken relative to the geostatic
-                        // state, as Eq. (26) does for the stress: P_j + (P^H_i − P^H_j). The
-                        // jump's term (P_L − P_R)/(Z_L + Z_R) is a pressure Laplacian; with
-                        // the raw jump it does not vanish at a free surface at rest, and
-                        // resting surface grains gained density without bound.
-                        let pj = sj.p - rij.dot(&prm.up) * pgeo;
+                        // The jump P_L − P_R of Eq. (19) acts here as a pressure Laplacian.
+                        // granmix integrates the pressure from the stress, not from the
+                        // density, so with the stress's jump (seed 000) nothing feeds a
+                        // density change back: where the Laplacian does not vanish at rest
+                        // (a free surface, a floor, a deposit off the geostatic state) the
+                        // density drifts for as long as the run lasts. From the density,
+                        // K (ρ/ρ0 − 1), the jump diffuses density towards uniform and
+                        // vanishes in a uniform deposit at rest. The stress's jump is
+                        // taken relative to the geostatic state, as Eq. (26) does for the
+                        // stress: P_j + (P^H_i − P^H_j).
+                        let pj = if by_density {
+                            let mj = &mats[p.material[j] as usize];
+                            mj.bulk * (p.rho[j] / mj.rho0 - 1.0)
+                        } else {
+                            sj.p - rij.dot(&prm.up) * pgeo
+                        };
                         let ustar = Riemann::u_star(
-                            Side::new(si.z, ul, si.p),
+                            Side::new(si.z, ul, pi),
                             Side::new(sj.z, -vj.dot(&e), pj),
                             inv_z,
                         );

@@ -155,6 +155,23 @@ pub struct NumericsSpec {
     /// tangential wall force by μ_w times the normal one. Default 0 (seed 000's walls).
     #[serde(default)]
     pub wall_friction: f64,
+    /// Pressure in the jump term of Eq. (19) as the continuity equation uses it.
+    #[serde(default)]
+    pub continuity_jump: ContinuityJump,
+}
+
+/// Which pressure enters the jump (P_L − P_R) of Eq. (19) in the continuity equation
+/// (the momentum equation always uses the stress).
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum ContinuityJump {
+    /// K (ρ/ρ0 − 1), from the particle's own density: the jump diffuses density
+    /// towards uniform and vanishes in a uniform deposit at rest.
+    #[default]
+    Density,
+    /// −tr(σ)/3 relative to the geostatic state (seed 000's Eq. 21 with the
+    /// correction of Eq. 26).
+    Stress,
 }
 
 impl Default for NumericsSpec {
@@ -169,6 +186,7 @@ impl Default for NumericsSpec {
             neighbor_skin: default_skin(),
             wall_layers: default_layers(),
             wall_friction: 0.0,
+            continuity_jump: ContinuityJump::default(),
         }
     }
 }
