@@ -133,6 +133,8 @@ pub struct Stepper<const D: usize> {
     geostatic: Vec<Sym>,
     /// Per material: ξ G of the hourglass penalty (empty: off).
     hourglass: Vec<Real>,
+    /// Per material: the grain–boulder interface carries tension (c > 0).
+    tension: Vec<bool>,
     /// The scene's full gravity, and the ramp factor of the current step.
     g_full: Vect<D>,
     g_scale: Real,
@@ -173,6 +175,7 @@ impl<const D: usize> Stepper<D> {
         } else {
             Vec::new()
         };
+        let tension = world.materials.iter().map(|m| m.cohesion > 0.0).collect();
         let cell = kernel.cutoff + params.skin;
         let mut skipped = Vec::new();
         if params.artificial.is_none() {
@@ -233,6 +236,7 @@ impl<const D: usize> Stepper<D> {
             order: Vec::new(),
             geostatic,
             hourglass,
+            tension,
             g_full: world.gravity,
             g_scale: 1.0,
             up,
@@ -442,6 +446,7 @@ impl<const D: usize> Stepper<D> {
             artificial,
             wall_friction: self.params.wall_friction,
             hourglass: &self.hourglass,
+            tension: &self.tension,
         };
         // updated in place: a particle reads only its own accumulated penalty
         let mut hourglass = std::mem::take(&mut world.fine.hourglass);

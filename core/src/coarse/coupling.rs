@@ -9,10 +9,12 @@
 //! μ_cf acts against the tangential slip, bounded by μ_cf times the normal part.
 //! The coarse particle receives exactly −m_i a_ij (Eq. 50 with σ_i^c = σ_j^f), so the
 //! momentum exchanged over each fine step balances to round-off.
-//! The interface carries no tension, for any soil: an attractive normal part of a_ij
-//! (a separating fine particle pulled by P*_diss, or by its own tensile stress) is
-//! dropped. Soil–rock contact is frictional (μ_cf) without adhesion, as the contacts of
-//! the MPM–DEM of seed 004; cohesion acts within the soil.
+//! A cohesionless soil's interface carries no tension: an attractive normal part of
+//! a_ij (a separating fine particle pulled by P*_diss, or by a tensile stress) is
+//! dropped, and the contact is frictional (μ_cf) without adhesion, as the contacts of
+//! the MPM–DEM of seed 004. A cohesive soil (c > 0) is bonded to the boulders as
+//! Eq. (48) has it: the mirrored stress σ_i carries the soil's tension, bounded by its
+//! own Drucker–Prager surface, so the interface is as strong as the soil.
 
 use super::body::Body;
 use super::material::SolidMaterial;
@@ -79,6 +81,8 @@ pub struct FineSide<'a, const D: usize> {
     pub inv_c: Real,
     /// c0² of the fine material (penetration barrier).
     pub c2: Real,
+    /// The interface carries the soil's tension (cohesive soil).
+    pub tension: bool,
 }
 
 /// Coupling settings.
@@ -122,10 +126,11 @@ impl Coupling {
         let p_diss = beta * zeff * w;
         let k = 2.0 / f.rho * dwv;
         let mut a = (f.stress.dot_vec(&e) - n * p_diss) * k;
-        // the grain–boulder interface carries no tension: an attractive normal part
-        // (a separating fine particle, or one in tension) is dropped
+        // a cohesionless soil's interface carries no tension: an attractive normal
+        // part (a separating fine particle, or one in tension) is dropped; a cohesive
+        // soil keeps Eq. (48) whole
         let an = a.dot(&n);
-        if an < 0.0 {
+        if an < 0.0 && !f.tension {
             a -= n * an;
         }
         // penetration barrier (not in seed 000): coarse particle j, at depth d_j below

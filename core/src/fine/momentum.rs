@@ -54,6 +54,9 @@ pub struct MomentumParams<'a, const D: usize> {
     pub wall_friction: Real,
     /// Per material: ξ G of the hourglass penalty (empty: off).
     pub hourglass: &'a [Real],
+    /// Per material: whether the grain–boulder interface carries the soil's tension
+    /// (cohesive soils, c > 0).
+    pub tension: &'a [bool],
 }
 
 /// Coarse grains seen by the fine sweep: their packed records, the coupling law, and
@@ -225,6 +228,7 @@ pub fn momentum_sweep<const D: usize>(
                         z: si.z,
                         inv_c: inv_ci,
                         c2: si.c * si.c,
+                        tension: prm.tension[p.material[i] as usize],
                     };
                     let share = 1.0 / (c1 - c0) as Real;
                     for &j in &cl.coarse[c0..c1] {
