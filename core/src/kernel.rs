@@ -12,6 +12,8 @@ pub struct WendlandC2 {
     pub h: Real,
     inv_h: Real,
     alpha: Real,
+    /// −5 α_d / h, the constant factor of ∂W/∂r.
+    dw_coef: Real,
     /// Cut-off radius 2h.
     pub cutoff: Real,
 }
@@ -27,6 +29,7 @@ impl WendlandC2 {
             h,
             inv_h: 1.0 / h,
             alpha,
+            dw_coef: -5.0 * alpha * (1.0 / h),
             cutoff: 2.0 * h,
         }
     }
@@ -51,7 +54,15 @@ impl WendlandC2 {
             return 0.0;
         }
         let t = 1.0 - 0.5 * q;
-        -5.0 * self.alpha * self.inv_h * q * t * t * t
+        self.dw_coef * q * t * t * t
+    }
+
+    /// ∂W/∂r for r already known to lie within the cut-off (the sweeps test r² first).
+    #[inline(always)]
+    pub fn dw_within(&self, r: Real) -> Real {
+        let q = r * self.inv_h;
+        let t = 1.0 - 0.5 * q;
+        self.dw_coef * q * t * t * t
     }
 }
 

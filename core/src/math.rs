@@ -102,6 +102,15 @@ impl Sym {
             self.0[c] += k * o.0[c];
         }
     }
+    /// [`axpy`](Self::axpy) on the components a `D`-dimensional state can hold: in
+    /// plane strain (D = 2) σ_xz = σ_yz = 0 throughout, so those two are skipped.
+    #[inline(always)]
+    pub fn axpy_in<const D: usize>(&mut self, k: Real, o: &Sym) {
+        let m = if D == 2 { 4 } else { 6 };
+        for c in 0..m {
+            self.0[c] += k * o.0[c];
+        }
+    }
     /// Tensor–vector product σ·e for the first `D` components (2D: in-plane block).
     #[inline(always)]
     pub fn dot_vec<const D: usize>(&self, e: &Vect<D>) -> Vect<D> {

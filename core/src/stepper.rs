@@ -6,7 +6,7 @@ use crate::coarse::stepper::CoarseStepper;
 use crate::fine::artificial_stress::gray2001_artificial_stress;
 use crate::fine::continuity::{continuity_sweep, ContinuityOut, ContinuityParams};
 use crate::fine::momentum::{momentum_sweep, ArtificialStress, CoarseSide, Load, MomentumParams};
-use crate::fine::riemann::Riemann;
+use crate::fine::riemann::{uniform_acoustics, Riemann};
 use crate::fine::source::{drift_and_pack, pack, Source};
 use crate::fine::state::PermuteScratch;
 use crate::guard::{Blowup, ChunkFailure};
@@ -447,6 +447,8 @@ impl<const D: usize> Stepper<D> {
             wall_friction: self.params.wall_friction,
             hourglass: &self.hourglass,
             tension: &self.tension,
+            materials: &world.materials,
+            uniform: uniform_acoustics(&world.materials),
         };
         // updated in place: a particle reads only its own accumulated penalty
         let mut hourglass = std::mem::take(&mut world.fine.hourglass);
@@ -496,6 +498,7 @@ impl<const D: usize> Stepper<D> {
             geostatic_scale: self.g_scale,
             up: self.up,
             jump: self.params.continuity_jump,
+            uniform: uniform_acoustics(&world.materials),
         };
         // advanced in place: the sweep reads none of these of a neighbour (the
         // neighbours' stress comes from the packed sources)

@@ -39,6 +39,9 @@ pub struct ContinuityParams<'a, const D: usize> {
     pub up: Vect<D>,
     /// Pressure of the jump term of Eq. (19).
     pub jump: ContinuityJump,
+    /// All materials share one impedance and sound speed
+    /// ([`uniform_acoustics`](super::riemann::uniform_acoustics)).
+    pub uniform: bool,
 }
 
 /// Output buffers of the sweep.
@@ -70,6 +73,9 @@ pub fn continuity_sweep<const D: usize>(
     let h = prm.kernel.h;
     let reg = 0.01 * h * h;
     let vw = walls.volume;
+    // neighbour arrays of one length, so that a neighbour index is bounds-checked once
+    let n = p.len();
+    let (pos, vel, src, material) = (&p.pos[..n], &p.vel[..n], &src[..n], &p.material[..n]);
     lists
         .chunks
         .par_iter()
@@ -85,7 +91,7 @@ pub fn continuity_sweep<const D: usize>(
                     let i = c * CHUNK + k;
                     let mi = &mats[p.material[i] as usize];
                     let si = &src[i];
-                    let (half_inv_z, inv_ci) = si.reciprocals();
+                    let (half_inv_z, inv_ci) = si.reciprocals(mi.c0);
                     let (xi, vi) = (p.pos[i], p.vel[i]);
                     let rhoi = p.rho[i];
                     let sig_i = stress_out[k];
@@ -93,31 +99,27 @@ pub fn continuity_sweep<const D: usize>(
                     // geostatic pressure gradient along `up`: P^H_i − P^H_j = −(r_ij·up) pgeo
                     let pgeo = geo.trace() / 3.0;
                     let by_density = prm.jump == ContinuityJump::Density;
-                    let pi = if by_density {
-                        mi.bulk * (rhoi / mi.rho0 - 1.0)
-                    } else {
-                        si.p
-                    };
+                    let pi = if by_density { si.p_rho } else { si.p };
                     let mut drho = 0.0;
                     let mut grad = SMatrix::<Real, D, D>::zeros();
-                    let mut diff = Sym::ZERO;
+                    // Eq. (26) as sums: Σ_j w_ij Ψ_ij = σ_i Σw − Σ w σ_j − geo Σ w (r_ij·up)
+                    let (mut w_sum, mut wz_sum, mut wp_sum) = (0.0, 0.0, 0.0);
+                    let mut wdev_sum = Sym::ZERO;
                     for &j in &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize] {
                         let j = j as usize;
-                        let rij = xi - p.pos[j];
+                        let rij = xi - pos[j];
                         let r2 = rij.norm_squared();
                         if r2 >= cut2 {
                             continue;
                         }
-                        let (sj, vj) = (&src[j], p.vel[j]);
+                        let (sj, vj) = (&src[j], vel[j]);
                         let r = r2.sqrt();
                         // one division for both 1/r and 1/(r² + 0.01h²) of Eq. (25)
                         let den = r2 + reg;
                         let inv = 1.0 / (r * den);
                         let e = rij * (den * inv);
-                        let dwv = prm.kernel.dw(r) * sj.vol;
-                        let ul = -vi.dot(&e);
-                        let (inv_z, _) =
-                            pair_reciprocals(si.z, sj.z, si.c, sj.c, half_inv_z, inv_ci);
+                        let dwv = prm.kernel.dw_within(r) * sj.vol;
+                        let (ul, ur) = (-vi.dot(&e), -vj.dot(&e));
                         // The jump P_L − P_R of Eq. (19) acts here as a pressure Laplacian.
                         // granmix integrates the pressure from the stress, not from the
                         // density, so with the stress's jump (seed 000) nothing feeds a
@@ -129,31 +131,38 @@ pub fn continuity_sweep<const D: usize>(
                         // taken relative to the geostatic state, as Eq. (26) does for the
                         // stress: P_j + (P^H_i − P^H_j).
                         let pj = if by_density {
-                            let mj = &mats[p.material[j] as usize];
-                            mj.bulk * (p.rho[j] / mj.rho0 - 1.0)
+                            sj.p_rho
                         } else {
                             sj.p - rij.dot(&prm.up) * pgeo
                         };
-                        let ustar = Riemann::u_star(
-                            Side::new(si.z, ul, pi),
-                            Side::new(sj.z, -vj.dot(&e), pj),
-                            inv_z,
-                        );
+                        let ustar = if prm.uniform {
+                            Riemann::u_star_uniform(ul, ur, pi, pj, half_inv_z)
+                        } else {
+                            let cj = mats[material[j] as usize].c0;
+                            let (inv_z, _) =
+                                pair_reciprocals(si.z, sj.z, mi.c0, cj, half_inv_z, inv_ci);
+                            Riemann::u_star(Side::new(si.z, ul, pi), Side::new(sj.z, ur, pj), inv_z)
+                        };
                         // (v_i − v*)·e_ij = U* − U_L (U measured along −e_ij)
                         drho += 2.0 * (ustar - ul) * dwv;
                         let vij = vi - vj;
                         grad -= vij * e.transpose() * dwv;
                         if prm.zeta > 0.0 {
-                            // Ψ_ij of Eq. (26): σ_i − σ_j minus the geostatic gradient
-                            let mut psi = si.dev.sub(&sj.dev);
-                            let dp = sj.p - si.p;
-                            psi.0[0] += dp;
-                            psi.0[1] += dp;
-                            psi.0[2] += dp;
-                            psi.axpy(-rij.dot(&prm.up), &geo);
-                            diff.axpy(r * r * dwv * inv, &psi);
+                            let w = r * r * dwv * inv;
+                            w_sum += w;
+                            wz_sum += w * rij.dot(&prm.up);
+                            wp_sum += w * sj.p;
+                            wdev_sum.axpy_in::<D>(w, &sj.dev);
                         }
                     }
+                    // Ψ of Eq. (26) summed: σ_i − σ_j (σ = σˢ − P I) minus the geostatic
+                    // gradient −(r_ij·up) geo
+                    let mut diff = si.dev.scale(w_sum).sub(&wdev_sum);
+                    let dp = wp_sum - si.p * w_sum;
+                    diff.0[0] += dp;
+                    diff.0[1] += dp;
+                    diff.0[2] += dp;
+                    diff.axpy(-wz_sum, &geo);
                     let (w0, w1) = (cl.woff[k] as usize, cl.woff[k + 1] as usize);
                     for &w in &cl.wall[w0..w1] {
                         let w = w as usize;

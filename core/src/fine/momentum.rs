@@ -8,6 +8,7 @@
 //! normal of Eq. (33). The reaction on barrier particles is summed per chunk.
 
 use super::hourglass::{non_affine, pair_weight};
+use super::material::FineMaterial;
 use super::riemann::{pair_reciprocals, Riemann, Side};
 use super::source::Source;
 use super::state::FineParticles;
@@ -57,6 +58,10 @@ pub struct MomentumParams<'a, const D: usize> {
     /// Per material: whether the grain–boulder interface carries the soil's tension
     /// (cohesive soils, c > 0).
     pub tension: &'a [bool],
+    pub materials: &'a [FineMaterial],
+    /// All materials share one impedance and sound speed
+    /// ([`uniform_acoustics`](super::riemann::uniform_acoustics)).
+    pub uniform: bool,
 }
 
 /// Coarse grains seen by the fine sweep: their packed records, the coupling law, and
@@ -87,6 +92,10 @@ pub fn momentum_sweep<const D: usize>(
     let nbs = walls.load_slots().max(1);
     let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
     let vw = walls.volume;
+    // neighbour arrays of one length, so that a neighbour index is bounds-checked once
+    let n = p.len();
+    let (pos, vel, src) = (&p.pos[..n], &p.vel[..n], &src[..n]);
+    let (material, elastic, vel_grad) = (&p.material[..n], &p.elastic[..n], &p.vel_grad[..n]);
     lists
         .chunks
         .par_iter()
@@ -103,12 +112,17 @@ pub fn momentum_sweep<const D: usize>(
             for (k, vo) in vout.iter_mut().enumerate() {
                 let i = c * CHUNK + k;
                 let si = &src[i];
-                let (half_inv_z, inv_ci) = si.reciprocals();
+                let ci = prm.materials[p.material[i] as usize].c0;
+                let (half_inv_z, inv_ci) = si.reciprocals(ci);
                 let (xi, vi) = (p.pos[i], p.vel[i]);
                 let rhoi = p.rho[i];
                 let inv_rho2 = 2.0 / rhoi;
                 let left = |u: Real| Side::new(si.z, u, si.p);
-                let mut acc = Vect::<D>::zeros();
+                let half_z = 0.5 * si.z;
+                // Σ_j (½ σˢ_j − P* I)·e_ij f_j and Σ_j e_ij f_j (f_j = ∂W/∂r V_j): the
+                // ½ σˢ_i part of σ̄ˢ_ij is applied to the second sum after the loop
+                let mut acc_j = Vect::<D>::zeros();
+                let mut sum_e = Vect::<D>::zeros();
                 // hourglass penalty: ξ G_i of an elastic particle (0: off or yielded)
                 let gi = if p.elastic[i] {
                     prm.hourglass
@@ -122,40 +136,49 @@ pub fn momentum_sweep<const D: usize>(
                 let mut dhg = Vect::<D>::zeros();
                 for &j in &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize] {
                     let j = j as usize;
-                    let rij = xi - p.pos[j];
+                    let rij = xi - pos[j];
                     let r2 = rij.norm_squared();
                     if r2 >= cut2 {
                         continue;
                     }
-                    let (sj, vj) = (&src[j], p.vel[j]);
+                    let (sj, vj) = (&src[j], vel[j]);
                     let r = r2.sqrt();
-                    let e = rij * (1.0 / r);
-                    let dw = prm.kernel.dw(r);
-                    let (inv_z, inv_c) =
-                        pair_reciprocals(si.z, sj.z, si.c, sj.c, half_inv_z, inv_ci);
-                    let pstar = prm.riemann.p_star(
-                        left(-vi.dot(&e)),
-                        Side::new(sj.z, -vj.dot(&e), sj.p),
-                        inv_z,
-                        inv_c,
-                    );
-                    // σ* = σ̄ˢ − P* I, Eq. (18)
-                    let mut sstar = si.dev.add(&sj.dev).scale(0.5);
-                    sstar.0[0] -= pstar;
-                    sstar.0[1] -= pstar;
-                    sstar.0[2] -= pstar;
+                    let inv_r = 1.0 / r;
+                    let e = rij * inv_r;
+                    let dw = prm.kernel.dw_within(r);
+                    let (ul, ur) = (-vi.dot(&e), -vj.dot(&e));
+                    let pstar = if prm.uniform {
+                        Riemann::p_star_uniform(
+                            si.p,
+                            sj.p,
+                            prm.riemann.limiter(ul - ur, inv_ci),
+                            half_z,
+                            ul - ur,
+                        )
+                    } else {
+                        let cj = prm.materials[material[j] as usize].c0;
+                        let (inv_z, inv_c) =
+                            pair_reciprocals(si.z, sj.z, ci, cj, half_inv_z, inv_ci);
+                        prm.riemann
+                            .p_star(left(ul), Side::new(sj.z, ur, sj.p), inv_z, inv_c)
+                    };
+                    let f = dw * sj.vol;
+                    // σ*·e = (σ̄ˢ − P* I)·e, Eq. (18)
+                    let mut t = sj.dev.dot_vec(&e) * 0.5 - e * pstar;
                     if let Some(a) = &prm.artificial {
-                        let f = (prm.kernel.w(r) / a.w_dp).powf(a.exponent);
-                        sstar.axpy(0.5 * f, &art[i].add(&art[j]));
+                        let fa = (prm.kernel.w(r) / a.w_dp).powf(a.exponent);
+                        t += art[i].add(&art[j]).dot_vec(&e) * (0.5 * fa);
                     }
-                    acc += sstar.dot_vec(&e) * (inv_rho2 * dw * sj.vol);
+                    acc_j += t * f;
+                    sum_e += e * f;
                     if gi > 0.0 {
-                        let gj = prm.hourglass[p.material[j] as usize];
-                        let s = pair_weight(true, p.elastic[j]) * 0.5 * (gi + gj);
-                        let vc = non_affine(&(vi - vj), &rij, li, &p.vel_grad[j]);
-                        dhg += vc * (s * dw / r * sj.vol);
+                        let gj = prm.hourglass[material[j] as usize];
+                        let s = pair_weight(true, elastic[j]) * 0.5 * (gi + gj);
+                        let vc = non_affine(&(vi - vj), &rij, li, &vel_grad[j]);
+                        dhg += vc * (s * dw * inv_r * sj.vol);
                     }
                 }
+                let mut acc = (si.dev.dot_vec(&sum_e) * 0.5 + acc_j) * inv_rho2;
                 let (w0, w1) = (cl.woff[k] as usize, cl.woff[k + 1] as usize);
                 if w1 > w0 {
                     let wl = &cl.wall[w0..w1];
@@ -227,7 +250,7 @@ pub fn momentum_sweep<const D: usize>(
                         stress: &p.stress[i],
                         z: si.z,
                         inv_c: inv_ci,
-                        c2: si.c * si.c,
+                        c2: ci * ci,
                         tension: prm.tension[p.material[i] as usize],
                     };
                     let share = 1.0 / (c1 - c0) as Real;

@@ -40,6 +40,20 @@ impl Riemann {
         (l.z * r.p + r.z * l.p + beta * l.z * r.z * du) * inv_zsum
     }
 
+    /// P* of Eq. (20) when both sides share one impedance Z (`half_z` = Z/2):
+    /// ½ (P_L + P_R) + ½ β Z (U_L − U_R), with β from [`limiter`](Self::limiter).
+    #[inline(always)]
+    pub fn p_star_uniform(pl: Real, pr: Real, beta: Real, half_z: Real, du: Real) -> Real {
+        0.5 * (pl + pr) + beta * half_z * du
+    }
+
+    /// U* of Eq. (19) when both sides share one impedance Z (`half_inv_z` = 1/(2Z)):
+    /// ½ (U_L + U_R) + (P_L − P_R)/(2Z).
+    #[inline(always)]
+    pub fn u_star_uniform(ul: Real, ur: Real, pl: Real, pr: Real, half_inv_z: Real) -> Real {
+        0.5 * (ul + ur) + (pl - pr) * half_inv_z
+    }
+
     /// Interface velocity U* of Eq. (19) (along −e_ij); `inv_zsum` = 1/(Z_L + Z_R).
     #[inline(always)]
     pub fn u_star(l: Side, r: Side, inv_zsum: Real) -> Real {
@@ -63,6 +77,13 @@ pub fn pair_reciprocals(
     } else {
         (1.0 / (zi + zj), 2.0 / (ci + cj))
     }
+}
+
+/// Whether all fine materials share one impedance and sound speed, so that every
+/// pair takes the reciprocals of its particle i (the common single-soil scene).
+pub fn uniform_acoustics(mats: &[super::material::FineMaterial]) -> bool {
+    mats.windows(2)
+        .all(|w| w[0].rho0 * w[0].c0 == w[1].rho0 * w[1].c0 && w[0].c0 == w[1].c0)
 }
 
 /// One side of the inter-particle Riemann problem, Eq. (21).
@@ -128,5 +149,26 @@ mod tests {
         );
         // acoustic interface velocity moves away from the high pressure side
         assert!(Riemann::u_star(Side::new(1.0, 0.0, 2.0), Side::new(1.0, 0.0, 0.0), 0.5) > 0.0);
+    }
+
+    /// The one-impedance forms are Eqs. (19)–(20) with Z_L = Z_R.
+    #[test]
+    fn uniform_forms_match_the_general_ones() {
+        let r = Riemann { eta: 40.0 };
+        let (z, c) = (2.0e5, 60.0);
+        for (ul, ur, pl, pr) in [
+            (0.3, -0.2, 1.5e3, 2.5e3),
+            (-0.4, 0.1, 800.0, -20.0),
+            (0.0, 0.0, 10.0, 10.0),
+        ] {
+            let (l, rr) = (Side::new(z, ul, pl), Side::new(z, ur, pr));
+            let general = r.p_star(l, rr, 0.5 / z, 1.0 / c);
+            let beta = r.limiter(ul - ur, 1.0 / c);
+            let uniform = Riemann::p_star_uniform(pl, pr, beta, 0.5 * z, ul - ur);
+            assert!((general - uniform).abs() <= 1e-12 * general.abs().max(1.0));
+            let general = Riemann::u_star(l, rr, 0.5 / z);
+            let uniform = Riemann::u_star_uniform(ul, ur, pl, pr, 0.5 / z);
+            assert!((general - uniform).abs() <= 1e-12 * general.abs().max(1.0));
+        }
     }
 }

@@ -21,17 +21,20 @@ pub struct Source {
     pub vol: Real,
     /// Acoustic impedance ρ0 c0 (Eq. 21, reference density).
     pub z: Real,
-    /// Sound speed c0 (Eq. 22).
-    pub c: Real,
+    /// Pressure from density, K (ρ/ρ0 − 1): the jump of Eq. (19) in the continuity
+    /// sweep (`numerics.continuity_jump = "density"`), taken once per particle
+    /// rather than once per pair.
+    pub p_rho: Real,
 }
 
 impl Source {
-    /// 1/(2 z) and 1/c: the pair reciprocals when both particles share a material
-    /// ([`pair_reciprocals`](super::riemann::pair_reciprocals)). Taken once per
-    /// particle in the sweeps rather than stored, so that a record is 80 bytes.
+    /// 1/(2 z) and 1/c for sound speed `c`: the pair reciprocals when both particles
+    /// share a material ([`pair_reciprocals`](super::riemann::pair_reciprocals)).
+    /// Taken once per particle in the sweeps rather than stored, so that a record is
+    /// 80 bytes.
     #[inline(always)]
-    pub fn reciprocals(&self) -> (Real, Real) {
-        (0.5 / self.z, 1.0 / self.c)
+    pub fn reciprocals(&self, c: Real) -> (Real, Real) {
+        (0.5 / self.z, 1.0 / c)
     }
 }
 
@@ -52,7 +55,7 @@ impl Source {
             p: -s.trace() / 3.0,
             vol: p.mass[i] / rho,
             z,
-            c: m.c0,
+            p_rho: m.bulk * (rho / m.rho0 - 1.0),
         }
     }
 }
@@ -102,7 +105,6 @@ mod tests {
     /// A neighbour record holds 10 numbers.
     #[test]
     fn a_record_is_80_bytes() {
-        assert_eq!(std::mem::size_of::<super::Source>(), 80);
         assert_eq!(std::mem::size_of::<super::Source>(), 80);
     }
 }
