@@ -143,8 +143,7 @@ pub fn momentum_sweep<const D: usize>(
                     }
                     let (sj, vj) = (&src[j], vel[j]);
                     let r = r2.sqrt();
-                    let inv_r = 1.0 / r;
-                    let e = rij * inv_r;
+                    let e = rij * (1.0 / r);
                     let dw = prm.kernel.dw_within(r);
                     let (ul, ur) = (-vi.dot(&e), -vj.dot(&e));
                     let pstar = if prm.uniform {
@@ -175,7 +174,7 @@ pub fn momentum_sweep<const D: usize>(
                         let gj = prm.hourglass[material[j] as usize];
                         let s = pair_weight(true, elastic[j]) * 0.5 * (gi + gj);
                         let vc = non_affine(&(vi - vj), &rij, li, &vel_grad[j]);
-                        dhg += vc * (s * dw * inv_r * sj.vol);
+                        dhg += vc * (s * dw / r * sj.vol);
                     }
                 }
                 let mut acc = (si.dev.dot_vec(&sum_e) * 0.5 + acc_j) * inv_rho2;
