@@ -135,6 +135,8 @@ pub struct Stepper<const D: usize> {
     hourglass: Vec<Real>,
     /// Per material: the grain–boulder interface carries tension (c > 0).
     tension: Vec<bool>,
+    /// All fine materials share one impedance and sound speed (fixed for a run).
+    uniform: bool,
     /// The scene's full gravity, and the ramp factor of the current step.
     g_full: Vect<D>,
     g_scale: Real,
@@ -237,6 +239,7 @@ impl<const D: usize> Stepper<D> {
             geostatic,
             hourglass,
             tension,
+            uniform: uniform_acoustics(&world.materials),
             g_full: world.gravity,
             g_scale: 1.0,
             up,
@@ -448,7 +451,7 @@ impl<const D: usize> Stepper<D> {
             hourglass: &self.hourglass,
             tension: &self.tension,
             materials: &world.materials,
-            uniform: uniform_acoustics(&world.materials),
+            uniform: self.uniform,
         };
         // updated in place: a particle reads only its own accumulated penalty
         let mut hourglass = std::mem::take(&mut world.fine.hourglass);
@@ -498,7 +501,7 @@ impl<const D: usize> Stepper<D> {
             geostatic_scale: self.g_scale,
             up: self.up,
             jump: self.params.continuity_jump,
-            uniform: uniform_acoustics(&world.materials),
+            uniform: self.uniform,
         };
         // advanced in place: the sweep reads none of these of a neighbour (the
         // neighbours' stress comes from the packed sources)

@@ -58,6 +58,7 @@ pub struct MomentumParams<'a, const D: usize> {
     /// Per material: whether the grain–boulder interface carries the soil's tension
     /// (cohesive soils, c > 0).
     pub tension: &'a [bool],
+    /// The fine materials (sound speed of a pair of different soils).
     pub materials: &'a [FineMaterial],
     /// All materials share one impedance and sound speed
     /// ([`uniform_acoustics`](super::riemann::uniform_acoustics)).
