@@ -31,6 +31,16 @@ pub fn from3<const D: usize>(v: &Vector3<Real>) -> Vect<D> {
     o
 }
 
+/// m −= a ⊗ b (the accumulation of Eq. 24's velocity gradient), element by element.
+#[inline(always)]
+pub fn sub_outer<const D: usize>(m: &mut nalgebra::SMatrix<Real, D, D>, a: &Vect<D>, b: &Vect<D>) {
+    for c in 0..D {
+        for r in 0..D {
+            m[(r, c)] -= a[r] * b[c];
+        }
+    }
+}
+
 /// Symmetric 3×3 tensor stored as (xx, yy, zz, xy, xz, yz).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Sym(pub [Real; 6]);

@@ -31,6 +31,8 @@ pub struct StepParams {
     pub zeta: Real,
     /// ξ of the hourglass penalty (0: off).
     pub hourglass: Real,
+    /// Relaxation time of the stored penalty, in acoustic times h/c0.
+    pub hourglass_memory: Real,
     /// Gravity ramp time (s); 0: full gravity from the start.
     pub gravity_ramp: Real,
     /// Verlet skin (m).
@@ -60,6 +62,7 @@ impl StepParams {
             eta: n.eta.unwrap_or(20.0 * d),
             zeta: n.stress_diffusion,
             hourglass: n.hourglass,
+            hourglass_memory: n.hourglass_memory,
             gravity_ramp: s.simulation.gravity_ramp,
             skin: n.neighbor_skin * s.simulation.dp,
             max_speed: s.simulation.max_speed,
@@ -133,6 +136,8 @@ pub struct Stepper<const D: usize> {
     geostatic: Vec<Sym>,
     /// Per material: ξ G of the hourglass penalty (empty: off).
     hourglass: Vec<Real>,
+    /// Per material: share of the stored penalty kept over this step (set per step).
+    hourglass_leak: Vec<f32>,
     /// Per material: the grain–boulder interface carries tension (c > 0).
     tension: Vec<bool>,
     /// All fine materials share one impedance and sound speed (fixed for a run).
@@ -237,6 +242,7 @@ impl<const D: usize> Stepper<D> {
             permute: PermuteScratch::default(),
             order: Vec::new(),
             geostatic,
+            hourglass_leak: vec![1.0; hourglass.len()],
             hourglass,
             tension,
             uniform: uniform_acoustics(&world.materials),
@@ -438,6 +444,11 @@ impl<const D: usize> Stepper<D> {
             }
         });
 
+        // the stored penalty relaxes over `hourglass_memory` acoustic times h/c0
+        let memory = self.params.hourglass_memory * self.params.h;
+        for (k, m) in self.hourglass_leak.iter_mut().zip(&world.materials) {
+            *k = (-dt * m.c0 / memory).exp() as f32;
+        }
         // Eqs. (16), (55): v_{n+1}.
         let mprm = MomentumParams {
             kernel: self.kernel,
@@ -449,6 +460,7 @@ impl<const D: usize> Stepper<D> {
             artificial,
             wall_friction: self.params.wall_friction,
             hourglass: &self.hourglass,
+            hourglass_leak: &self.hourglass_leak,
             tension: &self.tension,
             materials: &world.materials,
             uniform: self.uniform,

@@ -10,6 +10,7 @@
 //! Walls are no-slip mirrors, v_w,dummy = 2 v_wall − v_i; the wall pressure of Eq. (35)
 //! acts in the momentum equation only.
 
+use super::hourglass::penalty_kept;
 use super::material::FineMaterial;
 use super::plasticity::update_stress;
 use super::riemann::{pair_reciprocals, Riemann, Side};
@@ -17,7 +18,7 @@ use super::source::Source;
 use super::state::FineParticles;
 use crate::coarse::coupling::CoarseSource;
 use crate::kernel::WendlandC2;
-use crate::math::{Real, Sym, Vect};
+use crate::math::{sub_outer, Real, Sym, Vect};
 use crate::neighbors::{NeighborLists, CHUNK};
 use crate::scene::ContinuityJump;
 use crate::walls::Walls;
@@ -53,8 +54,8 @@ pub struct ContinuityOut<'a, const D: usize> {
     pub plastic_strain: &'a mut [Real],
     /// L_i in single precision, for the hourglass penalty.
     pub vel_grad: &'a mut [SMatrix<f32, D, D>],
-    /// Whether the stress update stayed elastic.
-    pub elastic: &'a mut [bool],
+    /// Share of the hourglass penalty kept through the stress update (1: elastic).
+    pub elastic: &'a mut [f32],
 }
 
 /// Sweep with v_{n+1} already in `p.vel`.
@@ -146,7 +147,7 @@ pub fn continuity_sweep<const D: usize>(
                         // (v_i − v*)·e_ij = U* − U_L (U measured along −e_ij)
                         drho += 2.0 * (ustar - ul) * dwv;
                         let vij = vi - vj;
-                        grad -= vij * e.transpose() * dwv;
+                        sub_outer(&mut grad, &(vij * dwv), &e);
                         if prm.zeta > 0.0 {
                             let w = r * r * dwv * inv;
                             w_sum += w;
@@ -181,7 +182,7 @@ pub fn continuity_sweep<const D: usize>(
                         // a floor gain density exponentially).
                         let rel = (vi - walls.velocity(w)) * 2.0;
                         drho += rel.dot(&e) * dwv;
-                        grad -= rel * e.transpose() * dwv;
+                        sub_outer(&mut grad, &(rel * dwv), &e);
                     }
                     // coarse grains: free-slip mirrors moving with v̄ (Eqs. 48, 60): only the
                     // normal relative velocity is reflected (no coarse–fine friction here;
@@ -209,7 +210,7 @@ pub fn continuity_sweep<const D: usize>(
                         };
                         let rel = n * (2.0 * (vi - cj.vel).dot(&n));
                         drho += rel.dot(&e) * dwv;
-                        grad -= rel * e.transpose() * dwv;
+                        sub_outer(&mut grad, &(rel * dwv), &e);
                     }
                     drho_out[k] = rhoi * drho;
                     let mut l = Matrix3::<Real>::zeros();
@@ -223,7 +224,7 @@ pub fn continuity_sweep<const D: usize>(
                     stress_out[k] = u.stress;
                     eps_out[k] += u.plastic_strain;
                     lg_out[k] = grad.cast::<f32>();
-                    el_out[k] = u.plastic_strain == 0.0;
+                    el_out[k] = penalty_kept(&u.stress, mi.shear, u.plastic_strain);
                 }
             },
         );

@@ -55,6 +55,8 @@ pub struct MomentumParams<'a, const D: usize> {
     pub wall_friction: Real,
     /// Per material: ξ G of the hourglass penalty (empty: off).
     pub hourglass: &'a [Real],
+    /// Per material: share of the stored penalty kept over the step, exp(−Δt c0/(N h)).
+    pub hourglass_leak: &'a [f32],
     /// Per material: whether the grain–boulder interface carries the soil's tension
     /// (cohesive soils, c > 0).
     pub tension: &'a [bool],
@@ -124,8 +126,10 @@ pub fn momentum_sweep<const D: usize>(
                 // ½ σˢ_i part of σ̄ˢ_ij is applied to the second sum after the loop
                 let mut acc_j = Vect::<D>::zeros();
                 let mut sum_e = Vect::<D>::zeros();
-                // hourglass penalty: ξ G_i of an elastic particle (0: off or yielded)
-                let gi = if p.elastic[i] {
+                // hourglass penalty: ξ G_i, and the share e_i kept through the last stress
+                // update (gi = 0: off, or released by plastic flow)
+                let kept_i = p.elastic[i];
+                let gi = if kept_i > 0.0 {
                     prm.hourglass
                         .get(p.material[i] as usize)
                         .copied()
@@ -173,7 +177,7 @@ pub fn momentum_sweep<const D: usize>(
                     sum_e += e * f;
                     if gi > 0.0 {
                         let gj = prm.hourglass[material[j] as usize];
-                        let s = pair_weight(true, elastic[j]) * 0.5 * (gi + gj);
+                        let s = pair_weight(kept_i, elastic[j]) * 0.5 * (gi + gj);
                         let vc = non_affine(&(vi - vj), &rij, li, &vel_grad[j]);
                         dhg += vc * (s * dw / r * sj.vol);
                     }
@@ -261,10 +265,12 @@ pub fn momentum_sweep<const D: usize>(
                         }
                     }
                 }
-                // Δa_i = Δt/ρ_i Σ_j ..., accumulated; a yielded particle drops it
+                // Δa_i = Δt/ρ_i Σ_j ..., accumulated on the share of the old one kept through
+                // plastic flow (e_i) and over the step's relaxation
                 let hg = &mut hout[k];
                 *hg = if gi > 0.0 {
-                    *hg + (dhg * (prm.dt / rhoi)).cast::<f32>()
+                    *hg * (kept_i * prm.hourglass_leak[p.material[i] as usize])
+                        + (dhg * (prm.dt / rhoi)).cast::<f32>()
                 } else {
                     SVector::zeros()
                 };

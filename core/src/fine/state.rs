@@ -25,8 +25,10 @@ pub struct FineParticles<const D: usize> {
     pub vel_grad: Vec<SMatrix<f32, D, D>>,
     /// Accumulated hourglass acceleration (see [`hourglass`](super::hourglass)).
     pub hourglass: Vec<SVector<f32, D>>,
-    /// Whether the last stress update stayed elastic (no return mapping).
-    pub elastic: Vec<bool>,
+    /// Share of the accumulated hourglass penalty kept through the last stress update:
+    /// 1 when it stayed elastic, ε_e/(ε_e + Δε_p) after a return mapping (see
+    /// [`hourglass`](super::hourglass)).
+    pub elastic: Vec<f32>,
 }
 
 impl<const D: usize> FineParticles<D> {
@@ -57,7 +59,7 @@ impl<const D: usize> FineParticles<D> {
         self.material.push(material);
         self.vel_grad.push(SMatrix::zeros());
         self.hourglass.push(SVector::zeros());
-        self.elastic.push(true);
+        self.elastic.push(1.0);
     }
 
     /// Release the spare capacity left by filling the arrays one particle at a time.
@@ -91,7 +93,7 @@ impl<const D: usize> FineParticles<D> {
             + self.id.capacity() * 4
             + self.vel_grad.capacity() * size_of::<SMatrix<f32, D, D>>()
             + self.hourglass.capacity() * size_of::<SVector<f32, D>>()
-            + self.elastic.capacity()
+            + self.elastic.capacity() * size_of::<f32>()
     }
 
     /// Reorder every array by `order` (new index k holds old particle order[k]), in

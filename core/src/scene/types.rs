@@ -136,6 +136,11 @@ pub struct NumericsSpec {
     /// displacement of elastic particles). Default 0.1; 0 gives seed 000's scheme.
     #[serde(default = "default_hourglass")]
     pub hourglass: f64,
+    /// Relaxation time of the stored hourglass penalty in acoustic times h/c0: each
+    /// fine step keeps exp(−Δt c0 / (N h)) of it, so that a deposit at rest carries
+    /// its load by its stress alone. Default 100.
+    #[serde(default = "default_hourglass_memory")]
+    pub hourglass_memory: f64,
     /// Smoothing length over particle spacing, h/dp. Default 1.3.
     #[serde(default = "default_h_ratio")]
     pub smoothing_ratio: f64,
@@ -180,6 +185,7 @@ impl Default for NumericsSpec {
             eta: None,
             stress_diffusion: default_zeta(),
             hourglass: default_hourglass(),
+            hourglass_memory: default_hourglass_memory(),
             smoothing_ratio: default_h_ratio(),
             artificial_stress_exponent: default_as_n(),
             artificial_stress_epsilon: default_as_eps(),
@@ -196,6 +202,9 @@ fn default_zeta() -> f64 {
 }
 fn default_hourglass() -> f64 {
     0.1
+}
+fn default_hourglass_memory() -> f64 {
+    100.0
 }
 fn default_h_ratio() -> f64 {
     1.3

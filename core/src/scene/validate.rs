@@ -258,6 +258,12 @@ pub fn validate(s: &Scene) -> Check {
     if !(n.hourglass >= 0.0 && n.hourglass.is_finite()) {
         return fail("numerics.hourglass", "must be ≥ 0");
     }
+    if n.hourglass_memory.is_nan() || n.hourglass_memory < 1.0 {
+        return fail(
+            "numerics.hourglass_memory",
+            "must be ≥ 1 (acoustic times h/c0; inf keeps the penalty)",
+        );
+    }
     if !(n.smoothing_ratio >= 1.0 && n.smoothing_ratio <= 2.0) {
         return fail(
             "numerics.smoothing_ratio",
