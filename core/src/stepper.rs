@@ -521,7 +521,7 @@ impl<const D: usize> Stepper<D> {
         let mut drho = std::mem::take(&mut world.fine.drho);
         let mut eps = std::mem::take(&mut world.fine.plastic_strain);
         let mut vel_grad = std::mem::take(&mut world.fine.vel_grad);
-        let mut elastic = std::mem::take(&mut world.fine.elastic);
+        let mut hourglass_kept = std::mem::take(&mut world.fine.hourglass_kept);
         {
             let (fine, walls, lists) = (&world.fine, &world.walls, &self.lists);
             let out = ContinuityOut {
@@ -529,7 +529,7 @@ impl<const D: usize> Stepper<D> {
                 stress: &mut stress,
                 plastic_strain: &mut eps,
                 vel_grad: &mut vel_grad,
-                elastic: &mut elastic,
+                hourglass_kept: &mut hourglass_kept,
             };
             let src = &mut self.src;
             let csrc = &self.csrc;
@@ -541,7 +541,7 @@ impl<const D: usize> Stepper<D> {
         world.fine.stress = stress;
         world.fine.plastic_strain = eps;
         world.fine.vel_grad = vel_grad;
-        world.fine.elastic = elastic;
+        world.fine.hourglass_kept = hourglass_kept;
 
         // Eq. (56) and the stability guard.
         let max_speed = self.params.max_speed;

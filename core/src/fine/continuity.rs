@@ -55,7 +55,7 @@ pub struct ContinuityOut<'a, const D: usize> {
     /// L_i in single precision, for the hourglass penalty.
     pub vel_grad: &'a mut [SMatrix<f32, D, D>],
     /// Share of the hourglass penalty kept through the stress update (1: elastic).
-    pub elastic: &'a mut [f32],
+    pub hourglass_kept: &'a mut [f32],
 }
 
 /// Sweep with v_{n+1} already in `p.vel`.
@@ -84,7 +84,7 @@ pub fn continuity_sweep<const D: usize>(
         .zip(out.stress.par_chunks_mut(CHUNK))
         .zip(out.plastic_strain.par_chunks_mut(CHUNK))
         .zip(out.vel_grad.par_chunks_mut(CHUNK))
-        .zip(out.elastic.par_chunks_mut(CHUNK))
+        .zip(out.hourglass_kept.par_chunks_mut(CHUNK))
         .enumerate()
         .for_each(
             |(c, (((((cl, drho_out), stress_out), eps_out), lg_out), el_out))| {

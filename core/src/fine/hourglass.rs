@@ -31,9 +31,9 @@
 //! yield surface (Δε_p of 1e-9 ε_e) keeps it; an all-or-nothing drop there released
 //! the stored force in jumps, and a barrier saw its static load wander by ±6 % with
 //! the deposit at rest. A pair counts at weight s_ij = ½(e_i + e_j), e = 1 when
-//! elastic. Between two elastic particles each
-//! increment is antisymmetric (m_i Δa_ij = −m_j Δa_ji with V = m/ρ), an internal
-//! force; a released penalty is not returned.
+//! elastic. Between two elastic particles each increment is antisymmetric
+//! (m_i Δa_ij = −m_j Δa_ji with V = m/ρ), an internal force; a released penalty is
+//! not returned.
 //!
 //! The stored penalty also relaxes: each step keeps exp(−Δt c0/(N h)) of it, with
 //! N = `numerics.hourglass_memory` (default 100 acoustic times h/c0, about 13 ms at

@@ -98,7 +98,7 @@ pub fn momentum_sweep<const D: usize>(
     // neighbour arrays of one length, so that a neighbour index is bounds-checked once
     let n = p.len();
     let (pos, vel, src) = (&p.pos[..n], &p.vel[..n], &src[..n]);
-    let (material, elastic, vel_grad) = (&p.material[..n], &p.elastic[..n], &p.vel_grad[..n]);
+    let (material, kept, vel_grad) = (&p.material[..n], &p.hourglass_kept[..n], &p.vel_grad[..n]);
     lists
         .chunks
         .par_iter()
@@ -128,7 +128,7 @@ pub fn momentum_sweep<const D: usize>(
                 let mut sum_e = Vect::<D>::zeros();
                 // hourglass penalty: ξ G_i, and the share e_i kept through the last stress
                 // update (gi = 0: off, or released by plastic flow)
-                let kept_i = p.elastic[i];
+                let kept_i = p.hourglass_kept[i];
                 let gi = if kept_i > 0.0 {
                     prm.hourglass
                         .get(p.material[i] as usize)
@@ -177,7 +177,7 @@ pub fn momentum_sweep<const D: usize>(
                     sum_e += e * f;
                     if gi > 0.0 {
                         let gj = prm.hourglass[material[j] as usize];
-                        let s = pair_weight(kept_i, elastic[j]) * 0.5 * (gi + gj);
+                        let s = pair_weight(kept_i, kept[j]) * 0.5 * (gi + gj);
                         let vc = non_affine(&(vi - vj), &rij, li, &vel_grad[j]);
                         dhg += vc * (s * dw / r * sj.vol);
                     }

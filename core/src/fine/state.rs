@@ -28,7 +28,7 @@ pub struct FineParticles<const D: usize> {
     /// Share of the accumulated hourglass penalty kept through the last stress update:
     /// 1 when it stayed elastic, ε_e/(ε_e + Δε_p) after a return mapping (see
     /// [`hourglass`](super::hourglass)).
-    pub elastic: Vec<f32>,
+    pub hourglass_kept: Vec<f32>,
 }
 
 impl<const D: usize> FineParticles<D> {
@@ -59,7 +59,7 @@ impl<const D: usize> FineParticles<D> {
         self.material.push(material);
         self.vel_grad.push(SMatrix::zeros());
         self.hourglass.push(SVector::zeros());
-        self.elastic.push(1.0);
+        self.hourglass_kept.push(1.0);
     }
 
     /// Release the spare capacity left by filling the arrays one particle at a time.
@@ -75,7 +75,7 @@ impl<const D: usize> FineParticles<D> {
         self.id.shrink_to_fit();
         self.vel_grad.shrink_to_fit();
         self.hourglass.shrink_to_fit();
-        self.elastic.shrink_to_fit();
+        self.hourglass_kept.shrink_to_fit();
     }
 
     /// Bytes held by the particle arrays.
@@ -93,7 +93,7 @@ impl<const D: usize> FineParticles<D> {
             + self.id.capacity() * 4
             + self.vel_grad.capacity() * size_of::<SMatrix<f32, D, D>>()
             + self.hourglass.capacity() * size_of::<SVector<f32, D>>()
-            + self.elastic.capacity() * size_of::<f32>()
+            + self.hourglass_kept.capacity() * size_of::<f32>()
     }
 
     /// Reorder every array by `order` (new index k holds old particle order[k]), in
@@ -113,7 +113,7 @@ impl<const D: usize> FineParticles<D> {
         cycle_apply(&mut self.id, order, done);
         cycle_apply(&mut self.vel_grad, order, done);
         cycle_apply(&mut self.hourglass, order, done);
-        cycle_apply(&mut self.elastic, order, done);
+        cycle_apply(&mut self.hourglass_kept, order, done);
     }
 }
 
