@@ -343,6 +343,15 @@ fn cases() -> Vec<Case> {
         tolerance: None,
         note: "3D collapse a = 1, 25 k particles, first 0.05 s",
     });
+    v.push(Case {
+        name: "speed_debris".into(),
+        scene: "debris_barrier.toml",
+        levels: vec![("dp=0.125m".into(), vec![])],
+        common: vec![],
+        metric: Metric::Speed,
+        tolerance: None,
+        note: "3D debris flow, 8.3 k fine particles and five rigid boulders into a slit dam (coupling and contact on), the whole 6 s",
+    });
     v
 }
 
