@@ -87,7 +87,7 @@ pub fn continuity_sweep<const D: usize>(
         .zip(out.hourglass_kept.par_chunks_mut(CHUNK))
         .enumerate()
         .for_each(
-            |(c, (((((cl, drho_out), stress_out), eps_out), lg_out), el_out))| {
+            |(c, (((((cl, drho_out), stress_out), eps_out), lg_out), kept_out))| {
                 for k in 0..drho_out.len() {
                     let i = c * CHUNK + k;
                     let mi = &mats[p.material[i] as usize];
@@ -224,7 +224,7 @@ pub fn continuity_sweep<const D: usize>(
                     stress_out[k] = u.stress;
                     eps_out[k] += u.plastic_strain;
                     lg_out[k] = grad.cast::<f32>();
-                    el_out[k] = penalty_kept(&u.stress, mi.shear, u.plastic_strain);
+                    kept_out[k] = penalty_kept(&u.stress, mi.shear, u.plastic_strain);
                 }
             },
         );
