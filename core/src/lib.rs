@@ -20,6 +20,7 @@ pub mod panels;
 pub mod rng;
 pub mod scene;
 pub mod simulation;
+pub mod slabs;
 pub mod stepper;
 pub mod timers;
 pub mod walls;

@@ -3,6 +3,14 @@
 //! of particles. Lists are built in parallel; every particle's list is in a fixed
 //! order (stencil cell order, then index order), so results do not depend on the
 //! number of threads.
+//!
+//! Cells are numbered with one axis, the *slab axis* (the domain's longest), varying
+//! slowest. After re-sorting, the particles of one layer of cells across that axis (a
+//! slab, one list radius thick) are a contiguous index range, and a pair within the
+//! list radius lies in one slab or two neighbouring ones. The fine–fine lists hold
+//! each pair once, under its lower index (j > i), so a neighbour j of a particle i in
+//! slab s lies in slab s or s + 1: the symmetric sweeps rely on this
+//! ([`slabs`](crate::slabs)).
 
 use crate::math::{Real, Vect};
 use rayon::prelude::*;
@@ -17,6 +25,9 @@ pub struct CellGrid<const D: usize> {
     origin: [Real; 3],
     inv_cell: Real,
     dims: [usize; 3],
+    /// Axes from the slowest varying in the cell index to the fastest: the slab axis
+    /// first, the longest other axis last (so a stencil row is three adjacent cells).
+    axes: [usize; 3],
     /// `start[c]..start[c+1]` indexes `items` for cell c.
     start: Vec<u32>,
     items: Vec<u32>,
@@ -33,12 +44,35 @@ impl<const D: usize> CellGrid<D> {
             origin[k] = lo[k];
             dims[k] = (((hi[k] - lo[k]) / cell).ceil() as usize).max(1);
         }
+        // longest axis first (ties: the lower axis), then the longer of the others
+        // last; in 2D the unused third axis (one cell) sits in the middle
+        let mut by_len: Vec<usize> = (0..D).collect();
+        by_len.sort_by(|&a, &b| dims[b].cmp(&dims[a]).then(a.cmp(&b)));
+        let axes = if D == 3 {
+            [by_len[0], by_len[2], by_len[1]]
+        } else {
+            [by_len[0], 2, by_len.get(1).copied().unwrap_or(1)]
+        };
         CellGrid {
             origin,
             inv_cell: 1.0 / cell,
             dims,
+            axes,
             ..Default::default()
         }
+    }
+
+    /// Number of slabs: cells along the slab axis.
+    pub fn slab_count(&self) -> usize {
+        self.dims[self.axes[0]]
+    }
+
+    /// `out[s]..out[s+1]` is the range, in cell order, of the particles binned in slab
+    /// s (valid after [`bin`](Self::bin)).
+    pub fn slab_starts(&self, out: &mut Vec<u32>) {
+        let per_slab = self.dims[self.axes[1]] * self.dims[self.axes[2]];
+        out.clear();
+        out.extend((0..=self.slab_count()).map(|s| self.start[s * per_slab]));
     }
 
     /// Bytes held by the grid.
@@ -69,7 +103,8 @@ impl<const D: usize> CellGrid<D> {
 
     #[inline(always)]
     fn index(&self, c: [usize; 3]) -> usize {
-        (c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0]
+        let [a, b, f] = self.axes;
+        (c[a] * self.dims[b] + c[b]) * self.dims[f] + c[f]
     }
 
     /// Bin `pos` by cell (counting sort). Afterwards `order()` lists particles cell by cell.
@@ -106,8 +141,22 @@ impl<const D: usize> CellGrid<D> {
 
     /// Call `f(j)` for every binned particle in the 3^D cells around `x`.
     #[inline(always)]
-    pub fn for_each_near(&self, x: &Vect<D>, mut f: impl FnMut(u32)) {
+    pub fn for_each_near(&self, x: &Vect<D>, f: impl FnMut(u32)) {
+        self.stencil(x, false, f)
+    }
+
+    /// Call `f(j)` for the binned particles in the 3^D cells around `x` whose cells
+    /// come no earlier in cell order than the cell of `x`: with the particles sorted
+    /// by cell, every j above the index of a particle at `x` is among them.
+    #[inline(always)]
+    pub fn for_each_near_forward(&self, x: &Vect<D>, f: impl FnMut(u32)) {
+        self.stencil(x, true, f)
+    }
+
+    #[inline(always)]
+    fn stencil(&self, x: &Vect<D>, forward: bool, mut f: impl FnMut(u32)) {
         let c = self.coords(x);
+        let [a0, a1, a2] = self.axes;
         let lo = |k: usize| if k < D { c[k].saturating_sub(1) } else { 0 };
         let hi = |k: usize| {
             if k < D {
@@ -116,11 +165,22 @@ impl<const D: usize> CellGrid<D> {
                 0
             }
         };
-        for z in lo(2)..=hi(2) {
-            for y in lo(1)..=hi(1) {
-                let row = self.index([0, y, z]);
-                let a = self.start[row + lo(0)] as usize;
-                let b = self.start[row + hi(0) + 1] as usize;
+        let own = self.index(c);
+        for s in lo(a0)..=hi(a0) {
+            for m in lo(a1)..=hi(a1) {
+                let mut cc = [0usize; 3];
+                cc[a0] = s;
+                cc[a1] = m;
+                let row = self.index(cc);
+                let (mut first, last) = (row + lo(a2), row + hi(a2));
+                if forward {
+                    if last < own {
+                        continue;
+                    }
+                    first = first.max(own);
+                }
+                let a = self.start[first] as usize;
+                let b = self.start[last + 1] as usize;
                 for &j in &self.items[a..b] {
                     f(j);
                 }
@@ -133,7 +193,8 @@ impl<const D: usize> CellGrid<D> {
 /// neighbours.
 #[derive(Clone, Debug, Default)]
 pub struct ChunkList {
-    /// `fine[off[k]..off[k+1]]` are the fine neighbours of particle `start + k`.
+    /// `fine[off[k]..off[k+1]]` are the fine neighbours j > i of particle
+    /// i = `start + k` (each pair once).
     pub off: Vec<u32>,
     pub fine: Vec<u32>,
     pub woff: Vec<u32>,
@@ -164,6 +225,8 @@ fn headroom(v: &mut Vec<u32>) {
 #[derive(Clone, Debug, Default)]
 pub struct NeighborLists {
     pub chunks: Vec<ChunkList>,
+    /// `slabs[s]..slabs[s+1]`: the particles of slab s (see the module notes).
+    pub slabs: Vec<u32>,
     pub radius: Real,
     pub builds: usize,
 }
@@ -183,6 +246,7 @@ impl NeighborLists {
         let (coarse_pos, coarse_grid) = (coarse.pos, coarse.grid);
         self.radius = radius;
         self.builds += 1;
+        fine_grid.slab_starts(&mut self.slabs);
         let r2 = radius * radius;
         let nchunks = pos.len().div_ceil(CHUNK);
         self.chunks.resize_with(nchunks, ChunkList::default);
@@ -203,8 +267,8 @@ impl NeighborLists {
                 headroom(&mut cl.fine);
                 headroom(&mut cl.wall);
                 headroom(&mut cl.coarse);
-                fine_grid.for_each_near(&xi, |j| {
-                    if j as usize != i && (xi - pos[j as usize]).norm_squared() < r2 {
+                fine_grid.for_each_near_forward(&xi, |j| {
+                    if j as usize > i && (xi - pos[j as usize]).norm_squared() < r2 {
                         cl.fine.push(j);
                     }
                 });
@@ -241,7 +305,8 @@ impl NeighborLists {
                     + c.coff.capacity()
                     + c.coarse.capacity())
             })
-            .sum()
+            .sum::<usize>()
+            + 4 * self.slabs.capacity()
     }
 }
 
@@ -260,15 +325,20 @@ mod tests {
             (s >> 11) as f64 / (1u64 << 53) as f64
         };
         for _ in 0..700 {
-            pos.push(Vect::<3>::new(rnd(), rnd(), rnd() * 0.5));
+            pos.push(Vect::<3>::new(rnd(), rnd() * 1.4, rnd() * 0.5));
         }
         let walls: Vec<Vect<3>> = (0..50)
             .map(|k| Vect::<3>::new(k as f64 / 50.0, 0.5, -0.05))
             .collect();
         let r = 0.13;
         let lo = Vect::<3>::new(0.0, 0.0, -0.1);
-        let hi = Vect::<3>::new(1.0, 1.0, 0.5);
+        let hi = Vect::<3>::new(1.0, 1.4, 0.5);
         let mut g = CellGrid::new(&lo, &hi, r);
+        // slab axis: the longest (y), then z, x fastest (the longer of the others)
+        assert_eq!(g.axes, [1, 2, 0]);
+        // sorted by cell, as the stepper keeps them
+        g.bin(&pos);
+        let pos: Vec<Vect<3>> = g.order().iter().map(|&i| pos[i as usize]).collect();
         g.bin(&pos);
         let mut gw = CellGrid::new(&lo, &hi, r);
         gw.bin(&walls);
@@ -287,18 +357,33 @@ mod tests {
             },
             r,
         );
+        assert_eq!(nl.slabs.len(), g.slab_count() + 1);
+        assert_eq!(*nl.slabs.last().unwrap() as usize, pos.len());
+        let slab = |i: usize| nl.slabs.partition_point(|&b| b as usize <= i) - 1;
         for i in 0..pos.len() {
             let cl = &nl.chunks[i / CHUNK];
             let k = i % CHUNK;
             let mut got: Vec<u32> = cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize].to_vec();
             got.sort();
-            let want: Vec<u32> = (0..pos.len() as u32)
-                .filter(|&j| j as usize != i && (pos[i] - pos[j as usize]).norm() < r)
+            let want: Vec<u32> = (i as u32 + 1..pos.len() as u32)
+                .filter(|&j| (pos[i] - pos[j as usize]).norm() < r)
                 .collect();
             assert_eq!(got, want);
+            // a neighbour lies in the particle's slab or the next
+            for &j in &got {
+                let (si, sj) = (slab(i), slab(j as usize));
+                assert!(sj == si || sj == si + 1, "pair {i}-{j} in slabs {si}, {sj}");
+            }
             let gotw = cl.woff[k + 1] - cl.woff[k];
             let wantw = walls.iter().filter(|w| (pos[i] - **w).norm() < r).count() as u32;
             assert_eq!(gotw, wantw);
         }
+    }
+
+    #[test]
+    fn two_dimensional_grid_orders_the_long_axis_first() {
+        let g = CellGrid::<2>::new(&Vect::<2>::new(0.0, 0.0), &Vect::<2>::new(0.3, 1.0), 0.1);
+        assert_eq!(g.axes, [1, 2, 0]);
+        assert_eq!(g.slab_count(), 10);
     }
 }

@@ -4,8 +4,10 @@
 use crate::coarse::coupling::{self, CoarseSource, Coupling};
 use crate::coarse::stepper::CoarseStepper;
 use crate::fine::artificial_stress::gray2001_artificial_stress;
-use crate::fine::continuity::{continuity_sweep, ContinuityOut, ContinuityParams};
-use crate::fine::momentum::{momentum_sweep, ArtificialStress, CoarseSide, Load, MomentumParams};
+use crate::fine::continuity::{continuity_sweep, ContinuityOut, ContinuityParams, ContinuitySums};
+use crate::fine::momentum::{
+    momentum_sweep, ArtificialStress, CoarseSide, Load, MomentumParams, MomentumSums,
+};
 use crate::fine::riemann::{uniform_acoustics, Riemann};
 use crate::fine::source::{drift_and_pack, pack, Source};
 use crate::fine::state::PermuteScratch;
@@ -133,7 +135,12 @@ pub struct Stepper<const D: usize> {
     pub slot_loads: Vec<Load>,
     permute: PermuteScratch,
     order: Vec<u32>,
+    /// Pair sums of the two sweeps (zero between sweeps).
+    momentum_sums: Vec<MomentumSums<D>>,
+    continuity_sums: Vec<ContinuitySums<D>>,
     geostatic: Vec<Sym>,
+    /// Per material: the geostatic pressure gradient of this step (ramp applied).
+    geostatic_pressure: Vec<Real>,
     /// Per material: ξ G of the hourglass penalty (empty: off).
     hourglass: Vec<Real>,
     /// Per material: share of the stored penalty kept over this step (set per step).
@@ -241,7 +248,10 @@ impl<const D: usize> Stepper<D> {
             slot_loads: vec![Load::default(); world.walls.load_slots()],
             permute: PermuteScratch::default(),
             order: Vec::new(),
+            momentum_sums: Vec::new(),
+            continuity_sums: Vec::new(),
             geostatic,
+            geostatic_pressure: Vec::new(),
             hourglass_leak: vec![1.0; hourglass.len()],
             hourglass,
             tension,
@@ -292,6 +302,8 @@ impl<const D: usize> Stepper<D> {
             + self.art.capacity() * size_of::<Sym>()
             + self.src.capacity() * size_of::<Source>()
             + self.order.capacity() * 4
+            + self.momentum_sums.capacity() * size_of::<MomentumSums<D>>()
+            + self.continuity_sums.capacity() * size_of::<ContinuitySums<D>>()
             + self.fine_grid.bytes()
             + self.wall_grid.bytes()
     }
@@ -423,6 +435,9 @@ impl<const D: usize> Stepper<D> {
             rebuilt = true;
         }
         self.vel_new.resize(n, Vect::<D>::zeros());
+        // the sweeps leave their sums zero, so only new entries need setting
+        self.momentum_sums.resize(n, MomentumSums::zero());
+        self.continuity_sums.resize(n, ContinuitySums::zero());
         let nbs = world.walls.load_slots().max(1);
         self.chunk_loads
             .resize(self.lists.chunks.len() * nbs, Load::default());
@@ -470,6 +485,7 @@ impl<const D: usize> Stepper<D> {
         {
             let (fine, walls, lists, art) = (&world.fine, &world.walls, &self.lists, &self.art);
             let (vel_new, loads, src) = (&mut self.vel_new, &mut self.chunk_loads, &mut self.src);
+            let sums = &mut self.momentum_sums;
             let hg = &mut hourglass;
             let side = CoarseSide {
                 src: &self.csrc,
@@ -484,7 +500,7 @@ impl<const D: usize> Stepper<D> {
             };
             self.timers.time(Stage::Momentum, || {
                 momentum_sweep(
-                    fine, src, walls, lists, art, &mprm, vel_new, hg, loads, side,
+                    fine, src, walls, lists, art, &mprm, vel_new, hg, loads, side, sums,
                 )
             });
         }
@@ -504,12 +520,19 @@ impl<const D: usize> Stepper<D> {
         );
 
         // Eqs. (15), (24)–(26), (7)–(12) with v_{n+1}.
+        self.geostatic_pressure.clear();
+        self.geostatic_pressure.extend(
+            self.geostatic
+                .iter()
+                .map(|g| g.scale(self.g_scale).trace() / 3.0),
+        );
         let cprm = ContinuityParams {
             kernel: self.kernel,
             gravity: world.gravity,
             dt,
             zeta: self.params.zeta,
             geostatic: &self.geostatic,
+            geostatic_pressure: &self.geostatic_pressure,
             geostatic_scale: self.g_scale,
             up: self.up,
             jump: self.params.continuity_jump,
@@ -525,6 +548,7 @@ impl<const D: usize> Stepper<D> {
         {
             let (fine, walls, lists) = (&world.fine, &world.walls, &self.lists);
             let out = ContinuityOut {
+                sums: &mut self.continuity_sums,
                 drho: &mut drho,
                 stress: &mut stress,
                 plastic_strain: &mut eps,

@@ -403,13 +403,14 @@ pub fn bench(a: &BenchArgs) -> Result<ExitCode> {
     let mut curves = Vec::new();
     let mut failed = false;
     println!(
-        "{:<18} {:<8} {:>9} {:>8} {:>9} {:>12} {:>11} {:>11} {:>8}",
+        "{:<18} {:<8} {:>9} {:>8} {:>9} {:>12} {:>10} {:>11} {:>11} {:>8}",
         "case",
         "level",
         "particles",
         "steps",
         "wall [s]",
         "Mpart-st/s",
+        "fine only",
         "value",
         "reference",
         "error"
@@ -442,13 +443,14 @@ pub fn bench(a: &BenchArgs) -> Result<ExitCode> {
                 eprintln!("{}: {label}: {b}", c.name);
             }
             println!(
-                "{:<18} {:<8} {:>9} {:>8} {:>9.1} {:>12.3} {:>11} {:>11} {:>8}",
+                "{:<18} {:<8} {:>9} {:>8} {:>9.1} {:>12.3} {:>10.3} {:>11} {:>11} {:>8}",
                 c.name,
                 label,
                 rep.particles,
                 rep.summary["steps_fine"],
                 rep.wall_time,
                 rep.particle_steps_per_s / 1e6,
+                rep.fine_particle_steps_per_s / 1e6,
                 value.map(|v| format!("{v:.4}")).unwrap_or("-".into()),
                 reference.map(|v| format!("{v:.4}")).unwrap_or("-".into()),
                 err.map(|e| format!("{:.2}%", 100.0 * e))
@@ -463,6 +465,7 @@ pub fn bench(a: &BenchArgs) -> Result<ExitCode> {
                 "case": c.name, "level": label, "scene": c.scene, "note": c.note,
                 "particles": rep.particles, "steps_fine": rep.summary["steps_fine"],
                 "wall_time_s": rep.wall_time, "particle_steps_per_s": rep.particle_steps_per_s,
+                "fine_particle_steps_per_s": rep.fine_particle_steps_per_s,
                 "stages": stages, "value": value, "reference": reference, "rel_error": err,
                 "tolerance": c.tolerance, "status": rep.summary["status"],
                 "steps_coarse": rep.summary["steps_coarse"], "kappa": rep.summary["kappa"],

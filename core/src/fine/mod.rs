@@ -9,3 +9,5 @@ pub mod plasticity;
 pub mod riemann;
 pub mod source;
 pub mod state;
+#[cfg(test)]
+mod symmetric_tests;

@@ -1,11 +1,17 @@
 //! Momentum sweep, Eqs. (16), (20), (27) and the wall terms of Eqs. (32)–(35).
 //!
-//! For each fine particle i (gather, no write races):
+//! For each fine particle i:
 //!   dv_i/dt = 2/ρ_i Σ_j (σ̄ˢ_ij − P* I + f_ijⁿ R̄_ij)·∇_i W_ij V_j + g
 //!           + 2/ρ_i Σ_w (σˢ_i − P*_w I)·∇_i W_iw V_w
 //! and v_{n+1} = v_n + Δt dv/dt (Eq. 55). Wall particles take the stress of i
 //! (σ_w = σ_i, no-slip); P*_w solves the one-sided Riemann problem along the wall
 //! normal of Eq. (33). The reaction on barrier particles is summed per chunk.
+//!
+//! The sweep has two passes. The pair pass evaluates each fine–fine pair once and adds
+//! its terms to both particles' [`MomentumSums`] (two-phase slab schedule,
+//! [`slabs`](crate::slabs)): σ̄ˢ_ij, P* and the hourglass weight are symmetric in the
+//! pair and e_ji = −e_ij, so j receives the negated traction weighted by V_i. The
+//! particle pass adds the wall and coarse-grain terms and integrates.
 
 use super::hourglass::{non_affine, pair_weight};
 use super::material::FineMaterial;
@@ -16,6 +22,7 @@ use crate::coarse::coupling::{CoarseSource, Coupling, FineSide};
 use crate::kernel::WendlandC2;
 use crate::math::{to3, Real, Sym, Vect};
 use crate::neighbors::{NeighborLists, CHUNK};
+use crate::slabs::two_phase;
 use crate::walls::Walls;
 use nalgebra::{SVector, Vector3};
 use rayon::prelude::*;
@@ -67,6 +74,25 @@ pub struct MomentumParams<'a, const D: usize> {
     pub uniform: bool,
 }
 
+/// Fine–fine pair sums of one particle, added from both sides of each pair.
+#[derive(Clone, Copy, Debug)]
+pub struct MomentumSums<const D: usize> {
+    /// Σ_j (σ̄ˢ_ij − P* I + f_ijⁿ R̄_ij)·e_ij ∂W/∂r V_j of Eq. (16) (times 2/ρ_i gives
+    /// the acceleration).
+    pub acc: Vect<D>,
+    /// Σ_j s_ij ξḠ_ij ṽ_ij ∂W/∂r V_j / r_ij, the hourglass increment (times Δt/ρ_i).
+    pub hourglass: Vect<D>,
+}
+
+impl<const D: usize> MomentumSums<D> {
+    pub fn zero() -> Self {
+        MomentumSums {
+            acc: Vect::<D>::zeros(),
+            hourglass: Vect::<D>::zeros(),
+        }
+    }
+}
+
 /// Coarse grains seen by the fine sweep: their packed records, the coupling law, and
 /// one reaction buffer per chunk that receives `(coarse particle, force)` records.
 pub struct CoarseSide<'a, const D: usize> {
@@ -77,7 +103,8 @@ pub struct CoarseSide<'a, const D: usize> {
 
 /// Compute v_{n+1} into `vel_new`, advance the accumulated hourglass acceleration in
 /// `hourglass` (in place; each particle reads only its own entry) and per-chunk barrier
-/// loads into `loads` (`max(1, barriers)` slots per chunk).
+/// loads into `loads` (`max(1, barriers)` slots per chunk). `sums` is scratch, one
+/// entry per particle, all zero on entry and left zero.
 #[allow(clippy::too_many_arguments)]
 pub fn momentum_sweep<const D: usize>(
     p: &FineParticles<D>,
@@ -90,6 +117,7 @@ pub fn momentum_sweep<const D: usize>(
     hourglass: &mut [SVector<f32, D>],
     loads: &mut [Load],
     coarse: CoarseSide<'_, D>,
+    sums: &mut [MomentumSums<D>],
 ) {
     let (csrc, coupling) = (coarse.src, coarse.coupling);
     let nbs = walls.load_slots().max(1);
@@ -98,16 +126,17 @@ pub fn momentum_sweep<const D: usize>(
     // neighbour arrays of one length, so that a neighbour index is bounds-checked once
     let n = p.len();
     let (pos, vel, src) = (&p.pos[..n], &p.vel[..n], &src[..n]);
-    let (material, kept, vel_grad) = (&p.material[..n], &p.hourglass_kept[..n], &p.vel_grad[..n]);
+    pair_pass(p, src, lists, art, prm, &mut *sums);
     lists
         .chunks
         .par_iter()
+        .zip(sums.par_chunks_mut(CHUNK))
         .zip(vel_new.par_chunks_mut(CHUNK))
         .zip(hourglass.par_chunks_mut(CHUNK))
         .zip(loads.par_chunks_mut(nbs))
         .zip(coarse.reactions.par_iter_mut())
         .enumerate()
-        .for_each(|(c, ((((cl, vout), hout), lout), react))| {
+        .for_each(|(c, (((((cl, sums), vout), hout), lout), react))| {
             for l in lout.iter_mut() {
                 *l = Load::default();
             }
@@ -116,18 +145,12 @@ pub fn momentum_sweep<const D: usize>(
                 let i = c * CHUNK + k;
                 let si = &src[i];
                 let ci = prm.materials[p.material[i] as usize].c0;
-                let (half_inv_z, inv_ci) = si.reciprocals(ci);
-                let (xi, vi) = (p.pos[i], p.vel[i]);
+                let inv_ci = 1.0 / ci;
+                let (xi, vi) = (pos[i], vel[i]);
                 let rhoi = p.rho[i];
                 let inv_rho2 = 2.0 / rhoi;
-                let left = |u: Real| Side::new(si.z, u, si.p);
-                let half_z = 0.5 * si.z;
-                // Σ_j (½ σˢ_j − P* I)·e_ij f_j and Σ_j e_ij f_j (f_j = ∂W/∂r V_j): the
-                // ½ σˢ_i part of σ̄ˢ_ij is applied to the second sum after the loop
-                let mut acc_j = Vect::<D>::zeros();
-                let mut sum_e = Vect::<D>::zeros();
-                // hourglass penalty: ξ G_i, and the share e_i kept through the last stress
-                // update (gi = 0: off, or released by plastic flow)
+                // hourglass penalty: ξ G_i while some of it is kept (0: off, or released
+                // by plastic flow)
                 let kept_i = p.hourglass_kept[i];
                 let gi = if kept_i > 0.0 {
                     prm.hourglass
@@ -137,52 +160,9 @@ pub fn momentum_sweep<const D: usize>(
                 } else {
                     0.0
                 };
-                let li = &p.vel_grad[i];
-                let mut dhg = Vect::<D>::zeros();
-                for &j in &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize] {
-                    let j = j as usize;
-                    let rij = xi - pos[j];
-                    let r2 = rij.norm_squared();
-                    if r2 >= cut2 {
-                        continue;
-                    }
-                    let (sj, vj) = (&src[j], vel[j]);
-                    let r = r2.sqrt();
-                    let e = rij * (1.0 / r);
-                    let dw = prm.kernel.dw_within(r);
-                    let (ul, ur) = (-vi.dot(&e), -vj.dot(&e));
-                    let pstar = if prm.uniform {
-                        Riemann::p_star_uniform(
-                            si.p,
-                            sj.p,
-                            prm.riemann.limiter(ul - ur, inv_ci),
-                            half_z,
-                            ul - ur,
-                        )
-                    } else {
-                        let cj = prm.materials[material[j] as usize].c0;
-                        let (inv_z, inv_c) =
-                            pair_reciprocals(si.z, sj.z, ci, cj, half_inv_z, inv_ci);
-                        prm.riemann
-                            .p_star(left(ul), Side::new(sj.z, ur, sj.p), inv_z, inv_c)
-                    };
-                    let f = dw * sj.vol;
-                    // σ*·e = (σ̄ˢ − P* I)·e, Eq. (18)
-                    let mut t = sj.dev.dot_vec(&e) * 0.5 - e * pstar;
-                    if let Some(a) = &prm.artificial {
-                        let fa = (prm.kernel.w(r) / a.w_dp).powf(a.exponent);
-                        t += art[i].add(&art[j]).dot_vec(&e) * (0.5 * fa);
-                    }
-                    acc_j += t * f;
-                    sum_e += e * f;
-                    if gi > 0.0 {
-                        let gj = prm.hourglass[material[j] as usize];
-                        let s = pair_weight(kept_i, kept[j]) * 0.5 * (gi + gj);
-                        let vc = non_affine(&(vi - vj), &rij, li, &vel_grad[j]);
-                        dhg += vc * (s * dw / r * sj.vol);
-                    }
-                }
-                let mut acc = (si.dev.dot_vec(&sum_e) * 0.5 + acc_j) * inv_rho2;
+                // the pair sums, left zero for the next step
+                let sum = std::mem::replace(&mut sums[k], MomentumSums::zero());
+                let mut acc = sum.acc * inv_rho2;
                 let (w0, w1) = (cl.woff[k] as usize, cl.woff[k + 1] as usize);
                 if w1 > w0 {
                     let wl = &cl.wall[w0..w1];
@@ -270,7 +250,7 @@ pub fn momentum_sweep<const D: usize>(
                 let hg = &mut hout[k];
                 *hg = if gi > 0.0 {
                     *hg * (kept_i * prm.hourglass_leak[p.material[i] as usize])
-                        + (dhg * (prm.dt / rhoi)).cast::<f32>()
+                        + (sum.hourglass * (prm.dt / rhoi)).cast::<f32>()
                 } else {
                     SVector::zeros()
                 };
@@ -278,4 +258,103 @@ pub fn momentum_sweep<const D: usize>(
                 *vo = vi + (acc + prm.gravity) * prm.dt;
             }
         });
+}
+
+/// The fine–fine terms of the sweep, each pair evaluated once and added to both of its
+/// particles.
+fn pair_pass<const D: usize>(
+    p: &FineParticles<D>,
+    src: &[Source],
+    lists: &NeighborLists,
+    art: &[Sym],
+    prm: &MomentumParams<'_, D>,
+    sums: &mut [MomentumSums<D>],
+) {
+    let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
+    let n = p.len();
+    let (pos, vel, src) = (&p.pos[..n], &p.vel[..n], &src[..n]);
+    let (material, kept, vel_grad) = (&p.material[..n], &p.hourglass_kept[..n], &p.vel_grad[..n]);
+    let hourglass = !prm.hourglass.is_empty();
+    let slabs = &lists.slabs;
+    two_phase(
+        slabs,
+        &mut sums[..n],
+        &|s, win: &mut [MomentumSums<D>], base| {
+            for i in slabs[s] as usize..slabs[s + 1] as usize {
+                let cl = &lists.chunks[i / CHUNK];
+                let k = i % CHUNK;
+                let si = &src[i];
+                let ci = prm.materials[material[i] as usize].c0;
+                let (half_inv_z, inv_ci) = si.reciprocals(ci);
+                let (xi, vi) = (pos[i], vel[i]);
+                let left = |u: Real| Side::new(si.z, u, si.p);
+                let half_z = 0.5 * si.z;
+                let kept_i = kept[i];
+                let g_i = if hourglass {
+                    prm.hourglass[material[i] as usize]
+                } else {
+                    0.0
+                };
+                let li = &vel_grad[i];
+                let mut own = MomentumSums::<D>::zero();
+                for &j in &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize] {
+                    let j = j as usize;
+                    let rij = xi - pos[j];
+                    let r2 = rij.norm_squared();
+                    if r2 >= cut2 {
+                        continue;
+                    }
+                    let (sj, vj) = (&src[j], vel[j]);
+                    let r = r2.sqrt();
+                    let e = rij * (1.0 / r);
+                    let dw = prm.kernel.dw_within(r);
+                    let (ul, ur) = (-vi.dot(&e), -vj.dot(&e));
+                    // P* of Eq. (20), the same seen from either side
+                    let pstar = if prm.uniform {
+                        Riemann::p_star_uniform(
+                            si.p,
+                            sj.p,
+                            prm.riemann.limiter(ul - ur, inv_ci),
+                            half_z,
+                            ul - ur,
+                        )
+                    } else {
+                        let cj = prm.materials[material[j] as usize].c0;
+                        let (inv_z, inv_c) =
+                            pair_reciprocals(si.z, sj.z, ci, cj, half_inv_z, inv_ci);
+                        prm.riemann
+                            .p_star(left(ul), Side::new(sj.z, ur, sj.p), inv_z, inv_c)
+                    };
+                    // σ*·e = (σ̄ˢ − P* I)·e, Eq. (18)
+                    let mut t = si.dev.add(&sj.dev).dot_vec(&e) * 0.5 - e * pstar;
+                    if let Some(a) = &prm.artificial {
+                        let fa = (prm.kernel.w(r) / a.w_dp).powf(a.exponent);
+                        t += art[i].add(&art[j]).dot_vec(&e) * (0.5 * fa);
+                    }
+                    let aj = &mut win[j - base];
+                    own.acc += t * (dw * sj.vol);
+                    aj.acc -= t * (dw * si.vol);
+                    if hourglass {
+                        let kept_j = kept[j];
+                        if kept_i > 0.0 || kept_j > 0.0 {
+                            let g = 0.5 * (g_i + prm.hourglass[material[j] as usize]);
+                            let s = pair_weight(kept_i, kept_j) * g;
+                            let vc = non_affine(&(vi - vj), &rij, li, &vel_grad[j]);
+                            let q = s * dw / r;
+                            if kept_i > 0.0 {
+                                own.hourglass += vc * (q * sj.vol);
+                            }
+                            // ṽ_ji = −ṽ_ij
+                            if kept_j > 0.0 {
+                                aj.hourglass -= vc * (q * si.vol);
+                            }
+                        }
+                    }
+                }
+                let a = &mut win[i - base];
+                a.acc += own.acc;
+                a.hourglass += own.hourglass;
+            }
+        },
+    );
 }

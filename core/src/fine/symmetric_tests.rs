@@ -1,0 +1,397 @@
+//! The symmetric sweeps (each pair once, added to both particles) against a direct
+//! evaluation of Eqs. (15)–(20), (24)–(26) and the hourglass penalty, summed for each
+//! particle over all its neighbours, on a disordered cloud of two soils with moving,
+//! stressed particles: the two agree to round-off.
+
+use super::continuity::{continuity_sweep, ContinuityOut, ContinuityParams, ContinuitySums};
+use super::hourglass::{non_affine, pair_weight};
+use super::material::FineMaterial;
+use super::momentum::{momentum_sweep, CoarseSide, Load, MomentumParams, MomentumSums};
+use super::plasticity::update_stress;
+use super::riemann::{pair_reciprocals, uniform_acoustics, Riemann, Side};
+use super::source::{pack, Source};
+use super::state::FineParticles;
+use crate::coarse::coupling::Coupling;
+use crate::kernel::WendlandC2;
+use crate::math::{sub_outer, Real, Sym, Vect};
+use crate::neighbors::{Binned, CellGrid, NeighborLists};
+use crate::scene::ContinuityJump;
+use crate::walls::Walls;
+use nalgebra::{Matrix3, SMatrix, SVector};
+
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> Real {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as Real / (1u64 << 53) as Real - 0.5
+    }
+}
+
+fn material(name: &str, rho0: Real, e: Real) -> FineMaterial {
+    let nu: Real = 0.3;
+    let phi: Real = 30f64.to_radians();
+    let t = phi.tan();
+    let a = t / (9.0 + 12.0 * t * t).sqrt();
+    FineMaterial {
+        name: name.into(),
+        rho0,
+        shear: e / (2.0 * (1.0 + nu)),
+        bulk: e / (3.0 * (1.0 - 2.0 * nu)),
+        c0: (e / (3.0 * (1.0 - 2.0 * nu) * rho0)).sqrt(),
+        alpha_phi: a,
+        k_c: 0.0,
+        alpha_psi: 0.0,
+        k0: 1.0 - phi.sin(),
+        phi,
+        cohesion: 0.0,
+    }
+}
+
+/// A jittered lattice of `side`^D particles, spacing `dp`, sorted by cell, with lists.
+struct Cloud<const D: usize> {
+    p: FineParticles<D>,
+    mats: Vec<FineMaterial>,
+    lists: NeighborLists,
+    kernel: WendlandC2,
+}
+
+fn cloud<const D: usize>(side: usize, two_soils: bool) -> Cloud<D> {
+    let dp = 0.01;
+    let kernel = WendlandC2::new(1.3 * dp, D);
+    let mats = if two_soils {
+        vec![material("a", 2000.0, 5e6), material("b", 2600.0, 2e7)]
+    } else {
+        vec![material("a", 2000.0, 5e6)]
+    };
+    let mut rng = Rng(7);
+    let mut p = FineParticles::<D>::default();
+    let count = side.pow(D as u32);
+    for n in 0..count {
+        let mut x = Vect::<D>::zeros();
+        let mut v = Vect::<D>::zeros();
+        let mut m = n;
+        for k in 0..D {
+            x[k] = ((m % side) as Real + 0.3 * rng.next()) * dp;
+            v[k] = rng.next();
+            m /= side;
+        }
+        let mat = if two_soils { (n % 3 == 0) as u16 } else { 0 };
+        let rho0 = mats[mat as usize].rho0;
+        let mut s = Sym::iso(-2e4 * (1.0 + rng.next()));
+        for c in 0..6 {
+            if D == 3 || !matches!(c, 4 | 5) {
+                s.0[c] += 3e3 * rng.next();
+            }
+        }
+        p.push(
+            x,
+            v,
+            rho0 * (1.0 + 0.01 * rng.next()),
+            rho0 * dp.powi(D as i32),
+            s,
+            mat,
+        );
+    }
+    for i in 0..count {
+        p.hourglass_kept[i] = match i % 4 {
+            0 => 0.0,
+            1 => 0.7,
+            _ => 1.0,
+        };
+        for a in 0..D {
+            p.hourglass[i][a] = rng.next() as f32;
+            for b in 0..D {
+                p.vel_grad[i][(a, b)] = (50.0 * rng.next()) as f32;
+            }
+        }
+    }
+    let radius = kernel.cutoff + 0.3 * dp;
+    let lo = Vect::<D>::repeat(-2.0 * dp);
+    let mut hi = Vect::<D>::repeat(side as Real * dp + 2.0 * dp);
+    hi[0] *= 1.5; // a longer axis first, so slabs cut across it
+    let mut grid = CellGrid::new(&lo, &hi, radius);
+    grid.bin(&p.pos);
+    let order = grid.order().to_vec();
+    p.permute(&order, &mut Default::default());
+    grid.bin(&p.pos);
+    let empty = CellGrid::new(&lo, &hi, radius);
+    let mut lists = NeighborLists::default();
+    lists.build(
+        &p.pos,
+        &grid,
+        Binned {
+            pos: &[],
+            grid: &empty,
+        },
+        Binned {
+            pos: &[],
+            grid: &empty,
+        },
+        radius,
+    );
+    Cloud {
+        p,
+        mats,
+        lists,
+        kernel,
+    }
+}
+
+fn close(a: Real, b: Real, scale: Real, what: &str, i: usize) {
+    assert!(
+        (a - b).abs() <= 1e-11 * scale,
+        "{what} of particle {i}: sweep {a:e}, direct {b:e}"
+    );
+}
+
+fn momentum_matches<const D: usize>(two_soils: bool) {
+    let Cloud {
+        p,
+        mats,
+        lists,
+        kernel,
+    } = cloud::<D>(if D == 2 { 30 } else { 11 }, two_soils);
+    let n = p.len();
+    let mut src: Vec<Source> = Vec::new();
+    pack(&p, &mats, &mut src);
+    let hourglass: Vec<Real> = mats.iter().map(|m| 0.1 * m.shear).collect();
+    let leak = vec![0.9f32; mats.len()];
+    let tension = vec![false; mats.len()];
+    let mut g = Vect::<D>::zeros();
+    g[D - 1] = -9.81;
+    let dt = 1e-5;
+    let riemann = Riemann {
+        eta: 20.0 * D as Real,
+    };
+    let prm = MomentumParams {
+        kernel,
+        riemann,
+        gravity: g,
+        dt,
+        artificial: None,
+        wall_friction: 0.0,
+        hourglass: &hourglass,
+        hourglass_leak: &leak,
+        tension: &tension,
+        materials: &mats,
+        uniform: uniform_acoustics(&mats),
+    };
+    assert_eq!(prm.uniform, !two_soils);
+    let walls = Walls::<D>::default();
+    let mut vel_new = vec![Vect::<D>::zeros(); n];
+    let mut hg = p.hourglass.clone();
+    let mut loads = vec![Load::default(); lists.chunks.len()];
+    let mut reactions = vec![Vec::new(); lists.chunks.len()];
+    let mut sums = vec![MomentumSums::<D>::zero(); n];
+    let side = CoarseSide {
+        src: &[],
+        coupling: Coupling {
+            kernel,
+            riemann,
+            mu_cf: 0.0,
+            dt,
+            dp: 0.01,
+        },
+        reactions: &mut reactions,
+    };
+    momentum_sweep(
+        &p,
+        &src,
+        &walls,
+        &lists,
+        &[],
+        &prm,
+        &mut vel_new,
+        &mut hg,
+        &mut loads,
+        side,
+        &mut sums,
+    );
+    assert!(sums.iter().all(|s| s.acc == Vect::<D>::zeros()));
+    let cut = kernel.cutoff;
+    let mut pairs = 0;
+    for i in 0..n {
+        let (si, mi) = (&src[i], &mats[p.material[i] as usize]);
+        let mut acc = Vect::<D>::zeros();
+        let mut dhg = Vect::<D>::zeros();
+        for j in (0..n).filter(|&j| j != i) {
+            let rij = p.pos[i] - p.pos[j];
+            let r = rij.norm();
+            if r >= cut {
+                continue;
+            }
+            pairs += 1;
+            let (sj, mj) = (&src[j], &mats[p.material[j] as usize]);
+            let e = rij / r;
+            let dw = kernel.dw(r);
+            let (ul, ur) = (-p.vel[i].dot(&e), -p.vel[j].dot(&e));
+            let pstar = riemann.p_star(
+                Side::new(si.z, ul, si.p),
+                Side::new(sj.z, ur, sj.p),
+                1.0 / (si.z + sj.z),
+                2.0 / (mi.c0 + mj.c0),
+            );
+            // Eq. (16): (σ̄ˢ_ij − P* I)·∇_i W_ij V_j
+            let sbar = si.dev.add(&sj.dev).scale(0.5);
+            acc += (sbar.dot_vec(&e) - e * pstar) * (dw * sj.vol);
+            if p.hourglass_kept[i] > 0.0 {
+                let s = pair_weight(p.hourglass_kept[i], p.hourglass_kept[j])
+                    * 0.5
+                    * (hourglass[p.material[i] as usize] + hourglass[p.material[j] as usize]);
+                let vc = non_affine(&(p.vel[i] - p.vel[j]), &rij, &p.vel_grad[i], &p.vel_grad[j]);
+                dhg += vc * (s * dw / r * sj.vol);
+            }
+        }
+        let hg_i: SVector<f32, D> = if p.hourglass_kept[i] > 0.0 {
+            p.hourglass[i] * (p.hourglass_kept[i] * 0.9) + (dhg * (dt / p.rho[i])).cast::<f32>()
+        } else {
+            SVector::zeros()
+        };
+        let a = acc * (2.0 / p.rho[i]) + hg_i.cast::<Real>() + g;
+        let want = p.vel[i] + a * dt;
+        // the pressure term's scale: P/(ρ h) dt
+        let scale = 2e4 / (p.rho[i] * kernel.h) * dt;
+        for k in 0..D {
+            close(vel_new[i][k], want[k], scale, "v_{n+1}", i);
+            assert!((hg[i][k] - hg_i[k]).abs() <= 1e-5 * (1.0 + hg_i[k].abs()));
+        }
+    }
+    // a full neighbourhood inside the cloud (about 20 in 2D, 60 in 3D)
+    let mean = pairs as Real / n as Real;
+    assert!(
+        mean > if D == 2 { 15.0 } else { 40.0 },
+        "{mean} pairs a particle"
+    );
+}
+
+fn continuity_matches<const D: usize>(two_soils: bool, jump: ContinuityJump) {
+    let Cloud {
+        p,
+        mats,
+        lists,
+        kernel,
+    } = cloud::<D>(if D == 2 { 30 } else { 11 }, two_soils);
+    let n = p.len();
+    let mut src: Vec<Source> = Vec::new();
+    pack(&p, &mats, &mut src);
+    let mut up = Vect::<D>::zeros();
+    up[D - 1] = 1.0;
+    let geostatic: Vec<Sym> = mats
+        .iter()
+        .map(|m| Sym::iso(m.rho0 * 9.81 * (1.0 + m.k0) / 2.0))
+        .collect();
+    let pgeo: Vec<Real> = geostatic.iter().map(|g| g.trace() / 3.0).collect();
+    let (dt, zeta) = (1e-5, 0.1);
+    let prm = ContinuityParams {
+        kernel,
+        gravity: up * -9.81,
+        dt,
+        zeta,
+        geostatic: &geostatic,
+        geostatic_pressure: &pgeo,
+        geostatic_scale: 1.0,
+        up,
+        jump,
+        uniform: uniform_acoustics(&mats),
+    };
+    let walls = Walls::<D>::default();
+    let mut drho = vec![0.0; n];
+    let mut stress = p.stress.clone();
+    let mut eps = vec![0.0; n];
+    let mut lg = vec![SMatrix::<f32, D, D>::zeros(); n];
+    let mut kept = vec![0.0f32; n];
+    let mut sums = vec![ContinuitySums::<D>::zero(); n];
+    continuity_sweep(
+        &p,
+        &src,
+        &mats,
+        &walls,
+        &lists,
+        &prm,
+        &[],
+        ContinuityOut {
+            sums: &mut sums,
+            drho: &mut drho,
+            stress: &mut stress,
+            plastic_strain: &mut eps,
+            vel_grad: &mut lg,
+            hourglass_kept: &mut kept,
+        },
+    );
+    assert!(sums.iter().all(|s| s.drho == 0.0 && s.w == 0.0));
+    let (cut, h) = (kernel.cutoff, kernel.h);
+    for i in 0..n {
+        let (si, mi) = (&src[i], &mats[p.material[i] as usize]);
+        let geo = geostatic[p.material[i] as usize];
+        let mut d = 0.0;
+        let mut grad = SMatrix::<Real, D, D>::zeros();
+        let mut psi = Sym::ZERO;
+        for j in (0..n).filter(|&j| j != i) {
+            let rij = p.pos[i] - p.pos[j];
+            let r = rij.norm();
+            if r >= cut {
+                continue;
+            }
+            let (sj, mj) = (&src[j], &mats[p.material[j] as usize]);
+            let e = rij / r;
+            let dwv = kernel.dw(r) * sj.vol;
+            let (ul, ur) = (-p.vel[i].dot(&e), -p.vel[j].dot(&e));
+            // Eq. (19), the jump taken from density or from the stress relative to
+            // the geostatic state of particle i
+            let (pl, pr) = match jump {
+                ContinuityJump::Density => (si.p_rho, sj.p_rho),
+                _ => (si.p, sj.p - rij.dot(&up) * geo.trace() / 3.0),
+            };
+            let (inv_z, _) = pair_reciprocals(si.z, sj.z, mi.c0, mj.c0, 0.5 / si.z, 1.0 / mi.c0);
+            let ustar = Riemann::u_star(Side::new(si.z, ul, pl), Side::new(sj.z, ur, pr), inv_z);
+            d += 2.0 * (ustar - ul) * dwv;
+            sub_outer(&mut grad, &((p.vel[i] - p.vel[j]) * dwv), &e);
+            // Eq. (26): Ψ_ij = σ_i − σ_j − (geostatic difference), weighted as Eq. (25)
+            let w = r * dwv / (r * r + 0.01 * h * h);
+            let mut dsig = p.stress[i].sub(&p.stress[j]);
+            dsig.axpy(-rij.dot(&up), &geo);
+            psi.axpy(w, &dsig);
+        }
+        close(drho[i], p.rho[i] * d, p.rho[i] * 5.0 / kernel.h, "dρ/dt", i);
+        for a in 0..D {
+            for b in 0..D {
+                let (got, want) = (lg[i][(a, b)] as Real, grad[(a, b)]);
+                assert!((got - want).abs() <= 1e-6 * (1.0 + want.abs()), "L of {i}");
+            }
+        }
+        let mut l = Matrix3::zeros();
+        for a in 0..D {
+            for b in 0..D {
+                l[(a, b)] = grad[(a, b)];
+            }
+        }
+        let diffusion = psi.scale(2.0 * zeta * h * mi.c0);
+        let u = update_stress(mi, &l, &p.stress[i], &diffusion, dt);
+        for c in 0..6 {
+            close(stress[i].0[c], u.stress.0[c], 2e4, "stress", i);
+        }
+    }
+}
+
+#[test]
+fn momentum_2d_one_soil() {
+    momentum_matches::<2>(false);
+}
+
+#[test]
+fn momentum_3d_two_soils() {
+    momentum_matches::<3>(true);
+}
+
+#[test]
+fn continuity_2d_stress_jump_two_soils() {
+    continuity_matches::<2>(true, ContinuityJump::Stress);
+}
+
+#[test]
+fn continuity_3d_density_jump_one_soil() {
+    continuity_matches::<3>(false, ContinuityJump::Density);
+}
