@@ -234,7 +234,17 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// Step until exactly `t` (the last step is shortened).
+    ///
+    /// The steps run on a worker of the thread pool (in place when called from one):
+    /// a parallel loop started from outside the pool, e.g. from an FMI master's
+    /// thread, is handed to a sleeping worker and back, two thread switches per loop.
     pub fn advance_to(&mut self, t: Real) -> Result<(), Blowup> {
+        let mut out = Ok(());
+        rayon::scope(|_| out = self.advance_to_here(t));
+        out
+    }
+
+    fn advance_to_here(&mut self, t: Real) -> Result<(), Blowup> {
         while self.world.time < t {
             let remaining = t - self.world.time;
             if remaining <= 1e-12 * t.abs().max(1e-300) {

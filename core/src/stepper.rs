@@ -4,10 +4,9 @@
 use crate::coarse::coupling::{self, CoarseSource, Coupling};
 use crate::coarse::stepper::CoarseStepper;
 use crate::fine::artificial_stress::gray2001_artificial_stress;
-use crate::fine::continuity::{continuity_sweep, ContinuityOut, ContinuityParams, ContinuitySums};
-use crate::fine::momentum::{
-    momentum_sweep, ArtificialStress, CoarseSide, Load, MomentumParams, MomentumSums,
-};
+use crate::fine::continuity::{continuity_sweep, ContinuityOut, ContinuityParams, JumpDiffusion};
+use crate::fine::momentum::{momentum_sweep, ArtificialStress, CoarseSide, Load, MomentumParams};
+use crate::fine::pair_sums::PairSums;
 use crate::fine::riemann::{uniform_acoustics, Riemann};
 use crate::fine::source::{drift_and_pack, pack, Source};
 use crate::fine::state::PermuteScratch;
@@ -135,9 +134,8 @@ pub struct Stepper<const D: usize> {
     pub slot_loads: Vec<Load>,
     permute: PermuteScratch,
     order: Vec<u32>,
-    /// Pair sums of the two sweeps (zero between sweeps).
-    momentum_sums: Vec<MomentumSums<D>>,
-    continuity_sums: Vec<ContinuitySums<D>>,
+    /// Pair sums of the two sweeps (zero between steps).
+    pair_sums: Vec<PairSums<D>>,
     geostatic: Vec<Sym>,
     /// Per material: the geostatic pressure gradient of this step (ramp applied).
     geostatic_pressure: Vec<Real>,
@@ -248,8 +246,7 @@ impl<const D: usize> Stepper<D> {
             slot_loads: vec![Load::default(); world.walls.load_slots()],
             permute: PermuteScratch::default(),
             order: Vec::new(),
-            momentum_sums: Vec::new(),
-            continuity_sums: Vec::new(),
+            pair_sums: Vec::new(),
             geostatic,
             geostatic_pressure: Vec::new(),
             hourglass_leak: vec![1.0; hourglass.len()],
@@ -302,8 +299,7 @@ impl<const D: usize> Stepper<D> {
             + self.art.capacity() * size_of::<Sym>()
             + self.src.capacity() * size_of::<Source>()
             + self.order.capacity() * 4
-            + self.momentum_sums.capacity() * size_of::<MomentumSums<D>>()
-            + self.continuity_sums.capacity() * size_of::<ContinuitySums<D>>()
+            + self.pair_sums.capacity() * size_of::<PairSums<D>>()
             + self.fine_grid.bytes()
             + self.wall_grid.bytes()
     }
@@ -436,8 +432,7 @@ impl<const D: usize> Stepper<D> {
         }
         self.vel_new.resize(n, Vect::<D>::zeros());
         // the sweeps leave their sums zero, so only new entries need setting
-        self.momentum_sums.resize(n, MomentumSums::zero());
-        self.continuity_sums.resize(n, ContinuitySums::zero());
+        self.pair_sums.resize(n, PairSums::zero());
         let nbs = world.walls.load_slots().max(1);
         self.chunk_loads
             .resize(self.lists.chunks.len() * nbs, Load::default());
@@ -464,6 +459,27 @@ impl<const D: usize> Stepper<D> {
         for (k, m) in self.hourglass_leak.iter_mut().zip(&world.materials) {
             *k = (-dt * m.c0 / memory).exp() as f32;
         }
+        // the continuity sweep's parameters: its terms without velocity are taken in
+        // the momentum sweep's pair pass
+        self.geostatic_pressure.clear();
+        self.geostatic_pressure.extend(
+            self.geostatic
+                .iter()
+                .map(|g| g.scale(self.g_scale).trace() / 3.0),
+        );
+        let cprm = ContinuityParams {
+            kernel: self.kernel,
+            gravity: world.gravity,
+            dt,
+            zeta: self.params.zeta,
+            geostatic: &self.geostatic,
+            geostatic_pressure: &self.geostatic_pressure,
+            geostatic_scale: self.g_scale,
+            up: self.up,
+            jump: self.params.continuity_jump,
+            uniform: self.uniform,
+        };
+        let jump = JumpDiffusion::new(&cprm);
         // Eqs. (16), (55): v_{n+1}.
         let mprm = MomentumParams {
             kernel: self.kernel,
@@ -485,7 +501,7 @@ impl<const D: usize> Stepper<D> {
         {
             let (fine, walls, lists, art) = (&world.fine, &world.walls, &self.lists, &self.art);
             let (vel_new, loads, src) = (&mut self.vel_new, &mut self.chunk_loads, &mut self.src);
-            let sums = &mut self.momentum_sums;
+            let sums = &mut self.pair_sums;
             let hg = &mut hourglass;
             let side = CoarseSide {
                 src: &self.csrc,
@@ -500,7 +516,7 @@ impl<const D: usize> Stepper<D> {
             };
             self.timers.time(Stage::Momentum, || {
                 momentum_sweep(
-                    fine, src, walls, lists, art, &mprm, vel_new, hg, loads, side, sums,
+                    fine, src, walls, lists, art, &mprm, vel_new, hg, loads, side, &jump, sums,
                 )
             });
         }
@@ -520,24 +536,6 @@ impl<const D: usize> Stepper<D> {
         );
 
         // Eqs. (15), (24)–(26), (7)–(12) with v_{n+1}.
-        self.geostatic_pressure.clear();
-        self.geostatic_pressure.extend(
-            self.geostatic
-                .iter()
-                .map(|g| g.scale(self.g_scale).trace() / 3.0),
-        );
-        let cprm = ContinuityParams {
-            kernel: self.kernel,
-            gravity: world.gravity,
-            dt,
-            zeta: self.params.zeta,
-            geostatic: &self.geostatic,
-            geostatic_pressure: &self.geostatic_pressure,
-            geostatic_scale: self.g_scale,
-            up: self.up,
-            jump: self.params.continuity_jump,
-            uniform: self.uniform,
-        };
         // advanced in place: the sweep reads none of these of a neighbour (the
         // neighbours' stress comes from the packed sources)
         let mut stress = std::mem::take(&mut world.fine.stress);
@@ -548,7 +546,7 @@ impl<const D: usize> Stepper<D> {
         {
             let (fine, walls, lists) = (&world.fine, &world.walls, &self.lists);
             let out = ContinuityOut {
-                sums: &mut self.continuity_sums,
+                sums: &mut self.pair_sums,
                 drho: &mut drho,
                 stress: &mut stress,
                 plastic_strain: &mut eps,

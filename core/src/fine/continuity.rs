@@ -11,14 +11,17 @@
 //! acts in the momentum equation only.
 //!
 //! The sweep has two passes. The pair pass evaluates each fine–fine pair once and adds
-//! its terms to both particles' [`ContinuitySums`] (two-phase slab schedule,
-//! [`slabs`](crate::slabs)); the particle pass adds the wall and coarse-grain terms and
-//! updates the stress.
+//! its terms in v_{n+1} to both particles' [`ContinuitySums`] (two-phase slab schedule,
+//! [`slabs`](crate::slabs)); the terms without velocity ([`JumpDiffusion`]) are already
+//! there, from the momentum sweep's pair pass. The particle pass adds the wall and
+//! coarse-grain terms and updates the stress.
 
 use super::hourglass::penalty_kept;
 use super::material::FineMaterial;
+use super::pair_block::{Pair, PairBlock, BLOCK};
+use super::pair_sums::PairSums;
 use super::plasticity::update_stress;
-use super::riemann::{pair_reciprocals, Riemann, Side};
+use super::riemann::pair_reciprocals;
 use super::source::Source;
 use super::state::FineParticles;
 use crate::coarse::coupling::CoarseSource;
@@ -57,7 +60,8 @@ pub struct ContinuityParams<'a, const D: usize> {
 /// Fine–fine pair sums of one particle, added from both sides of each pair.
 #[derive(Clone, Copy, Debug)]
 pub struct ContinuitySums<const D: usize> {
-    /// Σ_j 2 (U* − U_L) ∂W/∂r V_j of Eq. (15) (times ρ_i gives dρ_i/dt).
+    /// Σ_j 2 (U* − U_L) ∂W/∂r V_j of Eq. (15) (times ρ_i gives dρ_i/dt); its pressure
+    /// part from [`JumpDiffusion`], its velocity part from the pair pass.
     pub drho: Real,
     /// Σ_j −v_ij ⊗ e_ij ∂W/∂r V_j, Eq. (24).
     pub grad: SMatrix<Real, D, D>,
@@ -82,7 +86,7 @@ impl<const D: usize> ContinuitySums<D> {
     }
 
     #[inline(always)]
-    fn add(&mut self, o: &Self) {
+    pub(super) fn add(&mut self, o: &Self) {
         self.drho += o.drho;
         self.grad += o.grad;
         self.w += o.w;
@@ -94,8 +98,9 @@ impl<const D: usize> ContinuitySums<D> {
 
 /// Output buffers of the sweep.
 pub struct ContinuityOut<'a, const D: usize> {
-    /// Pair sums (scratch, one per particle): all zero on entry, and left zero.
-    pub sums: &'a mut [ContinuitySums<D>],
+    /// Pair sums, one per particle: the continuity part holds the momentum sweep's
+    /// [`JumpDiffusion`] terms on entry, and is left zero.
+    pub sums: &'a mut [PairSums<D>],
     pub drho: &'a mut [Real],
     /// Stress, advanced in place (neighbours are read from the sources).
     pub stress: &'a mut [Sym],
@@ -147,7 +152,7 @@ pub fn continuity_sweep<const D: usize>(
                     let sig_i = stress_out[k];
                     let geo = prm.geostatic[material[i] as usize].scale(prm.geostatic_scale);
                     // the pair sums, left zero for the next step
-                    let sum = std::mem::replace(&mut sums[k], ContinuitySums::zero());
+                    let sum = std::mem::replace(&mut sums[k].continuity, ContinuitySums::zero());
                     let mut drho = sum.drho;
                     let mut grad = sum.grad;
                     // Ψ of Eq. (26) summed: σ_i − σ_j (σ = σˢ − P I) minus the geostatic
@@ -224,119 +229,146 @@ pub fn continuity_sweep<const D: usize>(
         );
 }
 
-/// The fine–fine terms of the sweep, each pair evaluated once and added to both of its
-/// particles (for j the pair is seen with e_ji = −e_ij: U_L and U_R swap and change
-/// sign, and its own pressures enter Eq. (19)).
+/// The continuity sweep's pair terms that need no velocity: the pressure jump of
+/// Eq. (19) in U* − U_L, and the weights of the stress diffusion of Eqs. (25)–(26).
+/// Positions and σ_n are the same in both sweeps, so the momentum sweep's pair pass
+/// takes these with the pair's distance and kernel gradient it has at hand
+/// ([`pair_sums`](super::pair_sums)).
+pub struct JumpDiffusion<'a, const D: usize> {
+    by_density: bool,
+    pgeo: &'a [Real],
+    up: Vect<D>,
+    diffusion: bool,
+    /// 0.01 h² of Eq. (25).
+    pub reg: Real,
+}
+
+impl<'a, const D: usize> JumpDiffusion<'a, D> {
+    pub fn new(prm: &ContinuityParams<'a, D>) -> Self {
+        JumpDiffusion {
+            by_density: prm.jump == ContinuityJump::Density,
+            pgeo: prm.geostatic_pressure,
+            up: prm.up,
+            diffusion: prm.zeta > 0.0,
+            reg: 0.01 * prm.kernel.h * prm.kernel.h,
+        }
+    }
+
+    /// Add the terms of pair (i, j) to both particles' sums: `dw` = ∂W/∂r at `r`,
+    /// `inv` = 1/(r (r² + 0.01h²)), `two_inv_z` = 2/(Z_i + Z_j).
+    ///
+    /// Eq. (19) splits U* − U_L into a velocity part, Z_j (U_R − U_L)/(Z_i + Z_j),
+    /// added by the continuity pair pass, and the pressure part (P_L − P_R)/(Z_i + Z_j)
+    /// taken here; for j the states swap (P_L = P_j, P_R = P_i as seen from j).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub fn pair(
+        &self,
+        (si, mat_i): (&Source, usize),
+        (sj, mat_j): (&Source, usize),
+        rij: &Vect<D>,
+        (r, dw, inv): (Real, Real, Real),
+        two_inv_z: Real,
+        own: &mut ContinuitySums<D>,
+        aj: &mut ContinuitySums<D>,
+    ) {
+        let up_r = rij.dot(&self.up);
+        // The jump P_L − P_R of Eq. (19) acts here as a pressure Laplacian. granmix
+        // integrates the pressure from the stress, not from the density, so with the
+        // stress's jump (seed 000) nothing feeds a density change back: where the
+        // Laplacian does not vanish at rest (a free surface, a floor, a deposit off the
+        // geostatic state) the density drifts for as long as the run lasts. From the
+        // density, K (ρ/ρ0 − 1), the jump diffuses density towards uniform and vanishes
+        // in a uniform deposit at rest. The stress's jump is taken relative to the
+        // geostatic state, as Eq. (26) does for the stress: seen from i,
+        // P_j + (P^H_i − P^H_j) = P_j − (r_ij·up) pgeo_i.
+        let (jump_i, jump_j) = if self.by_density {
+            (si.p_rho - sj.p_rho, sj.p_rho - si.p_rho)
+        } else {
+            (
+                si.p - (sj.p - up_r * self.pgeo[mat_i]),
+                sj.p - (si.p + up_r * self.pgeo[mat_j]),
+            )
+        };
+        let k = dw * two_inv_z;
+        own.drho += jump_i * k * sj.vol;
+        aj.drho += jump_j * k * si.vol;
+        if self.diffusion {
+            let w = r * r * dw * inv;
+            let (wi, wj) = (w * sj.vol, w * si.vol);
+            own.w += wi;
+            own.wz += wi * up_r;
+            own.wp += wi * sj.p;
+            own.wdev.axpy_in::<D>(wi, &sj.dev);
+            aj.w += wj;
+            aj.wz -= wj * up_r;
+            aj.wp += wj * si.p;
+            aj.wdev.axpy_in::<D>(wj, &si.dev);
+        }
+    }
+}
+
+/// The fine–fine terms of the sweep in v_{n+1}, each pair evaluated once and added to
+/// both of its particles: the velocity part of 2 (U* − U_L) in Eq. (15),
+/// 2 Z_j (U_R − U_L)/(Z_i + Z_j) with U_R − U_L = v_ij·e_ij (Z_i for j), and
+/// −v_ij ⊗ e_ij of Eq. (24), the same for j (v_ji ⊗ e_ji = v_ij ⊗ e_ij).
 fn pair_pass<const D: usize>(
     p: &FineParticles<D>,
     src: &[Source],
     mats: &[FineMaterial],
     lists: &NeighborLists,
     prm: &ContinuityParams<'_, D>,
-    sums: &mut [ContinuitySums<D>],
+    sums: &mut [PairSums<D>],
 ) {
     let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
-    let reg = 0.01 * prm.kernel.h * prm.kernel.h;
     let n = p.len();
     let (pos, vel, src, material) = (&p.pos[..n], &p.vel[..n], &src[..n], &p.material[..n]);
-    let by_density = prm.jump == ContinuityJump::Density;
-    let pgeo = prm.geostatic_pressure;
     let slabs = &lists.slabs;
     two_phase(
         slabs,
         &mut sums[..n],
-        &|s, win: &mut [ContinuitySums<D>], base| {
+        &|s, win: &mut [PairSums<D>], base| {
+            let mut block = PairBlock::<D>::default();
             for i in slabs[s] as usize..slabs[s + 1] as usize {
                 let cl = &lists.chunks[i / CHUNK];
                 let k = i % CHUNK;
                 let mi = &mats[material[i] as usize];
                 let si = &src[i];
                 let (half_inv_z, inv_ci) = si.reciprocals(mi.c0);
-                let (xi, vi) = (pos[i], vel[i]);
-                let pgeo_i = pgeo[material[i] as usize];
-                let pi = if by_density { si.p_rho } else { si.p };
+                let (xi, vi, vol_i) = (pos[i], vel[i], si.vol);
                 let mut own = ContinuitySums::<D>::zero();
-                for &j in &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize] {
-                    let j = j as usize;
-                    let rij = xi - pos[j];
-                    let r2 = rij.norm_squared();
-                    if r2 >= cut2 {
-                        continue;
-                    }
-                    let (sj, vj) = (&src[j], vel[j]);
-                    let r = r2.sqrt();
-                    // one division for both 1/r and 1/(r² + 0.01h²) of Eq. (25)
-                    let den = r2 + reg;
-                    let inv = 1.0 / (r * den);
-                    let e = rij * (den * inv);
-                    let dw = prm.kernel.dw_within(r);
-                    let (dwv_i, dwv_j) = (dw * si.vol, dw * sj.vol);
-                    let (ul, ur) = (-vi.dot(&e), -vj.dot(&e));
-                    let up_r = rij.dot(&prm.up);
-                    // The jump P_L − P_R of Eq. (19) acts here as a pressure Laplacian.
-                    // granmix integrates the pressure from the stress, not from the
-                    // density, so with the stress's jump (seed 000) nothing feeds a
-                    // density change back: where the Laplacian does not vanish at rest
-                    // (a free surface, a floor, a deposit off the geostatic state) the
-                    // density drifts for as long as the run lasts. From the density,
-                    // K (ρ/ρ0 − 1), the jump diffuses density towards uniform and
-                    // vanishes in a uniform deposit at rest. The stress's jump is taken
-                    // relative to the geostatic state, as Eq. (26) does for the stress:
-                    // seen from i, P_j + (P^H_i − P^H_j) = P_j − (r_ij·up) pgeo_i.
-                    let (pj, pj_seen, pi_seen) = if by_density {
-                        (sj.p_rho, sj.p_rho, si.p_rho)
-                    } else {
-                        (
-                            sj.p,
-                            sj.p - up_r * pgeo_i,
-                            si.p + up_r * pgeo[material[j] as usize],
-                        )
-                    };
-                    // U* seen from i and from j (U_L, U_R → −U_R, −U_L)
-                    let (us_i, us_j) = if prm.uniform {
-                        (
-                            Riemann::u_star_uniform(ul, ur, pi, pj_seen, half_inv_z),
-                            Riemann::u_star_uniform(-ur, -ul, pj, pi_seen, half_inv_z),
-                        )
-                    } else {
-                        let cj = mats[material[j] as usize].c0;
-                        let (inv_z, _) =
-                            pair_reciprocals(si.z, sj.z, mi.c0, cj, half_inv_z, inv_ci);
-                        (
-                            Riemann::u_star(
-                                Side::new(si.z, ul, pi),
-                                Side::new(sj.z, ur, pj_seen),
-                                inv_z,
-                            ),
-                            Riemann::u_star(
-                                Side::new(sj.z, -ur, pj),
-                                Side::new(si.z, -ul, pi_seen),
-                                inv_z,
-                            ),
-                        )
-                    };
-                    let vij = vi - vj;
-                    let aj = &mut win[j - base];
-                    // (v_i − v*)·e_ij = U* − U_L (U measured along −e_ij)
-                    own.drho += 2.0 * (us_i - ul) * dwv_j;
-                    aj.drho += 2.0 * (us_j + ur) * dwv_i;
-                    // −v_ij ⊗ e_ij for both: v_ji ⊗ e_ji = v_ij ⊗ e_ij
-                    sub_outer(&mut own.grad, &(vij * dwv_j), &e);
-                    sub_outer(&mut aj.grad, &(vij * dwv_i), &e);
-                    if prm.zeta > 0.0 {
-                        let w = r * r * dw * inv;
-                        let (wi, wj) = (w * sj.vol, w * si.vol);
-                        own.w += wi;
-                        own.wz += wi * up_r;
-                        own.wp += wi * sj.p;
-                        own.wdev.axpy_in::<D>(wi, &sj.dev);
-                        aj.w += wj;
-                        aj.wz -= wj * up_r;
-                        aj.wp += wj * si.p;
-                        aj.wdev.axpy_in::<D>(wj, &si.dev);
+                let list = &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize];
+                for js in list.chunks(BLOCK) {
+                    block.fill(&xi, js, pos, cut2, 0.0);
+                    for Pair {
+                        j, rij, r, inv_r, ..
+                    } in block.pairs(0.0)
+                    {
+                        let e = rij * inv_r;
+                        let dw = prm.kernel.dw_within(r);
+                        let (vol_j, vij) = (src[j].vol, vi - vel[j]);
+                        let g = vij * dw;
+                        let s = g.dot(&e);
+                        let (si_w, sj_w) = if prm.uniform {
+                            (s, s)
+                        } else {
+                            let sj = &src[j];
+                            let cj = mats[material[j] as usize].c0;
+                            let (inv_z, _) =
+                                pair_reciprocals(si.z, sj.z, mi.c0, cj, half_inv_z, inv_ci);
+                            let t = 2.0 * s * inv_z;
+                            (t * sj.z, t * si.z)
+                        };
+                        let aj = &mut win[j - base].continuity;
+                        own.drho += si_w * vol_j;
+                        aj.drho += sj_w * vol_i;
+                        sub_outer(&mut own.grad, &(g * vol_j), &e);
+                        sub_outer(&mut aj.grad, &(g * vol_i), &e);
                     }
                 }
-                win[i - base].add(&own);
+                let a = &mut win[i - base].continuity;
+                a.drho += own.drho;
+                a.grad += own.grad;
             }
         },
     );

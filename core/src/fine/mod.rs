@@ -5,6 +5,8 @@ pub mod continuity;
 pub mod hourglass;
 pub mod material;
 pub mod momentum;
+pub mod pair_block;
+pub mod pair_sums;
 pub mod plasticity;
 pub mod riemann;
 pub mod source;

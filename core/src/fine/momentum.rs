@@ -10,11 +10,16 @@
 //! The sweep has two passes. The pair pass evaluates each fine–fine pair once and adds
 //! its terms to both particles' [`MomentumSums`] (two-phase slab schedule,
 //! [`slabs`](crate::slabs)): σ̄ˢ_ij, P* and the hourglass weight are symmetric in the
-//! pair and e_ji = −e_ij, so j receives the negated traction weighted by V_i. The
-//! particle pass adds the wall and coarse-grain terms and integrates.
+//! pair and e_ji = −e_ij, so j receives the negated traction weighted by V_i. The same
+//! pass takes the continuity sweep's terms without velocity
+//! ([`JumpDiffusion`], [`pair_sums`](super::pair_sums)). The particle pass adds the wall
+//! and coarse-grain terms and integrates.
 
+use super::continuity::JumpDiffusion;
 use super::hourglass::{non_affine, pair_weight};
 use super::material::FineMaterial;
+use super::pair_block::{Pair, PairBlock, BLOCK};
+use super::pair_sums::PairSums;
 use super::riemann::{pair_reciprocals, Riemann, Side};
 use super::source::Source;
 use super::state::FineParticles;
@@ -103,8 +108,9 @@ pub struct CoarseSide<'a, const D: usize> {
 
 /// Compute v_{n+1} into `vel_new`, advance the accumulated hourglass acceleration in
 /// `hourglass` (in place; each particle reads only its own entry) and per-chunk barrier
-/// loads into `loads` (`max(1, barriers)` slots per chunk). `sums` is scratch, one
-/// entry per particle, all zero on entry and left zero.
+/// loads into `loads` (`max(1, barriers)` slots per chunk). `sums` holds one entry per
+/// particle, all zero on entry; its momentum part is left zero, its continuity part
+/// holds the [`JumpDiffusion`] terms for the continuity sweep.
 #[allow(clippy::too_many_arguments)]
 pub fn momentum_sweep<const D: usize>(
     p: &FineParticles<D>,
@@ -117,7 +123,8 @@ pub fn momentum_sweep<const D: usize>(
     hourglass: &mut [SVector<f32, D>],
     loads: &mut [Load],
     coarse: CoarseSide<'_, D>,
-    sums: &mut [MomentumSums<D>],
+    jump: &JumpDiffusion<'_, D>,
+    sums: &mut [PairSums<D>],
 ) {
     let (csrc, coupling) = (coarse.src, coarse.coupling);
     let nbs = walls.load_slots().max(1);
@@ -126,7 +133,7 @@ pub fn momentum_sweep<const D: usize>(
     // neighbour arrays of one length, so that a neighbour index is bounds-checked once
     let n = p.len();
     let (pos, vel, src) = (&p.pos[..n], &p.vel[..n], &src[..n]);
-    pair_pass(p, src, lists, art, prm, &mut *sums);
+    pair_pass(p, src, lists, art, prm, jump, &mut *sums);
     lists
         .chunks
         .par_iter()
@@ -161,7 +168,7 @@ pub fn momentum_sweep<const D: usize>(
                     0.0
                 };
                 // the pair sums, left zero for the next step
-                let sum = std::mem::replace(&mut sums[k], MomentumSums::zero());
+                let sum = std::mem::replace(&mut sums[k].momentum, MomentumSums::zero());
                 let mut acc = sum.acc * inv_rho2;
                 let (w0, w1) = (cl.woff[k] as usize, cl.woff[k + 1] as usize);
                 if w1 > w0 {
@@ -261,14 +268,15 @@ pub fn momentum_sweep<const D: usize>(
 }
 
 /// The fine–fine terms of the sweep, each pair evaluated once and added to both of its
-/// particles.
+/// particles, and the continuity sweep's terms without velocity.
 fn pair_pass<const D: usize>(
     p: &FineParticles<D>,
     src: &[Source],
     lists: &NeighborLists,
     art: &[Sym],
     prm: &MomentumParams<'_, D>,
-    sums: &mut [MomentumSums<D>],
+    jump: &JumpDiffusion<'_, D>,
+    sums: &mut [PairSums<D>],
 ) {
     let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
     let n = p.len();
@@ -279,7 +287,8 @@ fn pair_pass<const D: usize>(
     two_phase(
         slabs,
         &mut sums[..n],
-        &|s, win: &mut [MomentumSums<D>], base| {
+        &|s, win: &mut [PairSums<D>], base| {
+            let mut block = PairBlock::<D>::default();
             for i in slabs[s] as usize..slabs[s + 1] as usize {
                 let cl = &lists.chunks[i / CHUNK];
                 let k = i % CHUNK;
@@ -288,7 +297,8 @@ fn pair_pass<const D: usize>(
                 let (half_inv_z, inv_ci) = si.reciprocals(ci);
                 let (xi, vi) = (pos[i], vel[i]);
                 let left = |u: Real| Side::new(si.z, u, si.p);
-                let half_z = 0.5 * si.z;
+                let (half_z, inv_z_uniform) = (0.5 * si.z, 2.0 * half_inv_z);
+                let mat_i = material[i] as usize;
                 let kept_i = kept[i];
                 let g_i = if hourglass {
                     prm.hourglass[material[i] as usize]
@@ -296,64 +306,81 @@ fn pair_pass<const D: usize>(
                     0.0
                 };
                 let li = &vel_grad[i];
-                let mut own = MomentumSums::<D>::zero();
-                for &j in &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize] {
-                    let j = j as usize;
-                    let rij = xi - pos[j];
-                    let r2 = rij.norm_squared();
-                    if r2 >= cut2 {
-                        continue;
-                    }
-                    let (sj, vj) = (&src[j], vel[j]);
-                    let r = r2.sqrt();
-                    let e = rij * (1.0 / r);
-                    let dw = prm.kernel.dw_within(r);
-                    let (ul, ur) = (-vi.dot(&e), -vj.dot(&e));
-                    // P* of Eq. (20), the same seen from either side
-                    let pstar = if prm.uniform {
-                        Riemann::p_star_uniform(
-                            si.p,
-                            sj.p,
-                            prm.riemann.limiter(ul - ur, inv_ci),
-                            half_z,
-                            ul - ur,
-                        )
-                    } else {
-                        let cj = prm.materials[material[j] as usize].c0;
-                        let (inv_z, inv_c) =
-                            pair_reciprocals(si.z, sj.z, ci, cj, half_inv_z, inv_ci);
-                        prm.riemann
-                            .p_star(left(ul), Side::new(sj.z, ur, sj.p), inv_z, inv_c)
-                    };
-                    // σ*·e = (σ̄ˢ − P* I)·e, Eq. (18)
-                    let mut t = si.dev.add(&sj.dev).dot_vec(&e) * 0.5 - e * pstar;
-                    if let Some(a) = &prm.artificial {
-                        let fa = (prm.kernel.w(r) / a.w_dp).powf(a.exponent);
-                        t += art[i].add(&art[j]).dot_vec(&e) * (0.5 * fa);
-                    }
-                    let aj = &mut win[j - base];
-                    own.acc += t * (dw * sj.vol);
-                    aj.acc -= t * (dw * si.vol);
-                    if hourglass {
-                        let kept_j = kept[j];
-                        if kept_i > 0.0 || kept_j > 0.0 {
-                            let g = 0.5 * (g_i + prm.hourglass[material[j] as usize]);
-                            let s = pair_weight(kept_i, kept_j) * g;
-                            let vc = non_affine(&(vi - vj), &rij, li, &vel_grad[j]);
-                            let q = s * dw / r;
-                            if kept_i > 0.0 {
-                                own.hourglass += vc * (q * sj.vol);
-                            }
-                            // ṽ_ji = −ṽ_ij
-                            if kept_j > 0.0 {
-                                aj.hourglass -= vc * (q * si.vol);
+                let mut own = PairSums::<D>::zero();
+                let list = &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize];
+                for js in list.chunks(BLOCK) {
+                    block.fill(&xi, js, pos, cut2, jump.reg);
+                    for Pair {
+                        j,
+                        rij,
+                        r,
+                        inv_r,
+                        inv,
+                    } in block.pairs(jump.reg)
+                    {
+                        let (sj, vj) = (&src[j], vel[j]);
+                        let e = rij * inv_r;
+                        let dw = prm.kernel.dw_within(r);
+                        let (ul, ur) = (-vi.dot(&e), -vj.dot(&e));
+                        let mat_j = material[j] as usize;
+                        // P* of Eq. (20), the same seen from either side
+                        let (pstar, two_inv_z) = if prm.uniform {
+                            let beta = prm.riemann.limiter(ul - ur, inv_ci);
+                            (
+                                Riemann::p_star_uniform(si.p, sj.p, beta, half_z, ul - ur),
+                                inv_z_uniform,
+                            )
+                        } else {
+                            let cj = prm.materials[mat_j].c0;
+                            let (inv_z, inv_c) =
+                                pair_reciprocals(si.z, sj.z, ci, cj, half_inv_z, inv_ci);
+                            let right = Side::new(sj.z, ur, sj.p);
+                            (
+                                prm.riemann.p_star(left(ul), right, inv_z, inv_c),
+                                2.0 * inv_z,
+                            )
+                        };
+                        // σ*·e = (σ̄ˢ − P* I)·e, Eq. (18)
+                        let mut t = si.dev.add(&sj.dev).dot_vec(&e) * 0.5 - e * pstar;
+                        if let Some(a) = &prm.artificial {
+                            let fa = (prm.kernel.w(r) / a.w_dp).powf(a.exponent);
+                            t += art[i].add(&art[j]).dot_vec(&e) * (0.5 * fa);
+                        }
+                        let aj = &mut win[j - base];
+                        jump.pair(
+                            (si, mat_i),
+                            (sj, mat_j),
+                            &rij,
+                            (r, dw, inv),
+                            two_inv_z,
+                            &mut own.continuity,
+                            &mut aj.continuity,
+                        );
+                        let (own, aj) = (&mut own.momentum, &mut aj.momentum);
+                        own.acc += t * (dw * sj.vol);
+                        aj.acc -= t * (dw * si.vol);
+                        if hourglass {
+                            let kept_j = kept[j];
+                            if kept_i > 0.0 || kept_j > 0.0 {
+                                let g = 0.5 * (g_i + prm.hourglass[mat_j]);
+                                let s = pair_weight(kept_i, kept_j) * g;
+                                let vc = non_affine(&(vi - vj), &rij, li, &vel_grad[j]);
+                                let q = s * dw * inv_r;
+                                if kept_i > 0.0 {
+                                    own.hourglass += vc * (q * sj.vol);
+                                }
+                                // ṽ_ji = −ṽ_ij
+                                if kept_j > 0.0 {
+                                    aj.hourglass -= vc * (q * si.vol);
+                                }
                             }
                         }
                     }
                 }
                 let a = &mut win[i - base];
-                a.acc += own.acc;
-                a.hourglass += own.hourglass;
+                a.momentum.acc += own.momentum.acc;
+                a.momentum.hourglass += own.momentum.hourglass;
+                a.continuity.add(&own.continuity);
             }
         },
     );

@@ -3,10 +3,11 @@
 //! particle over all its neighbours, on a disordered cloud of two soils with moving,
 //! stressed particles: the two agree to round-off.
 
-use super::continuity::{continuity_sweep, ContinuityOut, ContinuityParams, ContinuitySums};
+use super::continuity::{continuity_sweep, ContinuityOut, ContinuityParams, JumpDiffusion};
 use super::hourglass::{non_affine, pair_weight};
 use super::material::FineMaterial;
-use super::momentum::{momentum_sweep, CoarseSide, Load, MomentumParams, MomentumSums};
+use super::momentum::{momentum_sweep, CoarseSide, Load, MomentumParams};
+use super::pair_sums::PairSums;
 use super::plasticity::update_stress;
 use super::riemann::{pair_reciprocals, uniform_acoustics, Riemann, Side};
 use super::source::{pack, Source};
@@ -147,70 +148,118 @@ fn close(a: Real, b: Real, scale: Real, what: &str, i: usize) {
     );
 }
 
-fn momentum_matches<const D: usize>(two_soils: bool) {
-    let Cloud {
-        p,
-        mats,
-        lists,
+/// Continuity parameters of the cloud: gravity along −y (or −z), ζ = 0.1.
+fn continuity_params<'a, const D: usize>(
+    kernel: WendlandC2,
+    jump: ContinuityJump,
+    mats: &[FineMaterial],
+    geostatic: &'a [Sym],
+    pgeo: &'a [Real],
+) -> ContinuityParams<'a, D> {
+    let mut up = Vect::<D>::zeros();
+    up[D - 1] = 1.0;
+    ContinuityParams {
         kernel,
-    } = cloud::<D>(if D == 2 { 30 } else { 11 }, two_soils);
+        gravity: up * -9.81,
+        dt: 1e-5,
+        zeta: 0.1,
+        geostatic,
+        geostatic_pressure: pgeo,
+        geostatic_scale: 1.0,
+        up,
+        jump,
+        uniform: uniform_acoustics(mats),
+    }
+}
+
+/// The geostatic gradients of Eq. (26) and their pressures, per material.
+fn geostatic(mats: &[FineMaterial]) -> (Vec<Sym>, Vec<Real>) {
+    let geo: Vec<Sym> = mats
+        .iter()
+        .map(|m| Sym::iso(m.rho0 * 9.81 * (1.0 + m.k0) / 2.0))
+        .collect();
+    let pgeo = geo.iter().map(|g| g.trace() / 3.0).collect();
+    (geo, pgeo)
+}
+
+/// The momentum sweep on the cloud: v_{n+1}, the hourglass acceleration, and the pair
+/// sums it leaves for the continuity sweep.
+fn momentum<const D: usize>(
+    cloud: &Cloud<D>,
+    src: &[Source],
+    cprm: &ContinuityParams<'_, D>,
+) -> (Vec<Vect<D>>, Vec<SVector<f32, D>>, Vec<PairSums<D>>) {
+    let (p, mats, lists, kernel) = (&cloud.p, &cloud.mats, &cloud.lists, cloud.kernel);
     let n = p.len();
-    let mut src: Vec<Source> = Vec::new();
-    pack(&p, &mats, &mut src);
     let hourglass: Vec<Real> = mats.iter().map(|m| 0.1 * m.shear).collect();
     let leak = vec![0.9f32; mats.len()];
     let tension = vec![false; mats.len()];
-    let mut g = Vect::<D>::zeros();
-    g[D - 1] = -9.81;
-    let dt = 1e-5;
     let riemann = Riemann {
         eta: 20.0 * D as Real,
     };
     let prm = MomentumParams {
         kernel,
         riemann,
-        gravity: g,
-        dt,
+        gravity: cprm.gravity,
+        dt: cprm.dt,
         artificial: None,
         wall_friction: 0.0,
         hourglass: &hourglass,
         hourglass_leak: &leak,
         tension: &tension,
-        materials: &mats,
-        uniform: uniform_acoustics(&mats),
+        materials: mats,
+        uniform: uniform_acoustics(mats),
     };
-    assert_eq!(prm.uniform, !two_soils);
     let walls = Walls::<D>::default();
     let mut vel_new = vec![Vect::<D>::zeros(); n];
     let mut hg = p.hourglass.clone();
     let mut loads = vec![Load::default(); lists.chunks.len()];
     let mut reactions = vec![Vec::new(); lists.chunks.len()];
-    let mut sums = vec![MomentumSums::<D>::zero(); n];
+    let mut sums = vec![PairSums::<D>::zero(); n];
     let side = CoarseSide {
         src: &[],
         coupling: Coupling {
             kernel,
             riemann,
             mu_cf: 0.0,
-            dt,
+            dt: cprm.dt,
             dp: 0.01,
         },
         reactions: &mut reactions,
     };
     momentum_sweep(
-        &p,
-        &src,
+        p,
+        src,
         &walls,
-        &lists,
+        lists,
         &[],
         &prm,
         &mut vel_new,
         &mut hg,
         &mut loads,
         side,
+        &JumpDiffusion::new(cprm),
         &mut sums,
     );
-    assert!(sums.iter().all(|s| s.acc == Vect::<D>::zeros()));
+    (vel_new, hg, sums)
+}
+
+fn momentum_matches<const D: usize>(two_soils: bool) {
+    let cloud = cloud::<D>(if D == 2 { 30 } else { 11 }, two_soils);
+    let (p, mats, kernel) = (&cloud.p, &cloud.mats, cloud.kernel);
+    let n = p.len();
+    let mut src: Vec<Source> = Vec::new();
+    pack(p, mats, &mut src);
+    let (geo, pgeo) = geostatic(mats);
+    let cprm = continuity_params::<D>(kernel, ContinuityJump::Stress, mats, &geo, &pgeo);
+    let (vel_new, hg, sums) = momentum(&cloud, &src, &cprm);
+    let hourglass: Vec<Real> = mats.iter().map(|m| 0.1 * m.shear).collect();
+    let riemann = Riemann {
+        eta: 20.0 * D as Real,
+    };
+    let (g, dt) = (cprm.gravity, cprm.dt);
+    assert_eq!(cprm.uniform, !two_soils);
+    assert!(sums.iter().all(|s| s.momentum.acc == Vect::<D>::zeros()));
     let cut = kernel.cutoff;
     let mut pairs = 0;
     for i in 0..n {
@@ -268,48 +317,28 @@ fn momentum_matches<const D: usize>(two_soils: bool) {
 }
 
 fn continuity_matches<const D: usize>(two_soils: bool, jump: ContinuityJump) {
-    let Cloud {
-        p,
-        mats,
-        lists,
-        kernel,
-    } = cloud::<D>(if D == 2 { 30 } else { 11 }, two_soils);
+    let cloud = cloud::<D>(if D == 2 { 30 } else { 11 }, two_soils);
+    let (p, mats, lists, kernel) = (&cloud.p, &cloud.mats, &cloud.lists, cloud.kernel);
     let n = p.len();
     let mut src: Vec<Source> = Vec::new();
-    pack(&p, &mats, &mut src);
-    let mut up = Vect::<D>::zeros();
-    up[D - 1] = 1.0;
-    let geostatic: Vec<Sym> = mats
-        .iter()
-        .map(|m| Sym::iso(m.rho0 * 9.81 * (1.0 + m.k0) / 2.0))
-        .collect();
-    let pgeo: Vec<Real> = geostatic.iter().map(|g| g.trace() / 3.0).collect();
-    let (dt, zeta) = (1e-5, 0.1);
-    let prm = ContinuityParams {
-        kernel,
-        gravity: up * -9.81,
-        dt,
-        zeta,
-        geostatic: &geostatic,
-        geostatic_pressure: &pgeo,
-        geostatic_scale: 1.0,
-        up,
-        jump,
-        uniform: uniform_acoustics(&mats),
-    };
+    pack(p, mats, &mut src);
+    let (geostatic, pgeo) = geostatic(mats);
+    let prm = continuity_params::<D>(kernel, jump, mats, &geostatic, &pgeo);
+    let (up, dt, zeta) = (prm.up, prm.dt, prm.zeta);
+    // the momentum sweep takes the terms without velocity (same positions and σ_n)
+    let (_, _, mut sums) = momentum(&cloud, &src, &prm);
     let walls = Walls::<D>::default();
     let mut drho = vec![0.0; n];
     let mut stress = p.stress.clone();
     let mut eps = vec![0.0; n];
     let mut lg = vec![SMatrix::<f32, D, D>::zeros(); n];
     let mut kept = vec![0.0f32; n];
-    let mut sums = vec![ContinuitySums::<D>::zero(); n];
     continuity_sweep(
-        &p,
+        p,
         &src,
-        &mats,
+        mats,
         &walls,
-        &lists,
+        lists,
         &prm,
         &[],
         ContinuityOut {
@@ -321,7 +350,9 @@ fn continuity_matches<const D: usize>(two_soils: bool, jump: ContinuityJump) {
             hourglass_kept: &mut kept,
         },
     );
-    assert!(sums.iter().all(|s| s.drho == 0.0 && s.w == 0.0));
+    assert!(sums
+        .iter()
+        .all(|s| s.continuity.drho == 0.0 && s.continuity.w == 0.0));
     let (cut, h) = (kernel.cutoff, kernel.h);
     for i in 0..n {
         let (si, mi) = (&src[i], &mats[p.material[i] as usize]);
