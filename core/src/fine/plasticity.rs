@@ -30,17 +30,17 @@ pub fn update_stress(
     dt: Real,
 ) -> StressUpdate {
     let strain_rate = Sym::from_matrix_sym(l);
-    let spin = (l - l.transpose()) * 0.5; // Eq. (10)
-    let s_mat = sigma.to_matrix();
-    let jaumann = Sym::from_matrix_sym(&(s_mat * spin.transpose() + spin * s_mat));
     let tr = strain_rate.trace();
-    // Elastic rate, Eq. (7) without the plastic term.
+    // Elastic rate, Eq. (7) without the plastic term, with the Jaumann and diffusion
+    // terms.
     let mut elastic = strain_rate.dev().scale(2.0 * m.shear);
     let kt = m.bulk * tr;
     elastic.0[0] += kt;
     elastic.0[1] += kt;
     elastic.0[2] += kt;
-    let mut rate = elastic.add(&jaumann).add(diffusion);
+    let unreturned = elastic.add(&jaumann(sigma, l)).add(diffusion);
+    let mut rate = unreturned;
+    let mut corrected = false;
 
     // Plastic corrector on the yield surface, Eqs. (7)–(8).
     let i1 = sigma.trace();
@@ -59,20 +59,47 @@ pub fn update_stress(
                 g.0[1] += v;
                 g.0[2] += v;
                 rate = rate.sub(&g);
+                corrected = true;
             }
         }
     }
 
     let mut trial = *sigma;
     trial.axpy(dt, &rate);
-    let mut elastic_trial = *sigma;
-    elastic_trial.axpy(dt, &elastic.add(&jaumann).add(diffusion));
     let stress = return_map(m, trial);
+    if !corrected && stress == trial {
+        // elastic: the trial state is the elastic one
+        return StressUpdate {
+            stress,
+            plastic_strain: 0.0,
+        };
+    }
+    let mut elastic_trial = *sigma;
+    elastic_trial.axpy(dt, &unreturned);
     let de = elastic_trial.dev().sub(&stress.dev()).scale(0.5 / m.shear);
     StressUpdate {
         stress,
         plastic_strain: (2.0 / 3.0 * de.ddot(&de)).sqrt(),
     }
+}
+
+/// The Jaumann terms σ Ωᵀ + Ω σ of Eq. (9) with the spin Ω = ½ (L − Lᵀ) of Eq. (10):
+/// for symmetric σ and antisymmetric Ω this is Ω σ − σ Ω = Ω σ + (Ω σ)ᵀ, written out
+/// for the six components (a third of the operations of the matrix products).
+#[inline(always)]
+pub fn jaumann(sigma: &Sym, l: &Matrix3<Real>) -> Sym {
+    let [a, b, c, d, e, f] = sigma.0; // xx, yy, zz, xy, xz, yz
+    let p = 0.5 * (l[(0, 1)] - l[(1, 0)]);
+    let q = 0.5 * (l[(0, 2)] - l[(2, 0)]);
+    let r = 0.5 * (l[(1, 2)] - l[(2, 1)]);
+    Sym([
+        2.0 * (p * d + q * e),
+        2.0 * (r * f - p * d),
+        -2.0 * (q * e + r * f),
+        p * (b - a) + q * f + r * e,
+        q * (c - a) + p * f - r * d,
+        r * (c - b) - p * e - q * d,
+    ])
 }
 
 /// Return mapping to the Drucker–Prager cone: tension cut-off at the apex, Eq. (11),
@@ -117,6 +144,33 @@ mod tests {
             cohesion: c,
             dilation_angle: 0.0,
         })
+    }
+
+    /// The written-out Jaumann terms equal σ Ωᵀ + Ω σ by matrix products.
+    #[test]
+    fn jaumann_terms_match_the_matrix_products() {
+        let sigma = Sym([-3.0e3, -1.2e3, -2.1e3, 450.0, -320.0, 180.0]);
+        let l = Matrix3::new(0.3, -1.7, 0.4, 2.2, -0.5, 0.9, -0.6, 1.3, 0.1);
+        let w = (l - l.transpose()) * 0.5;
+        let s = sigma.to_matrix();
+        let want = Sym::from_matrix_sym(&(s * w.transpose() + w * s));
+        let got = jaumann(&sigma, &l);
+        for k in 0..6 {
+            assert!(
+                (got.0[k] - want.0[k]).abs() < 1e-12 * 1e4,
+                "component {k}: {} against {}",
+                got.0[k],
+                want.0[k]
+            );
+        }
+        // 2D: σ̇_xx = 2 σ_xy ω, σ̇_xy = ω (σ_yy − σ_xx) with ω = ½ (∂u/∂y − ∂v/∂x)
+        let mut l2 = Matrix3::zeros();
+        (l2[(0, 1)], l2[(1, 0)]) = (0.8, -0.2);
+        let s2 = Sym([-3.0e3, -1.2e3, -2.1e3, 450.0, 0.0, 0.0]);
+        let j = jaumann(&s2, &l2);
+        assert!((j.0[0] - 2.0 * 450.0 * 0.5).abs() < 1e-9);
+        assert!((j.0[3] - 0.5 * (-1.2e3 + 3.0e3)).abs() < 1e-9);
+        assert_eq!((j.0[2], j.0[4], j.0[5]), (0.0, 0.0, 0.0));
     }
 
     /// Uniaxial compression in the elastic range: σ_xx = (K + 4G/3) ε, σ_yy = (K − 2G/3) ε.
