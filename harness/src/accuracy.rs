@@ -225,7 +225,7 @@ pub fn accuracy(o: &AccuracyOptions) -> Result<()> {
                     let cpu = cpu_time().zip(cpu0).map(|(b, a)| b - a);
                     let rss = crate::scale::peak_rss();
                     let (value, reference) = s.metric.evaluate(&rep);
-                    let err = Metric::error(value, reference);
+                    let err = s.metric.error(value, reference);
                     if let Some(b) = &rep.blowup {
                         eprintln!("{} {} {label}: {b}", s.case, s.scheme);
                     }

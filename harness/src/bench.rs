@@ -61,6 +61,27 @@ pub(crate) enum Metric {
     /// §7 rings: largest change of the total momentum over the run, relative to the
     /// bodies' summed momentum magnitude at the start (2 KE₀ / v₀); reference 0.
     MomentumDrift,
+    /// Earth pressure at rest: K = F_x / (½ ρ g H²) of the first barrier at the end,
+    /// against the band [K_a, K0]; the reference shown is K0, the error the distance
+    /// outside the band relative to K0 (0 inside it).
+    EarthPressure(EarthPressureRef),
+}
+
+/// A level layer of height `height` and density `density` behind a vertical barrier,
+/// friction angle `phi` (degrees): K_a = (1 − sin φ)/(1 + sin φ), K0 = 1 − sin φ.
+#[derive(Clone, Copy)]
+pub(crate) struct EarthPressureRef {
+    pub(crate) density: f64,
+    pub(crate) height: f64,
+    pub(crate) phi: f64,
+}
+
+impl EarthPressureRef {
+    /// (K_a, K0).
+    pub(crate) fn band(&self) -> (f64, f64) {
+        let s = self.phi.to_radians().sin();
+        ((1.0 - s) / (1.0 + s), 1.0 - s)
+    }
 }
 
 impl Metric {
@@ -120,12 +141,23 @@ impl Metric {
                     .fold(0.0, f64::max);
                 (Some(drift / scale.max(1e-300)), Some(0.0))
             }
+            Metric::EarthPressure(r) => {
+                let unit = 0.5 * r.density * 9.81 * r.height * r.height;
+                (
+                    last.barriers.first().map(|b| b.force[0] / unit),
+                    Some(r.band().1),
+                )
+            }
         }
     }
 
     /// Relative error of `value` against `reference` (the value itself when the
-    /// reference is 0).
-    pub(crate) fn error(value: Option<f64>, reference: Option<f64>) -> Option<f64> {
+    /// reference is 0); for a band, the distance outside it relative to its upper end.
+    pub(crate) fn error(&self, value: Option<f64>, reference: Option<f64>) -> Option<f64> {
+        if let (Metric::EarthPressure(r), Some(v)) = (self, value) {
+            let (ka, k0) = r.band();
+            return Some((ka - v).max(v - k0).max(0.0) / k0);
+        }
         match (value, reference) {
             (Some(v), Some(0.0)) => Some(v.abs()),
             (Some(v), Some(r)) => Some((v - r).abs() / r.abs()),
@@ -323,6 +355,26 @@ fn cases() -> Vec<Case> {
             "seed 000 Figs. 13–14: flow arrives ≈ 0.25 s, block 2 lands ≈ 0.4 s (±0.02 s), β → 0°",
     });
     v.push(Case {
+        name: "retained_layer".into(),
+        scene: "retained_layer_2d.toml",
+        levels: [
+            ("dp=7.5mm", 0.0075),
+            ("dp=5mm", 0.005),
+            ("dp=3.75mm", 0.00375),
+        ]
+        .iter()
+        .map(|(l, d)| (l.to_string(), vec![format!("simulation.dp={d}")]))
+        .collect(),
+        common: vec![],
+        metric: Metric::EarthPressure(EarthPressureRef {
+            density: 2040.0,
+            height: 0.15,
+            phi: 30.0,
+        }),
+        tolerance: Some(0.0),
+        note: "layer built quasi-statically: K at 3 s within [K_a, K0] (Rankine, Jaky)",
+    });
+    v.push(Case {
         name: "speed_2d".into(),
         scene: "column_collapse_2d.toml",
         levels: vec![("dp=2mm".into(), vec!["simulation.dp=0.002".into()])],
@@ -432,7 +484,7 @@ pub fn bench(a: &BenchArgs) -> Result<ExitCode> {
             let dir = a.out.join(&c.name).join(label.replace('/', "_"));
             let rep = run(&RunOptions::batch(a.scenes.join(c.scene), dir, set))?;
             let (value, reference) = c.metric.evaluate(&rep);
-            let err = Metric::error(value, reference);
+            let err = c.metric.error(value, reference);
             if let (Some(e), Some(tol)) = (err, c.tolerance) {
                 if k + 1 == nlev && !a.quick && e > tol {
                     failed = true;

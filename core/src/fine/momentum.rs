@@ -293,18 +293,14 @@ fn pair_pass<const D: usize>(
                 let cl = &lists.chunks[i / CHUNK];
                 let k = i % CHUNK;
                 let si = &src[i];
-                let ci = prm.materials[material[i] as usize].c0;
+                let mat_i = material[i] as usize;
+                let ci = prm.materials[mat_i].c0;
                 let (half_inv_z, inv_ci) = si.reciprocals(ci);
                 let (xi, vi) = (pos[i], vel[i]);
                 let left = |u: Real| Side::new(si.z, u, si.p);
                 let (half_z, inv_z_uniform) = (0.5 * si.z, 2.0 * half_inv_z);
-                let mat_i = material[i] as usize;
                 let kept_i = kept[i];
-                let g_i = if hourglass {
-                    prm.hourglass[material[i] as usize]
-                } else {
-                    0.0
-                };
+                let g_i = if hourglass { prm.hourglass[mat_i] } else { 0.0 };
                 let li = &vel_grad[i];
                 let mut own = PairSums::<D>::zero();
                 let list = &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize];
