@@ -293,6 +293,13 @@ impl NeighborLists {
         });
     }
 
+    /// The fine neighbours j > i of particle i (each pair once).
+    #[inline]
+    pub fn fine_of(&self, i: usize) -> &[u32] {
+        let (cl, k) = (&self.chunks[i / CHUNK], i % CHUNK);
+        &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize]
+    }
+
     /// Bytes held by the lists.
     pub fn bytes(&self) -> usize {
         self.chunks
@@ -361,9 +368,8 @@ mod tests {
         assert_eq!(*nl.slabs.last().unwrap() as usize, pos.len());
         let slab = |i: usize| nl.slabs.partition_point(|&b| b as usize <= i) - 1;
         for i in 0..pos.len() {
-            let cl = &nl.chunks[i / CHUNK];
-            let k = i % CHUNK;
-            let mut got: Vec<u32> = cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize].to_vec();
+            let (cl, k) = (&nl.chunks[i / CHUNK], i % CHUNK);
+            let mut got: Vec<u32> = nl.fine_of(i).to_vec();
             got.sort();
             let want: Vec<u32> = (i as u32 + 1..pos.len() as u32)
                 .filter(|&j| (pos[i] - pos[j as usize]).norm() < r)

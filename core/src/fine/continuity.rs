@@ -330,15 +330,12 @@ fn pair_pass<const D: usize>(
         &|s, win: &mut [PairSums<D>], base| {
             let mut block = PairBlock::<D>::default();
             for i in slabs[s] as usize..slabs[s + 1] as usize {
-                let cl = &lists.chunks[i / CHUNK];
-                let k = i % CHUNK;
                 let mi = &mats[material[i] as usize];
                 let si = &src[i];
                 let (half_inv_z, inv_ci) = si.reciprocals(mi.c0);
                 let (xi, vi, vol_i) = (pos[i], vel[i], si.vol);
                 let mut own = ContinuitySums::<D>::zero();
-                let list = &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize];
-                for js in list.chunks(BLOCK) {
+                for js in lists.fine_of(i).chunks(BLOCK) {
                     block.fill(&xi, js, pos, cut2, 0.0);
                     for Pair {
                         j, rij, r, inv_r, ..

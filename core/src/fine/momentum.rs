@@ -290,8 +290,6 @@ fn pair_pass<const D: usize>(
         &|s, win: &mut [PairSums<D>], base| {
             let mut block = PairBlock::<D>::default();
             for i in slabs[s] as usize..slabs[s + 1] as usize {
-                let cl = &lists.chunks[i / CHUNK];
-                let k = i % CHUNK;
                 let si = &src[i];
                 let mat_i = material[i] as usize;
                 let ci = prm.materials[mat_i].c0;
@@ -303,8 +301,7 @@ fn pair_pass<const D: usize>(
                 let g_i = if hourglass { prm.hourglass[mat_i] } else { 0.0 };
                 let li = &vel_grad[i];
                 let mut own = PairSums::<D>::zero();
-                let list = &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize];
-                for js in list.chunks(BLOCK) {
+                for js in lists.fine_of(i).chunks(BLOCK) {
                     block.fill(&xi, js, pos, cut2, jump.reg);
                     for Pair {
                         j,
