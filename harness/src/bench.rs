@@ -154,13 +154,13 @@ impl Metric {
     /// Relative error of `value` against `reference` (the value itself when the
     /// reference is 0); for a band, the distance outside it relative to its upper end.
     pub(crate) fn error(&self, value: Option<f64>, reference: Option<f64>) -> Option<f64> {
-        if let (Metric::EarthPressure(r), Some(v)) = (self, value) {
-            let (ka, k0) = r.band();
-            return Some((ka - v).max(v - k0).max(0.0) / k0);
-        }
-        match (value, reference) {
-            (Some(v), Some(0.0)) => Some(v.abs()),
-            (Some(v), Some(r)) => Some((v - r).abs() / r.abs()),
+        match (self, value, reference) {
+            (Metric::EarthPressure(b), Some(v), _) => {
+                let (ka, k0) = b.band();
+                Some((ka - v).max(v - k0).max(0.0) / k0)
+            }
+            (_, Some(v), Some(0.0)) => Some(v.abs()),
+            (_, Some(v), Some(r)) => Some((v - r).abs() / r.abs()),
             _ => None,
         }
     }
