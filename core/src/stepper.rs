@@ -14,7 +14,7 @@ use crate::guard::{Blowup, ChunkFailure};
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Sym, Vect};
 use crate::neighbors::{Binned, CellGrid, NeighborLists, CHUNK};
-use crate::scene::{ContinuityJump, Scene, TimeStepping};
+use crate::scene::{ContinuityJump, Scene, TimeStepping, WallStress};
 use crate::timers::{Stage, StageTimers};
 use crate::world::{geostatic_tensor, World};
 use rayon::prelude::*;
@@ -50,6 +50,8 @@ pub struct StepParams {
     pub scheme: TimeStepping,
     /// Pressure of the continuity equation's jump term.
     pub continuity_jump: ContinuityJump,
+    /// Deviatoric stress of the dummy wall particles.
+    pub wall_stress: WallStress,
 }
 
 impl StepParams {
@@ -73,6 +75,7 @@ impl StepParams {
             wall_friction: n.wall_friction,
             scheme: s.simulation.time_stepping,
             continuity_jump: n.continuity_jump,
+            wall_stress: n.wall_stress,
         }
     }
 }
@@ -490,6 +493,7 @@ impl<const D: usize> Stepper<D> {
             dt,
             artificial,
             wall_friction: self.params.wall_friction,
+            wall_stress: self.params.wall_stress,
             hourglass: &self.hourglass,
             hourglass_leak: &self.hourglass_leak,
             tension: &self.tension,

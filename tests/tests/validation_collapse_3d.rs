@@ -1,14 +1,19 @@
 //! VALIDATION.md §2: 3D axisymmetric column collapse against Lube et al. (2004),
-//! r∞ = r0 (1 + 1.24 a). Coarse resolution dp = r0/10 here (seed 000 Fig. 7: run-out
-//! converges to the reference from below as dp falls); the 5 % tolerance at r0/20 is
-//! checked by `granmix bench --case collapse_3d_a…`.
+//! r∞ = r0 (1 + 1.24 a). Coarse resolution here (seed 000 Fig. 7: run-out converges
+//! to the reference from below as dp falls); the 5 % tolerance at r0/20 is checked by
+//! `granmix bench --case collapse_3d_a…`. a = 0.5 and 1 run at dp = r0/10; a = 1.5
+//! runs at r0/15, because at r0/10 its spreading front is a layer one or two
+//! particles thick whose basal friction (the wall stress extrapolated as Eq. (35)
+//! extrapolates the pressure) stops it 16 % short (bench: 16.1, 11.4, 5.6 % at
+//! r0/10, 15, 20).
 
 use granmix_tests::{rel, run};
 
-fn collapse(a: f64) -> f64 {
+fn collapse(a: f64, per_radius: f64) -> f64 {
     let r0 = 0.1;
     let h = format!("regions.0.shape.height={}", a * r0);
-    let (samples, end, _) = run("column_collapse_3d.toml", &["simulation.dp=0.01", &h]);
+    let dp = format!("simulation.dp={}", r0 / per_radius);
+    let (samples, end, _) = run("column_collapse_3d.toml", &[&dp, &h]);
     assert!(
         !matches!(end, granmix_core::runner::RunEnd::Blowup(_)),
         "{end:?}"
@@ -19,10 +24,10 @@ fn collapse(a: f64) -> f64 {
 #[test]
 fn collapse_3d_runout_coarse() {
     let r0 = 0.1;
-    for a in [0.5, 1.0, 1.5] {
-        let r = collapse(a);
+    for (a, per_radius) in [(0.5, 10.0), (1.0, 10.0), (1.5, 15.0)] {
+        let r = collapse(a, per_radius);
         let reference = r0 * (1.0 + 1.24 * a);
-        // dp = r0/10 under-predicts by up to ~12 %; 15 % at this resolution
+        // the coarse levels under-predict by up to 11.4 % (bench); 15 % here
         assert!(
             rel(r, reference) < 0.15,
             "a = {a}: r∞ = {r:.4} m vs {reference:.4} m"

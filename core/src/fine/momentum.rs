@@ -27,6 +27,7 @@ use crate::coarse::coupling::{CoarseSource, Coupling, FineSide};
 use crate::kernel::WendlandC2;
 use crate::math::{to3, Real, Sym, Vect};
 use crate::neighbors::{NeighborLists, CHUNK};
+use crate::scene::WallStress;
 use crate::slabs::two_phase;
 use crate::walls::Walls;
 use nalgebra::{SVector, Vector3};
@@ -65,6 +66,8 @@ pub struct MomentumParams<'a, const D: usize> {
     pub artificial: Option<ArtificialStress>,
     /// Coulomb coefficient of fine grains on walls (0: off).
     pub wall_friction: Real,
+    /// Deviatoric stress of the dummy wall particles.
+    pub wall_stress: WallStress,
     /// Per material: ξ G of the hourglass penalty (empty: off).
     pub hourglass: &'a [Real],
     /// Per material: share of the stored penalty kept over the step, exp(−Δt c0/(N h)).
@@ -188,6 +191,12 @@ pub fn momentum_sweep<const D: usize>(
                     let n = if nrm > 0.0 { phi / nrm } else { phi };
                     let ul = -n.dot(&vi); // Eq. (32)
                     let share = 1.0 / wl.len() as Real;
+                    let extrapolate = WallStress::Extrapolated == prm.wall_stress;
+                    let strength = if extrapolate {
+                        WallStrength::new(&prm.materials[p.material[i] as usize], si)
+                    } else {
+                        WallStrength::MIRROR
+                    };
                     for &w in wl {
                         let w = w as usize;
                         let rij = xi - walls.pos[w];
@@ -205,7 +214,7 @@ pub fn momentum_sweep<const D: usize>(
                         let pr = si.p + rhoi * r * prm.gravity.dot(&(-e)).max(0.0);
                         let beta = prm.riemann.limiter(du, inv_ci);
                         let pstar = 0.5 * (si.p + pr) + 0.5 * beta * si.z * du;
-                        let mut sstar = si.dev;
+                        let mut sstar = si.dev.scale(0.5 * (1.0 + strength.ratio(pr)));
                         sstar.0[0] -= pstar;
                         sstar.0[1] -= pstar;
                         sstar.0[2] -= pstar;
@@ -377,4 +386,53 @@ fn pair_pass<const D: usize>(
             }
         },
     );
+}
+
+/// The deviatoric stress a dummy wall particle carries against particle i: the
+/// particle's σˢ_i at the same share of the Drucker–Prager strength √J2 ≤ 3α_φ P + k_c
+/// (Eqs. 4, 6) at the wall's pressure P_w of Eq. (35) as it uses at its own pressure,
+/// σˢ_w = m σˢ_i with m = (3α_φ P_w + k_c)/max(3α_φ P_i + k_c, √J2(σˢ_i)). In a
+/// frictional layer shear and pressure both grow with depth, so this extrapolates the
+/// stress to the wall as Eq. (35) extrapolates the pressure (for c = 0, m = P_w/P_i
+/// exactly); seed 000's mirror σˢ_w = σˢ_i gives a particle lying on the wall only the
+/// shear at its own centre, half the basal shear of a one-particle-thick layer. The
+/// pair term takes the mean ½(σˢ_i + σˢ_w), as Eq. (34) takes ½(P_L + P_R); m never
+/// lets the wall exceed the strength at its pressure, and is 1 where neither side
+/// has strength (a particle in tension without cohesion carries no shear).
+#[derive(Clone, Copy, Debug)]
+struct WallStrength {
+    /// 3α_φ, or 0 for the mirror.
+    three_alpha: Real,
+    k_c: Real,
+    /// 1 / max(3α_φ P_i + k_c, √J2(σˢ_i)), or 0 where that vanishes.
+    inv_used: Real,
+}
+
+impl WallStrength {
+    /// m = 1 everywhere.
+    const MIRROR: WallStrength = WallStrength {
+        three_alpha: 0.0,
+        k_c: 0.0,
+        inv_used: 0.0,
+    };
+
+    fn new(m: &FineMaterial, si: &Source) -> Self {
+        let three_alpha = 3.0 * m.alpha_phi;
+        let used = (three_alpha * si.p + m.k_c).max(si.dev.j2().sqrt());
+        WallStrength {
+            three_alpha,
+            k_c: m.k_c,
+            inv_used: if used > 0.0 { 1.0 / used } else { 0.0 },
+        }
+    }
+
+    /// m at the wall pressure `pw`.
+    #[inline(always)]
+    fn ratio(&self, pw: Real) -> Real {
+        if self.inv_used > 0.0 {
+            (self.three_alpha * pw + self.k_c).max(0.0) * self.inv_used
+        } else {
+            1.0
+        }
+    }
 }

@@ -16,7 +16,7 @@ use crate::coarse::coupling::Coupling;
 use crate::kernel::WendlandC2;
 use crate::math::{sub_outer, Real, Sym, Vect};
 use crate::neighbors::{Binned, CellGrid, NeighborLists};
-use crate::scene::ContinuityJump;
+use crate::scene::{ContinuityJump, WallStress};
 use crate::walls::Walls;
 use nalgebra::{Matrix3, SMatrix, SVector};
 
@@ -204,6 +204,7 @@ fn momentum<const D: usize>(
         dt: cprm.dt,
         artificial: None,
         wall_friction: 0.0,
+        wall_stress: WallStress::Extrapolated,
         hourglass: &hourglass,
         hourglass_leak: &leak,
         tension: &tension,

@@ -163,6 +163,23 @@ pub struct NumericsSpec {
     /// Pressure in the jump term of Eq. (19) as the continuity equation uses it.
     #[serde(default)]
     pub continuity_jump: ContinuityJump,
+    /// Deviatoric stress of the dummy wall particles (Eqs. 32–35).
+    #[serde(default)]
+    pub wall_stress: WallStress,
+}
+
+/// The deviatoric stress a dummy wall particle carries against a fine particle; its
+/// pressure is always Eq. (35)'s, P_w = P_i + ρ_i r max(0, g·(r_w − r_i)/r).
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum WallStress {
+    /// The particle's deviatoric stress at the same share of the Drucker–Prager
+    /// strength (Eq. 4) at the wall's pressure as the particle uses at its own:
+    /// the stress extrapolated to the wall as Eq. (35) extrapolates the pressure.
+    #[default]
+    Extrapolated,
+    /// The particle's own deviatoric stress (seed 000's mirror).
+    Mirrored,
 }
 
 /// Which pressure enters the jump (P_L − P_R) of Eq. (19) in the continuity equation
@@ -193,6 +210,7 @@ impl Default for NumericsSpec {
             wall_layers: default_layers(),
             wall_friction: 0.0,
             continuity_jump: ContinuityJump::default(),
+            wall_stress: WallStress::default(),
         }
     }
 }
