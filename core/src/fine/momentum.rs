@@ -191,11 +191,11 @@ pub fn momentum_sweep<const D: usize>(
                     let n = if nrm > 0.0 { phi / nrm } else { phi };
                     let ul = -n.dot(&vi); // Eq. (32)
                     let share = 1.0 / wl.len() as Real;
-                    let extrapolate = WallStress::Extrapolated == prm.wall_stress;
-                    let strength = if extrapolate {
-                        WallStrength::new(&prm.materials[p.material[i] as usize], si)
-                    } else {
-                        WallStrength::MIRROR
+                    let strength = match prm.wall_stress {
+                        WallStress::Extrapolated => {
+                            WallStrength::new(&prm.materials[p.material[i] as usize], si)
+                        }
+                        WallStress::Mirrored => WallStrength::MIRROR,
                     };
                     for &w in wl {
                         let w = w as usize;
