@@ -10,7 +10,7 @@ cargo fmt --all -- --check
 cargo clippy --release --all-targets -- -D warnings
 cargo test --release --workspace
 # the FMU tests pack FMUs with the granmix binary and the granmix-fmu library
-cargo build --release -p granmix -p granmix-fmu
+cargo build --release --workspace
 .venv/bin/python -m pytest -q tests/python
 # smoke runs of the accuracy, stability and scale suites on tiny cases (the full suites are
 # benchmarks)

@@ -1,0 +1,23 @@
+//! The validation and behaviour tests of granmix, one module per concern, linked into
+//! one test binary (one link instead of one per file keeps the suite's build short).
+
+mod barrier_loads;
+mod barrier_panels;
+mod body_mean_force;
+mod cohesive_cut;
+mod contact_restitution;
+mod determinism;
+mod fmu_fmi_crate;
+mod scene_errors;
+mod scenes_smoke;
+mod slope_stability;
+mod stability_guard;
+mod thin_layer_slope;
+mod validation_blocks;
+mod validation_collapse_2d;
+mod validation_collapse_3d;
+mod validation_crater;
+mod validation_geostatic;
+mod validation_incline;
+mod validation_rings;
+mod validation_srm;
