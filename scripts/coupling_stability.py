@@ -13,12 +13,15 @@ predicted (docs/fmu.md, "Coupling stability").
    (Δx_n = x_{n+1} - x_n). The loop is the linear map on (x, v, F, Δx_{n-1}); it is stable
    when its spectral radius ρ < 1. c_s is taken at the coupled mode's frequency
    f_c = √(k_s / (m + m_a)) / 2π. The growth rate of an oscillation is ln ρ / h.
-3. Optionally (--runs h,m,zeta ...): the real loop of two FMUs for 0.3 s; the measured
-   growth rate is the slope of the log of the load's half range over 25 ms windows after
-   0.1 s.
+3. Optionally (--runs h,m,zeta[,kick] ...): the real loop of two FMUs for 0.3 s, or with
+   a kick (an impulse in N·s/m added to the post's load at 0.1 s) to 0.225 s; the
+   measured growth rate is the slope of the log of the load's half range over 25 ms
+   windows after 0.1 s (after the kick). --svg writes the map of the runs in (h, ζ) with
+   the predicted bound (docs/coupling_stability.svg).
 
 Usage (after `cargo build --release -p granmix -p granmix-fmu`):
-    .venv/bin/python scripts/coupling_stability.py [--runs 5e-4,20,0.05 1e-3,20,1 ...]
+    .venv/bin/python scripts/coupling_stability.py [--svg map.svg] \
+        [--runs 5e-4,20,0.05 1e-3,20,1,-0.3 ...]
 """
 
 import argparse
@@ -148,12 +151,16 @@ def h_bound(soil, m, zeta):
     return lo
 
 
-def run_loop(fmus, h, m, zeta, duration=0.3):
+def run_loop(fmus, h, m, zeta, duration=0.3, kick=0.0, t_kick=0.1):
+    """The loop of docs/fmu.md; `kick` (N·s/m) is added to the post's load over the step
+    starting at t_kick. Returns the growth rate of the load's oscillation after 0.1 s,
+    its half range over the last 25 ms and its mean there."""
     g = Slave(fmus["barrier"], "soil")
     p = Slave(fmus["post"], "post", start={"m": m, "c": 2 * zeta * np.sqrt(K_POST * m)})
     f, forces = g.get("barrier.force.x"), []
-    for _ in range(int(round(duration / h))):
-        p.set("force", f)
+    n_kick = int(round(t_kick / h))
+    for n in range(int(round(duration / h))):
+        p.set("force", f + (kick / h if kick and n == n_kick else 0.0))
         p.step(h)
         g.set("barrier.displacement.x", p.get("displacement"))
         g.step(h)
@@ -167,14 +174,85 @@ def run_loop(fmus, h, m, zeta, duration=0.3):
         [np.ptp(forces[i : i + w]) / 2 for i in range(0, len(forces) - w + 1, w)]
     )
     tt = (np.arange(len(env)) + 0.5) * 0.025
-    sel = tt > 0.1
+    sel = tt > (t_kick + 0.025 if kick else 0.1)
     growth = np.polyfit(tt[sel], np.log(np.maximum(env[sel], 1e-9)), 1)[0]
     return growth, env[-1], forces[-w:].mean()
 
 
+def status(growth, amp):
+    """settles / decays (slowly, still above 1 N/m) / oscillates (limit cycle)."""
+    if amp < 1.0:
+        return "settles"
+    return "decays" if growth < -1.0 else "oscillates"
+
+
+def write_svg(path, soil, m, runs):
+    """Stability map in (h, ζ) for a post of mass m: the map's bound, the first-order
+    rule, and the measured runs."""
+    w, ht, x0, y0, x1, y1 = 640, 510, 70, 20, 610, 390
+    hx = (np.log10(0.1e-3), np.log10(3e-3))
+    zy = (np.log10(0.03), np.log10(3.0))
+
+    def px(h):
+        return x0 + (np.log10(h) - hx[0]) / (hx[1] - hx[0]) * (x1 - x0)
+
+    def py(z):
+        return y1 - (np.log10(z) - zy[0]) / (zy[1] - zy[0]) * (y1 - y0)
+
+    out = [
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{ht}" '
+        'font-family="sans-serif" font-size="12">',
+        f'<rect x="{x0}" y="{y0}" width="{x1 - x0}" height="{y1 - y0}" fill="none" stroke="black"/>',
+    ]
+    for h in [0.1e-3, 0.2e-3, 0.5e-3, 1e-3, 2e-3]:
+        out.append(f'<line x1="{px(h):.1f}" y1="{y0}" x2="{px(h):.1f}" y2="{y1}" stroke="#ddd"/>')
+        out.append(f'<text x="{px(h):.1f}" y="{y1 + 16}" text-anchor="middle">{h * 1e3:g}</text>')
+    for z in [0.05, 0.1, 0.3, 1.0, 2.0]:
+        out.append(f'<line x1="{x0}" y1="{py(z):.1f}" x2="{x1}" y2="{py(z):.1f}" stroke="#ddd"/>')
+        out.append(f'<text x="{x0 - 6}" y="{py(z) + 4:.1f}" text-anchor="end">{z:g}</text>')
+    out.append(f'<text x="{(x0 + x1) / 2}" y="{y1 + 34}" text-anchor="middle">communication step h (ms)</text>')
+    out.append(f'<text x="16" y="{(y0 + y1) / 2}" text-anchor="middle" transform="rotate(-90 16 {(y0 + y1) / 2})">post damping ratio ζ</text>')
+    zs = np.logspace(zy[0], zy[1], 60)
+    bound = " ".join(f"{px(min(h_bound(soil, m, z), 3e-3)):.1f},{py(z):.1f}" for z in zs)
+    out.append(f'<polyline points="{bound}" fill="none" stroke="#1f77b4" stroke-width="2"/>')
+    cs = soil.cs(m)
+    rule = " ".join(
+        f"{px(min((2 * z * np.sqrt(K_POST * m) + cs) * (m + soil.ma) / (soil.ks * m), 3e-3)):.1f},{py(z):.1f}"
+        for z in zs
+    )
+    out.append(f'<polyline points="{rule}" fill="none" stroke="#1f77b4" stroke-dasharray="5,4"/>')
+    for h, z, st in runs:
+        x, y = px(h), py(z)
+        if st == "settles":
+            out.append(f'<circle cx="{x:.1f}" cy="{y:.1f}" r="6" fill="#2ca02c"/>')
+        elif st == "decays":
+            out.append(f'<circle cx="{x:.1f}" cy="{y:.1f}" r="6" fill="none" stroke="#2ca02c" stroke-width="2"/>')
+        else:
+            out.append(
+                f'<path d="M{x - 6:.1f},{y - 6:.1f}L{x + 6:.1f},{y + 6:.1f}M{x - 6:.1f},{y + 6:.1f}L{x + 6:.1f},{y - 6:.1f}" '
+                'stroke="#d62728" stroke-width="2.5"/>'
+            )
+    legend = [
+        ("#1f77b4", f"bound of the linear map (m = {m:g} kg/m): stable left of it"),
+        ("#1f77b4", "first-order rule h = (c + c_s)(m + m_a)/(k_s m)"),
+        ("#2ca02c", "measured: settles (filled) / decays slowly (open)"),
+        ("#d62728", "measured: oscillates (limit cycle)"),
+    ]
+    for i, (col, txt) in enumerate(legend):
+        out.append(f'<text x="{x0}" y="{y1 + 60 + 16 * i}" fill="{col}">{txt}</text>')
+    out.append("</svg>")
+    pathlib.Path(path).write_text("\n".join(out) + "\n")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--runs", nargs="*", default=[], help="h,m,zeta points to run")
+    ap.add_argument(
+        "--runs",
+        nargs="*",
+        default=[],
+        help="h,m,zeta[,kick] points to run (kick: N·s/m on the post at 0.1 s, run to 0.225 s)",
+    )
+    ap.add_argument("--svg", help="write the stability map in (h, zeta) of the runs' mass")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as d:
         fmus = pack(d)
@@ -190,15 +268,23 @@ def main():
         print("  zeta  " + "".join(f"m={m:<8g}" for m in masses))
         for z in [0.05, 0.3, 1.0, 2.0]:
             print(f"  {z:4.2f}  " + "".join(f"{h_bound(soil, m, z) * 1e3:<10.3f}" for m in masses))
+        runs, mass = [], 20.0
         for spec in args.runs:
-            h, m, z = map(float, spec.split(","))
+            h, m, z, *kick = map(float, spec.split(","))
+            kick = kick[0] if kick else 0.0
             r = rho(soil, m, z, h)
-            growth, amp, mean = run_loop(fmus, h, m, z)
+            growth, amp, mean = run_loop(fmus, h, m, z, 0.225 if kick else 0.3, kick)
+            st = status(growth, amp)
+            runs.append((h, z, st))
+            mass = m
             print(
-                f"h = {h * 1e3:g} ms, m = {m:g}, zeta = {z:g}: predicted rho = {r:.4f} "
-                f"(growth {np.log(r) / h:+.1f}/s); measured growth {growth:+.1f}/s, "
-                f"load {mean:.2f} N/m ± {amp:.2f}"
+                f"h = {h * 1e3:g} ms, m = {m:g}, zeta = {z:g}, kick = {kick:g}: predicted "
+                f"rho = {r:.4f} (growth {np.log(r) / h:+.1f}/s); measured growth "
+                f"{growth:+.1f}/s, load {mean:.2f} N/m ± {amp:.2f}: {st}",
+                flush=True,
             )
+        if args.svg:
+            write_svg(args.svg, soil, mass, runs)
 
 
 if __name__ == "__main__":
