@@ -7,7 +7,7 @@ from conftest import Slave
 H = 1e-3
 
 
-def couple(granular, post, steps):
+def couple(granular, post, steps, h=H):
     """Gauss–Seidel loop: the post takes the force of granmix's last step, then granmix
     moves its barrier to the post's new displacement. Returns per-step forces passed on
     and the post displacement."""
@@ -15,12 +15,12 @@ def couple(granular, post, steps):
     f = granular.get("barrier.force.x")
     for _ in range(steps):
         post.set("force", f)
-        post.step(H)
+        post.step(h)
         forces.append(f)
         x = post.get("displacement")
         xs.append(x)
         granular.set("barrier.displacement.x", x)
-        granular.step(H)
+        granular.step(h)
         f = granular.get("barrier.force.x")
     return np.array(forces), np.array(xs)
 
