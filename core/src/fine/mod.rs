@@ -13,3 +13,4 @@ pub mod source;
 pub mod state;
 #[cfg(test)]
 mod symmetric_tests;
+pub mod wall_contact;

@@ -5,7 +5,9 @@
 //!           + 2/ρ_i Σ_w (σˢ_i − P*_w I)·∇_i W_iw V_w
 //! and v_{n+1} = v_n + Δt dv/dt (Eq. 55). Wall particles take the stress of i
 //! (σ_w = σ_i, no-slip); P*_w solves the one-sided Riemann problem along the wall
-//! normal of Eq. (33). The reaction on barrier particles is summed per chunk.
+//! normal of Eq. (33). The wall pair's interface stress is cut at the soil's tensile
+//! strength, the apex of its Drucker–Prager cone ([`wall_contact`]): a contact that
+//! would pull harder opens. The reaction on barrier particles is summed per chunk.
 //!
 //! The sweep has two passes. The pair pass evaluates each fine–fine pair once and adds
 //! its terms to both particles' [`MomentumSums`] (two-phase slab schedule,
@@ -23,6 +25,7 @@ use super::pair_sums::PairSums;
 use super::riemann::{pair_reciprocals, Riemann, Side};
 use super::source::Source;
 use super::state::FineParticles;
+use super::wall_contact;
 use crate::coarse::coupling::{CoarseSource, Coupling, FineSide};
 use crate::kernel::WendlandC2;
 use crate::math::{to3, Real, Sym, Vect};
@@ -197,6 +200,8 @@ pub fn momentum_sweep<const D: usize>(
                         }
                         WallStress::Mirrored => WallStrength::MIRROR,
                     };
+                    let tensile =
+                        wall_contact::tensile_strength(&prm.materials[p.material[i] as usize]);
                     for &w in wl {
                         let w = w as usize;
                         let rij = xi - walls.pos[w];
@@ -218,6 +223,8 @@ pub fn momentum_sweep<const D: usize>(
                         sstar.0[0] -= pstar;
                         sstar.0[1] -= pstar;
                         sstar.0[2] -= pstar;
+                        // the contact opens beyond the soil's tensile strength
+                        let sstar = wall_contact::cut(sstar, &n, tensile);
                         let mut a = sstar.dot_vec(&e) * (inv_rho2 * dw * vw);
                         if prm.wall_friction > 0.0 {
                             let an = a.dot(&n);
