@@ -3,7 +3,7 @@
 use crate::guard::Blowup;
 use crate::math::Real;
 use crate::scene::{LoadedScene, SceneError};
-use crate::simulation::{Frame, ParticleState, Sample, Simulation};
+use crate::simulation::{BarrierSample, Frame, ParticleState, Sample, Simulation};
 use crate::stepper::StepStats;
 use crate::timers::StageTimers;
 use std::fmt;
@@ -97,6 +97,10 @@ impl AnySimulation {
     }
     pub fn sample(&mut self) -> Sample {
         dispatch!(self, s => s.sample())
+    }
+    /// See [`Simulation::state_loads`].
+    pub fn state_loads(&self) -> Result<Vec<BarrierSample>, Blowup> {
+        dispatch!(self, s => s.state_loads())
     }
     pub fn frame(&self) -> Frame {
         dispatch!(self, s => s.frame())

@@ -384,6 +384,41 @@ impl<const D: usize> Simulation<D> {
         s
     }
 
+    /// The loads the barriers carry in the current state, without advancing it: the
+    /// momentum sweep of a step (seed 000 Eqs. (16), (35), (55)) run with Δt = 0 on a
+    /// copy of the world and the stepper, so the wall forces come from the solver's
+    /// own formulas. `force`, `last_force` and `peak_force` are this instantaneous
+    /// load. Contacts of coarse grains with a barrier enter from the first step (a
+    /// zero-length step takes no coarse sub-step). The FMU reports it before any step.
+    pub fn state_loads(&self) -> Result<Vec<BarrierSample>, Blowup> {
+        let mut world = self.world.clone();
+        let mut stepper = self.stepper.clone();
+        stepper.step(&mut world, 0.0, 1)?;
+        let walls = &self.world.walls;
+        Ok(walls
+            .barriers
+            .iter()
+            .enumerate()
+            .map(|(b, bar)| {
+                let l = &stepper.step_loads[b];
+                BarrierSample {
+                    name: bar.name.clone(),
+                    force: l.force.into(),
+                    moment: l.moment.into(),
+                    peak_force: l.force.norm(),
+                    last_force: l.force.into(),
+                    panels: if bar.panels.is_empty() {
+                        Vec::new()
+                    } else {
+                        (0..walls.panel_count(b))
+                            .map(|i| stepper.slot_loads[bar.slot0 + i].force.into())
+                            .collect()
+                    },
+                }
+            })
+            .collect())
+    }
+
     /// Fill `out` (length [`Self::particle_count`]: fine particles first, then coarse)
     /// with `make` of every particle's [`ParticleState`], in parallel. Reads only: the
     /// solver state is untouched, so publishing cannot change results.

@@ -613,7 +613,9 @@ impl<const D: usize> Stepper<D> {
                 .collect_into_vec(failures);
             world.walls.advance(half);
         });
-        if let Some(c) = &mut self.coarse {
+        // a step of Δt = 0 (the force pass on the current state,
+        // `Simulation::state_loads`) has no coarse sub-step to take
+        if let Some(c) = self.coarse.as_mut().filter(|_| dt > 0.0) {
             let t = std::time::Instant::now();
             let (step, time) = (world.steps + 1, world.time + dt);
             c.advance(&mut world.coarse, &world.walls, dt, kappa, step, time)?;

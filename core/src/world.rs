@@ -119,7 +119,7 @@ impl<const D: usize> World<D> {
                 return Err(BuildError {
                     path: format!("regions[{ri}].shape"),
                     message: format!(
-                        "region `{}` holds no particle at dp = {dp} m; enlarge it or refine dp",
+                        "region `{}` holds no particle at dp = {dp:?} m; enlarge it or refine dp",
                         r.name
                     ),
                 });
@@ -198,7 +198,7 @@ impl<const D: usize> World<D> {
                 if pts.is_empty() {
                     return Err(BuildError {
                         path: format!("{key}[{wi}].shape"),
-                        message: format!("`{}` holds no wall particle at dp = {dp} m", w.name),
+                        message: format!("`{}` holds no wall particle at dp = {dp:?} m", w.name),
                     });
                 }
                 let vel = w

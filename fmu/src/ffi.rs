@@ -8,7 +8,7 @@
 //! elements; strings are NUL-terminated. This is the only module with `unsafe`.
 
 use crate::instance::{allowed, load_model, resource_dir, Instance, State};
-use crate::model::Model;
+use crate::model::{Model, StepError};
 use crate::variables::{lookup, Causality, Kind};
 use fmi_sys::fmi2::*;
 use std::ffi::{c_char, CStr, CString};
@@ -243,7 +243,9 @@ pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
     })
 }
 
-/// fmi2SetupExperiment: the start time must be the model's (0); tolerance is unused.
+/// fmi2SetupExperiment: the experiment starts at `start_time` (any finite time: model
+/// time, communication points and output stamps are shifted by it); tolerance and stop
+/// time are unused.
 ///
 /// # Safety
 /// See the module documentation.
@@ -258,12 +260,10 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
 ) -> fmi2Status {
     unsafe {
         with_instance(c, "fmi2SetupExperiment", allowed::INSTANTIATED, |i| {
-            let t0 = i.model.time();
-            if start_time != t0 {
-                return Err(format!(
-                    "start time {start_time} s: the model starts at {t0} s"
-                ));
+            if !start_time.is_finite() {
+                return Err(format!("start time {start_time:?} s is not a finite time"));
             }
+            i.model.set_start_time(start_time)?;
             Ok(OK)
         })
     }
@@ -360,7 +360,22 @@ unsafe fn get_values<T>(
     }
 }
 
+/// Whether variable `vr` of type `kind` may be set in state `state`.
+fn settable(model: &dyn Model, vr: u32, kind: Kind, state: State) -> Result<(), String> {
+    let var = lookup(model.variables(), vr, kind)?;
+    match (var.causality, state) {
+        (Causality::Output, _) => Err(format!("`{}` is an output and cannot be set", var.name)),
+        (Causality::Parameter, State::StepMode) => Err(format!(
+            "parameter `{}` is fixed once initialisation has ended",
+            var.name
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// Shared setter path: parameters before step mode, inputs at any time before the end.
+/// Every entry is checked (value reference, type, causality, state, the model's own
+/// checks) before any is applied, so a rejected call changes nothing.
 unsafe fn set_values<T: Copy>(
     c: fmi2Component,
     function: &str,
@@ -375,19 +390,10 @@ unsafe fn set_values<T: Copy>(
             let vrs = slice(vr, nvr)?;
             let vals = slice(value, nvr)?;
             for (&v, &r) in vals.iter().zip(vrs) {
-                let var = lookup(i.model.variables(), r, kind)?;
-                match (var.causality, i.state) {
-                    (Causality::Output, _) => {
-                        return Err(format!("`{}` is an output and cannot be set", var.name))
-                    }
-                    (Causality::Parameter, State::StepMode) => {
-                        return Err(format!(
-                            "parameter `{}` is fixed once initialisation has ended",
-                            var.name
-                        ))
-                    }
-                    _ => {}
-                }
+                settable(i.model.as_ref(), r, kind, i.state)?;
+                i.model.check(r, convert(v))?;
+            }
+            for (&v, &r) in vals.iter().zip(vrs) {
                 i.model.set(r, convert(v))?;
             }
             Ok(OK)
@@ -525,7 +531,8 @@ pub unsafe extern "C" fn fmi2SetBoolean(
     }
 }
 
-/// fmi2SetString: String parameters, before step mode.
+/// fmi2SetString: String parameters, before step mode; all entries are checked before
+/// any is applied.
 ///
 /// # Safety
 /// See the module documentation.
@@ -540,26 +547,32 @@ pub unsafe extern "C" fn fmi2SetString(
         with_instance(c, "fmi2SetString", allowed::SET, |i| {
             let vrs = slice(vr, nvr)?;
             let vals = slice(value, nvr)?;
+            let mut texts = Vec::with_capacity(nvr);
             for (&p, &r) in vals.iter().zip(vrs) {
-                let var = lookup(i.model.variables(), r, Kind::String)?;
-                if var.causality == Causality::Parameter && i.state == State::StepMode {
-                    return Err(format!(
-                        "parameter `{}` is fixed once initialisation has ended",
-                        var.name
-                    ));
-                }
+                settable(i.model.as_ref(), r, Kind::String, i.state)?;
+                i.model.check_string(r)?;
                 let Some(text) = string(p) else {
-                    return Err(format!("`{}`: null string", var.name));
+                    let name = &i.model.variables()[r as usize].name;
+                    return Err(format!("`{name}`: null string"));
                 };
-                i.model.set_string(r, &text)?;
+                texts.push(text);
+            }
+            for (text, &r) in texts.iter().zip(vrs) {
+                i.model.set_string(r, text)?;
             }
             Ok(OK)
         })
     }
 }
 
-/// An FMU state: a full copy of the model.
-type Snapshot = Box<dyn Model>;
+/// An FMU state: a full copy of the model and the instance's place in the state
+/// machine, so that restoring a state taken before an fmi2Error leaves the error
+/// state (FMI 2.0 §2.1.3, status fmi2Error: "it can be tried to restart the
+/// simulation from a formerly stored FMU state by calling fmi2SetFMUstate").
+struct Snapshot {
+    model: Box<dyn Model>,
+    state: State,
+}
 
 /// fmi2GetFMUstate: copy the model state into `*state` (reusing it when non-null).
 ///
@@ -572,7 +585,10 @@ pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, state: *mut fmi2FMUst
             if state.is_null() {
                 return Err("null FMUstate pointer".into());
             }
-            let snap = i.model.snapshot();
+            let snap = Snapshot {
+                model: i.model.snapshot(),
+                state: i.state,
+            };
             if (*state).is_null() {
                 *state = Box::into_raw(Box::new(snap)) as fmi2FMUstate;
             } else {
@@ -584,7 +600,9 @@ pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, state: *mut fmi2FMUst
     }
 }
 
-/// fmi2SetFMUstate: restore the model from a state (the state stays valid).
+/// fmi2SetFMUstate: restore the model and the instance state from a state (the state
+/// stays valid). From the error state this is the retry FMI 2.0 allows: a state taken
+/// in step mode puts the instance back in step mode.
 ///
 /// # Safety
 /// See the module documentation; `state` is a state from this FMU.
@@ -597,7 +615,8 @@ pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, state: fmi2FMUstate) 
             }
             // SAFETY: non-null states are boxed snapshots made here.
             let snap = &*(state as *const Snapshot);
-            i.model = snap.snapshot();
+            i.model = snap.model.snapshot();
+            i.state = snap.state;
             Ok(OK)
         })
     }
@@ -630,7 +649,7 @@ unsafe fn state_bytes(state: fmi2FMUstate) -> Result<Vec<u8>, String> {
         return Err("null FMUstate".into());
     }
     // SAFETY: non-null states are boxed snapshots made here.
-    unsafe { &*(state as *const Snapshot) }.to_bytes()
+    unsafe { &*(state as *const Snapshot) }.model.to_bytes()
 }
 
 /// fmi2SerializedFMUstateSize.
@@ -698,7 +717,17 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
                 return Err("null FMUstate pointer".into());
             }
             let bytes = slice(serialized as *const u8, size)?;
-            let snap = i.model.restore_bytes(bytes)?;
+            let model = i.model.restore_bytes(bytes)?;
+            // the bytes hold the model; its place in the state machine follows from it
+            let state_now = if model.initialised() {
+                State::StepMode
+            } else {
+                State::Instantiated
+            };
+            let snap = Snapshot {
+                model,
+                state: state_now,
+            };
             if (*state).is_null() {
                 *state = Box::into_raw(Box::new(snap)) as fmi2FMUstate;
             } else {
@@ -777,8 +806,11 @@ pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
     }
 }
 
-/// fmi2DoStep: advance from `t` by `h`, landing exactly on t + h. A numerical blow-up
-/// returns fmi2Error with the diagnostic and leaves the instance in the error state.
+/// fmi2DoStep: advance from `t` by `h`, landing exactly on t + h. A rejected call
+/// (non-finite or mismatched `t`, `h` not positive and finite or too small to change
+/// `t`) returns fmi2Error and leaves the instance as it was; a numerical blow-up
+/// returns fmi2Error with the diagnostic and puts the instance in the error state,
+/// from which `fmi2SetFMUstate` restarts it.
 ///
 /// # Safety
 /// See the module documentation.
@@ -791,14 +823,14 @@ pub unsafe extern "C" fn fmi2DoStep(
 ) -> fmi2Status {
     unsafe {
         with_instance(c, "fmi2DoStep", allowed::STEP, |i| {
-            if let Err(e) = i.model.do_step(t, h) {
-                if e.starts_with("fmi2DoStep:") {
-                    return Err(e); // a bad call, the model is unchanged
+            match i.model.do_step(t, h) {
+                Ok(()) => Ok(OK),
+                Err(StepError::Rejected(e)) => Err(e),
+                Err(StepError::Failed(e)) => {
+                    i.state = State::Error;
+                    Err(e)
                 }
-                i.state = State::Error;
-                return Err(e);
             }
-            Ok(OK)
         })
     }
 }

@@ -6,13 +6,13 @@
 //! or with (target displacement − current displacement)/h.
 
 use crate::model::bytes::{Reader, Writer};
-use crate::model::Model;
+use crate::model::{check_step, Model, StepError};
 use crate::variables::{Kind, Variable};
 use crate::xml::{self, ModelInfo};
 use granmix_core::scene::{load_scene_in, BarrierInput, LoadedScene};
 use granmix_core::simulation::Sample;
 use granmix_core::AnySimulation;
-use granmix_ipc::{FramePublisher, Recorder, SceneInfo};
+use granmix_ipc::{FrameInfo, FramePublisher, ParticleRecord, Recorder, SceneInfo};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
@@ -464,10 +464,26 @@ pub struct Granular {
     /// The FMU instance name (default particle service).
     instance: String,
     sinks: Option<Arc<Mutex<Sinks>>>,
+    /// Start time of the experiment (`fmi2SetupExperiment`); the simulation itself
+    /// starts at 0, so it steps bitwise as an experiment started at 0 would.
+    start: f64,
+    /// The communication point reached, as the master computed it (`t + h` of the
+    /// last step; `start` before any).
+    now: f64,
 }
 
 fn build_sim(loaded: &LoadedScene) -> Result<AnySimulation, String> {
     AnySimulation::new(loaded).map_err(|e| e.to_string())
+}
+
+/// The outputs before any step: the state's observations, with the loads the
+/// barriers carry in it (the force pass on the initial state, not 0).
+fn initial_sample(sim: &mut AnySimulation) -> Result<Sample, String> {
+    let mut s = sim.sample();
+    s.barriers = sim
+        .state_loads()
+        .map_err(|e| format!("loads of the initial state: {e}"))?;
+    Ok(s)
 }
 
 impl Granular {
@@ -490,7 +506,7 @@ impl Granular {
             .iter()
             .map(|v| v.start.unwrap_or(0.0))
             .collect();
-        let last = sim.sample();
+        let last = initial_sample(&mut sim)?;
         let texts = table
             .variables
             .iter()
@@ -509,6 +525,8 @@ impl Granular {
             texts,
             instance: String::from("granmix"),
             sinks: None,
+            start: 0.0,
+            now: 0.0,
         })
     }
 
@@ -593,11 +611,27 @@ impl Granular {
         let mut s = sinks
             .lock()
             .map_err(|_| "output sinks poisoned".to_string())?;
+        // stamped with the communication point (the experiment's start included)
+        let sim = &self.sim;
         if let Some(p) = s.publisher.as_mut() {
-            p.publish(&self.sim);
+            let (fine, coarse) = sim.particle_counts();
+            let info = FrameInfo {
+                time: self.now,
+                step: sim.steps(),
+                fine_count: fine,
+                coarse_count: coarse,
+                dimension: sim.dimension() as u32,
+            };
+            p.publish_with(&info, |out| {
+                sim.fill_particles(out, |q| ParticleRecord::from(q))
+            });
         }
         if let Some(r) = s.recorder.as_mut() {
-            r.record(&self.sim, &self.last)
+            let sample = Sample {
+                time: self.now,
+                ..self.last.clone()
+            };
+            r.record(sim, &sample)
                 .map_err(|e| format!("record.path: {e}"))?;
         }
         Ok(())
@@ -628,7 +662,7 @@ impl Granular {
         let loaded =
             load_scene_in(&l.text, &l.file, &sets, &self.dir).map_err(|e| e.to_string())?;
         self.sim = build_sim(&loaded)?;
-        self.last = self.sim.sample();
+        self.last = initial_sample(&mut self.sim)?;
         self.built_with = self.values.clone();
         Ok(())
     }
@@ -702,13 +736,18 @@ impl Model for Granular {
         Ok(self.texts[vr as usize].clone())
     }
 
-    fn set_string(&mut self, vr: u32, value: &str) -> Result<(), String> {
+    fn check_string(&self, vr: u32) -> Result<(), String> {
         if self.initialised {
             return Err(format!(
                 "`{}` is fixed once initialisation has ended",
                 self.table.variables[vr as usize].name
             ));
         }
+        Ok(())
+    }
+
+    fn set_string(&mut self, vr: u32, value: &str) -> Result<(), String> {
+        self.check_string(vr)?;
         self.texts[vr as usize] = value.to_string();
         Ok(())
     }
@@ -727,14 +766,19 @@ impl Model for Granular {
         }
     }
 
-    fn set(&mut self, vr: u32, value: f64) -> Result<(), String> {
+    fn check(&self, vr: u32, value: f64) -> Result<(), String> {
         let v = &self.table.variables[vr as usize];
         if !value.is_finite() {
             return Err(format!(
-                "`{}` set to {value}: values must be finite",
+                "`{}` set to {value:?}: values must be finite",
                 v.name
             ));
         }
+        Ok(())
+    }
+
+    fn set(&mut self, vr: u32, value: f64) -> Result<(), String> {
+        self.check(vr, value)?;
         self.values[vr as usize] = value;
         Ok(())
     }
@@ -746,18 +790,29 @@ impl Model for Granular {
         self.emit()
     }
 
-    fn do_step(&mut self, t: f64, h: f64) -> Result<(), String> {
-        let now = self.sim.time();
-        if !(h > 0.0 && h.is_finite()) {
-            return Err(format!(
-                "fmi2DoStep: step size {h} must be positive and finite"
-            ));
+    fn set_start_time(&mut self, start: f64) -> Result<(), String> {
+        if !start.is_finite() {
+            return Err(format!("start time {start:?} s is not a finite time"));
         }
-        if (t - now).abs() > 1e-9 * t.abs().max(h) {
-            return Err(format!(
-                "fmi2DoStep: communication point {t} s differs from the model time {now} s"
-            ));
-        }
+        self.start = start;
+        self.now = start;
+        Ok(())
+    }
+
+    fn initialised(&self) -> bool {
+        self.initialised
+    }
+
+    fn do_step(&mut self, t: f64, h: f64) -> Result<(), StepError> {
+        check_step(t, h, self.now)?;
+        // The simulation runs from 0: it lands on `sim time + h` when the master's
+        // point is the one the model reached (so an experiment started at t0 steps
+        // bitwise as one started at 0), on the master's `t + h` otherwise.
+        let end = if t == self.now {
+            self.sim.time() + h
+        } else {
+            (t + h) - self.start
+        };
         let mut drives = Vec::new();
         for (b, mode) in self.table.inputs.iter().enumerate() {
             let Some(mode) = mode else { continue };
@@ -782,12 +837,14 @@ impl Model for Granular {
             };
             drives.push((b, v));
         }
-        self.advance(StepRecord { end: t + h, drives })?;
-        self.emit()
+        self.advance(StepRecord { end, drives })
+            .map_err(StepError::Failed)?;
+        self.now = t + h;
+        self.emit().map_err(StepError::Failed)
     }
 
     fn time(&self) -> f64 {
-        self.sim.time()
+        self.now
     }
 
     fn reset(&mut self) -> Result<(), String> {
@@ -857,6 +914,7 @@ impl Model for Granular {
         m.texts = self.texts.clone();
         m.instance = self.instance.clone();
         m.sinks = self.sinks.clone();
+        m.start = self.start;
         let steps = r.u64()?;
         for _ in 0..steps {
             let end = r.f64()?;
@@ -868,6 +926,7 @@ impl Model for Granular {
             }
             m.advance(StepRecord { end, drives })?;
         }
+        m.now = self.start + m.sim.time();
         Ok(Box::new(m))
     }
 }

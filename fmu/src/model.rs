@@ -3,16 +3,72 @@
 
 use crate::variables::Variable;
 
+/// Why `fmi2DoStep` did not advance. The FFI layer adds the function name to the
+/// message and decides the instance state from the variant.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum StepError {
+    /// The call itself is wrong (communication point, step size): nothing was
+    /// changed, the instance stays usable.
+    Rejected(String),
+    /// The solver failed within the step (blow-up): the state is no longer valid;
+    /// the instance goes to the error state, from which `fmi2SetFMUstate` restarts it.
+    Failed(String),
+}
+
+impl std::fmt::Display for StepError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            StepError::Rejected(m) | StepError::Failed(m) => f.write_str(m),
+        }
+    }
+}
+
+/// Check a communication step `(t, h)` against the model time `now`: both finite,
+/// `h > 0` large enough to change `t`, and `t` within 1e-9 (relative) of `now`.
+pub fn check_step(t: f64, h: f64, now: f64) -> Result<(), StepError> {
+    let bad = |m: String| Err(StepError::Rejected(m));
+    if !t.is_finite() {
+        return bad(format!(
+            "communication point {t:?} s is not a finite time (the model is at {now:?} s)"
+        ));
+    }
+    if !(h.is_finite() && h > 0.0) {
+        return bad(format!("step size {h:?} s must be positive and finite"));
+    }
+    if t + h == t {
+        return bad(format!(
+            "step size {h:?} s is too small to change the communication point {t:?} s \
+             (t + h == t in double precision)"
+        ));
+    }
+    if (t - now).abs() > 1e-9 * t.abs().max(h) {
+        return bad(format!(
+            "communication point {t:?} s differs from the model time {now:?} s"
+        ));
+    }
+    Ok(())
+}
+
 /// A co-simulation model behind one FMU instance. Errors are messages for the logger.
 pub trait Model: Send {
     /// The value-reference table (value reference = index).
     fn variables(&self) -> &[Variable];
     /// Current value of variable `vr` (Reals, Integers and Booleans as f64).
     fn get(&mut self, vr: u32) -> Result<f64, String>;
-    /// Set parameter or input `vr` (the FFI layer has checked causality and state).
+    /// Whether `value` is acceptable for parameter or input `vr` (the FFI layer has
+    /// checked causality and state). Checked for every entry of a multi-value set
+    /// before any is applied.
+    fn check(&self, vr: u32, value: f64) -> Result<(), String>;
+    /// Set parameter or input `vr` to a value [`Model::check`] accepted.
     fn set(&mut self, vr: u32, value: f64) -> Result<(), String>;
     /// Current value of String variable `vr`.
     fn get_string(&mut self, vr: u32) -> Result<String, String> {
+        Err(format!(
+            "value reference {vr}: the model has no String variables"
+        ))
+    }
+    /// Whether String parameter `vr` may be set now.
+    fn check_string(&self, vr: u32) -> Result<(), String> {
         Err(format!(
             "value reference {vr}: the model has no String variables"
         ))
@@ -31,9 +87,14 @@ pub trait Model: Send {
     }
     /// Leave initialisation mode: parameters are final.
     fn exit_initialization(&mut self) -> Result<(), String>;
-    /// Advance from `t` by `h`, landing exactly on `t + h`.
-    fn do_step(&mut self, t: f64, h: f64) -> Result<(), String>;
-    /// Model time (s).
+    /// `fmi2SetupExperiment`: the experiment starts at `start` (s); model time,
+    /// communication points and output stamps are shifted by it.
+    fn set_start_time(&mut self, start: f64) -> Result<(), String>;
+    /// Whether initialisation has ended (a deserialised state in step mode).
+    fn initialised(&self) -> bool;
+    /// Advance from `t` by `h`, landing exactly on `t + h` ([`check_step`] first).
+    fn do_step(&mut self, t: f64, h: f64) -> Result<(), StepError>;
+    /// Model time (s), start time included.
     fn time(&self) -> f64;
     /// Back to the freshly instantiated state.
     fn reset(&mut self) -> Result<(), String>;

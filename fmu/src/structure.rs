@@ -4,7 +4,7 @@
 //! over the step: y(t + h) = exp(A h) y(t) on the state augmented with the forcing.
 
 use crate::model::bytes::{Reader, Writer};
-use crate::model::Model;
+use crate::model::{check_step, Model, StepError};
 use crate::variables::{Causality, Variable};
 use crate::xml::{self, ModelInfo};
 use nalgebra::{DMatrix, DVector};
@@ -215,6 +215,7 @@ pub struct Structure {
     v: Vec<f64>,
     impulse: Vec<f64>,
     time: f64,
+    initialised: bool,
 }
 
 /// GUID of a structural FMU: derived from the structure file.
@@ -250,6 +251,7 @@ impl Structure {
             v: vec![0.0; n],
             impulse: vec![0.0; n],
             time: 0.0,
+            initialised: false,
         })
     }
 
@@ -329,11 +331,11 @@ impl Model for Structure {
         })
     }
 
-    fn set(&mut self, vr: u32, value: f64) -> Result<(), String> {
+    fn check(&self, vr: u32, value: f64) -> Result<(), String> {
         let v = &self.layout.variables[vr as usize];
         if !value.is_finite() {
             return Err(format!(
-                "`{}` set to {value}: values must be finite",
+                "`{}` set to {value:?}: values must be finite",
                 v.name
             ));
         }
@@ -349,29 +351,34 @@ impl Model for Structure {
                 _ => value >= 0.0,
             };
             if !ok {
-                return Err(format!("`{}` = {value} is out of range", v.name));
+                return Err(format!("`{}` = {value:?} is out of range", v.name));
             }
         }
+        Ok(())
+    }
+
+    fn set(&mut self, vr: u32, value: f64) -> Result<(), String> {
+        self.check(vr, value)?;
         self.values[vr as usize] = value;
         Ok(())
     }
 
     fn exit_initialization(&mut self) -> Result<(), String> {
+        self.initialised = true;
         Ok(())
     }
 
-    fn do_step(&mut self, t: f64, h: f64) -> Result<(), String> {
-        if !(h > 0.0 && h.is_finite()) {
-            return Err(format!(
-                "fmi2DoStep: step size {h} must be positive and finite"
-            ));
-        }
-        if (t - self.time).abs() > 1e-9 * t.abs().max(h) {
-            return Err(format!(
-                "fmi2DoStep: communication point {t} s differs from the model time {} s",
-                self.time
-            ));
-        }
+    fn set_start_time(&mut self, start: f64) -> Result<(), String> {
+        self.time = start;
+        Ok(())
+    }
+
+    fn initialised(&self) -> bool {
+        self.initialised
+    }
+
+    fn do_step(&mut self, t: f64, h: f64) -> Result<(), StepError> {
+        check_step(t, h, self.time)?;
         let n = self.x.len();
         let e = self.propagator(h);
         let mut y = DVector::<f64>::zeros(2 * n + 1);
@@ -387,11 +394,11 @@ impl Model for Structure {
             self.impulse[i] += self.values[self.layout.force[i]] * h;
         }
         if y.iter().any(|z| !z.is_finite()) {
-            return Err(format!(
-                "structure `{}`: non-finite state at t = {}",
+            return Err(StepError::Failed(format!(
+                "structure `{}`: non-finite state at t = {:?} s",
                 self.file.structure.name,
                 t + h
-            ));
+            )));
         }
         self.time = t + h;
         Ok(())

@@ -47,7 +47,7 @@ def fmus(tmp_path_factory):
 class Slave:
     """An FMU2Slave with variables by name, instantiated and initialised."""
 
-    def __init__(self, path, name="instance", start=None, guid=None):
+    def __init__(self, path, name="instance", start=None, guid=None, t0=0.0):
         self.md = read_model_description(str(path))
         self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
         self.dir = extract(str(path))
@@ -58,12 +58,12 @@ class Slave:
             instanceName=name,
         )
         self.fmu.instantiate()
-        self.fmu.setupExperiment(startTime=0.0)
+        self.fmu.setupExperiment(startTime=t0)
         self.fmu.enterInitializationMode()
         for k, v in (start or {}).items():
             self.set(k, v)
         self.fmu.exitInitializationMode()
-        self.t = 0.0
+        self.t = t0
 
     def get(self, *names):
         vals = self.fmu.getReal([self.vr[n] for n in names])

@@ -59,8 +59,8 @@ def test_messages_with_percent_signs_reach_the_logger_verbatim(fmus, capsys):
     md, fmu = fresh(fmus["barrier"])
     fmu.instantiate()
     with pytest.raises(FMICallException):
-        fmu.setupExperiment(startTime=1.5)
-    assert "start time 1.5 s: the model starts at 0 s" in capsys.readouterr().out
+        fmu.setupExperiment(startTime=float("nan"))
+    assert "fmi2SetupExperiment: start time NaN s is not a finite time" in capsys.readouterr().out
     fmu.freeInstance()
 
 

@@ -146,36 +146,36 @@ fn check(scene: &Scene, p: &str, f: &RockFillSpec) -> Result<(), Fail> {
     if !(0.0..=0.5).contains(&f.content) {
         return bad(
             "content",
-            format!("must lie in [0, 0.5], found {}", f.content),
+            format!("must lie in [0, 0.5], found {:?}", f.content),
         );
     }
     if !(f.size.is_finite() && f.size > 0.0) {
         return bad(
             "size",
-            format!("must be a positive number, found {}", f.size),
+            format!("must be a positive number, found {:?}", f.size),
         );
     }
     if !(0.0..0.9).contains(&f.size_spread) {
         return bad(
             "size_spread",
-            format!("must lie in [0, 0.9), found {}", f.size_spread),
+            format!("must lie in [0, 0.9), found {:?}", f.size_spread),
         );
     }
     if !(5..=24).contains(&f.vertices) {
         return bad(
             "vertices",
-            format!("must lie in 5..=24, found {}", f.vertices),
+            format!("must lie in 5..=24, found {:?}", f.vertices),
         );
     }
     if !(f.max_aspect.is_finite() && f.max_aspect >= 1.0 && f.max_aspect <= 4.0) {
         return bad(
             "max_aspect",
-            format!("must lie in [1, 4], found {}", f.max_aspect),
+            format!("must lie in [1, 4], found {:?}", f.max_aspect),
         );
     }
     if let Some(c) = f.clearance {
         if !(c.is_finite() && c >= 0.0) {
-            return bad("clearance", format!("must be ≥ 0, found {c}"));
+            return bad("clearance", format!("must be ≥ 0, found {c:?}"));
         }
     }
     validate_shape(&format!("{p}.region"), &f.region, 2)?;

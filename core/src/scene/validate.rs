@@ -14,7 +14,7 @@ fn vec_len(path: &str, v: &[f64], d: usize) -> Check {
         return fail(
             path,
             format!(
-                "expected {d} components for a {d}D scene, found {}",
+                "expected {d} components for a {d}D scene, found {:?}",
                 v.len()
             ),
         );
@@ -27,7 +27,7 @@ fn vec_len(path: &str, v: &[f64], d: usize) -> Check {
 
 fn positive(path: &str, x: f64) -> Check {
     if !(x.is_finite() && x > 0.0) {
-        return fail(path, format!("must be a positive number, found {x}"));
+        return fail(path, format!("must be a positive number, found {x:?}"));
     }
     Ok(())
 }
@@ -72,7 +72,7 @@ pub fn validate_shape(path: &str, s: &ShapeSpec, d: usize) -> Check {
             if !(radius.is_finite() && radius > inner_radius) {
                 return fail(
                     format!("{path}.radius"),
-                    format!("must exceed inner_radius = {inner_radius}, found {radius}"),
+                    format!("must exceed inner_radius = {inner_radius:?}, found {radius:?}"),
                 );
             }
         }
@@ -163,7 +163,7 @@ pub fn validate_shape(path: &str, s: &ShapeSpec, d: usize) -> Check {
                 return fail(
                     format!("{path}.half_extent"),
                     format!(
-                        "expected {} value(s) for a {d}D plane patch, found {}",
+                        "expected {} value(s) for a {d}D plane patch, found {:?}",
                         d - 1,
                         half_extent.len()
                     ),
@@ -198,7 +198,7 @@ fn elastic_constants(p: &str, density: f64, youngs: f64, poisson: f64) -> Check 
     if !(poisson > -1.0 && poisson < 0.5) {
         return fail(
             format!("{p}.poisson_ratio"),
-            format!("must lie in (−1, 0.5), found {poisson}"),
+            format!("must lie in (−1, 0.5), found {poisson:?}"),
         );
     }
     Ok(())
@@ -211,7 +211,10 @@ pub fn validate(s: &Scene) -> Check {
     let sim = &s.simulation;
     let d = sim.dimension;
     if d != 2 && d != 3 {
-        return fail("simulation.dimension", format!("must be 2 or 3, found {d}"));
+        return fail(
+            "simulation.dimension",
+            format!("must be 2 or 3, found {d:?}"),
+        );
     }
     vec_len("simulation.gravity", &sim.gravity, d)?;
     positive("simulation.end_time", sim.end_time)?;
@@ -222,7 +225,7 @@ pub fn validate(s: &Scene) -> Check {
         return fail(
             "simulation.cfl",
             format!(
-                "must lie in (0, 2], found {} (0.4 is the default; the stable limit is \
+                "must lie in (0, 2], found {:?} (0.4 is the default; the stable limit is \
                  measured by `granmix bench --suite stability`)",
                 sim.cfl
             ),
@@ -232,7 +235,7 @@ pub fn validate(s: &Scene) -> Check {
         if !(r > 0.0 && r < 1.0) {
             return fail(
                 "simulation.settle_ratio",
-                format!("must lie in (0, 1), found {r}"),
+                format!("must lie in (0, 1), found {r:?}"),
             );
         }
     }
@@ -249,7 +252,7 @@ pub fn validate(s: &Scene) -> Check {
     let n = &s.numerics;
     if let Some(eta) = n.eta {
         if !(eta >= 0.0 && eta.is_finite()) {
-            return fail("numerics.eta", format!("must be ≥ 0, found {eta}"));
+            return fail("numerics.eta", format!("must be ≥ 0, found {eta:?}"));
         }
     }
     if !(n.stress_diffusion >= 0.0 && n.stress_diffusion.is_finite()) {
@@ -267,14 +270,14 @@ pub fn validate(s: &Scene) -> Check {
     if !(n.smoothing_ratio >= 1.0 && n.smoothing_ratio <= 2.0) {
         return fail(
             "numerics.smoothing_ratio",
-            format!("must lie in [1, 2], found {}", n.smoothing_ratio),
+            format!("must lie in [1, 2], found {:?}", n.smoothing_ratio),
         );
     }
     if !(n.neighbor_skin >= 0.0 && n.neighbor_skin <= 2.0) {
         return fail(
             "numerics.neighbor_skin",
             format!(
-                "must lie in [0, 2] (units of dp), found {}",
+                "must lie in [0, 2] (units of dp), found {:?}",
                 n.neighbor_skin
             ),
         );
@@ -310,7 +313,7 @@ pub fn validate(s: &Scene) -> Check {
     if !(sim.cfl_coarse > 0.0 && sim.cfl_coarse <= 1.0) {
         return fail(
             "simulation.cfl_coarse",
-            format!("must lie in (0, 1], found {}", sim.cfl_coarse),
+            format!("must lie in (0, 1], found {:?}", sim.cfl_coarse),
         );
     }
     let mut names = HashSet::new();
@@ -326,20 +329,20 @@ pub fn validate(s: &Scene) -> Check {
         if !(m.friction_angle > 0.0 && m.friction_angle < 90.0) {
             return fail(
                 format!("{p}.friction_angle"),
-                format!("must lie in (0, 90) degrees, found {}", m.friction_angle),
+                format!("must lie in (0, 90) degrees, found {:?}", m.friction_angle),
             );
         }
         if !(m.cohesion >= 0.0 && m.cohesion.is_finite()) {
             return fail(
                 format!("{p}.cohesion"),
-                format!("must be ≥ 0 Pa, found {}", m.cohesion),
+                format!("must be ≥ 0 Pa, found {:?}", m.cohesion),
             );
         }
         if !(m.dilation_angle >= 0.0 && m.dilation_angle <= m.friction_angle) {
             return fail(
                 format!("{p}.dilation_angle"),
                 format!(
-                    "must lie in [0, friction_angle = {}] degrees, found {}",
+                    "must lie in [0, friction_angle = {:?}] degrees, found {:?}",
                     m.friction_angle, m.dilation_angle
                 ),
             );
@@ -352,7 +355,7 @@ pub fn validate(s: &Scene) -> Check {
             return fail(
                 format!("{p}.jitter"),
                 format!(
-                    "must lie in [0, 0.3] (a fraction of dp), found {}",
+                    "must lie in [0, 0.3] (a fraction of dp), found {:?}",
                     r.jitter
                 ),
             );
@@ -545,16 +548,16 @@ fn validate_coarse(s: &Scene, fine_names: &HashSet<&str>) -> Check {
     if !(c.friction >= 0.0 && c.friction.is_finite()) {
         return fail(
             "contact.friction",
-            format!("must be ≥ 0, found {}", c.friction),
+            format!("must be ≥ 0, found {:?}", c.friction),
         );
     }
     if !(c.mu_cf >= 0.0 && c.mu_cf.is_finite()) {
-        return fail("contact.mu_cf", format!("must be ≥ 0, found {}", c.mu_cf));
+        return fail("contact.mu_cf", format!("must be ≥ 0, found {:?}", c.mu_cf));
     }
     if !(c.restitution > 0.0 && c.restitution <= 1.0) {
         return fail(
             "contact.restitution",
-            format!("must lie in (0, 1], found {}", c.restitution),
+            format!("must lie in (0, 1], found {:?}", c.restitution),
         );
     }
     if let Some(k) = c.stiffness {
