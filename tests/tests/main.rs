@@ -3,6 +3,7 @@
 
 mod barrier_loads;
 mod barrier_panels;
+mod barrier_suction;
 mod body_mean_force;
 mod cohesive_cut;
 mod contact_restitution;
