@@ -464,6 +464,8 @@ pub struct Granular {
     /// The FMU instance name (default particle service).
     instance: String,
     sinks: Option<Arc<Mutex<Sinks>>>,
+    /// Wall time spent in the solver's `advance_to` (s), see [`Model::solver_seconds`].
+    solver_seconds: f64,
 }
 
 fn build_sim(loaded: &LoadedScene) -> Result<AnySimulation, String> {
@@ -509,6 +511,7 @@ impl Granular {
             texts,
             instance: String::from("granmix"),
             sinks: None,
+            solver_seconds: 0.0,
         })
     }
 
@@ -638,7 +641,9 @@ impl Granular {
         for &(b, v) in &rec.drives {
             self.sim.drive_barrier(b, v)?;
         }
+        let start = std::time::Instant::now();
         let r = self.sim.advance_to(rec.end);
+        self.solver_seconds += start.elapsed().as_secs_f64();
         self.last = self.sim.sample();
         self.history.push(rec);
         r.map_err(|e| format!("{e}"))
@@ -788,6 +793,10 @@ impl Model for Granular {
 
     fn time(&self) -> f64 {
         self.sim.time()
+    }
+
+    fn solver_seconds(&self) -> f64 {
+        self.solver_seconds
     }
 
     fn reset(&mut self) -> Result<(), String> {
