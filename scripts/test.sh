@@ -12,10 +12,11 @@ cargo test --release --workspace
 # the FMU tests pack FMUs with the granmix binary and the granmix-fmu library
 cargo build --release --workspace
 .venv/bin/python -m pytest -q tests/python
-# smoke runs of the accuracy, stability and scale suites on tiny cases (the full suites are
-# benchmarks)
+# smoke runs of the accuracy, stability, scale and FMI-overhead suites on tiny cases (the
+# full suites are benchmarks)
 smoke="$(mktemp -d)"
 "${CARGO_TARGET_DIR:-target}"/release/granmix bench --suite accuracy --quick --out "$smoke"
 "${CARGO_TARGET_DIR:-target}"/release/granmix bench --suite stability --quick --out "$smoke"
 "${CARGO_TARGET_DIR:-target}"/release/granmix bench --suite scale --quick --out "$smoke"
+"${CARGO_TARGET_DIR:-target}"/release/granmix bench --suite fmi --quick --out "$smoke"
 rm -rf "$smoke"

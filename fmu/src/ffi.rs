@@ -947,3 +947,125 @@ pub unsafe extern "C" fn fmi2GetStringStatus(
         })
     }
 }
+
+/// An FMU instance driven from inside this process through the exported functions, as a
+/// master drives one through the shared library: `granmix bench --suite fmi` times these
+/// calls to measure the FMI layer (C entry point to the solver and back) against the
+/// solver's own time. The instance has no logger, so a failed call reports its function
+/// and status only.
+pub struct LocalInstance {
+    c: fmi2Component,
+}
+
+impl LocalInstance {
+    /// fmi2Instantiate on an unpacked `resources` directory
+    /// ([`crate::package::write_resources`]) with the FMU's `guid`, then
+    /// fmi2SetupExperiment (start 0), fmi2EnterInitializationMode and
+    /// fmi2ExitInitializationMode.
+    pub fn new(name: &str, guid: &str, resources: &std::path::Path) -> Result<Self, String> {
+        let functions = fmi2CallbackFunctions {
+            logger: None,
+            allocateMemory: None,
+            freeMemory: None,
+            stepFinished: None,
+            componentEnvironment: std::ptr::null_mut(),
+        };
+        let (name, guid) = (c_string(name), c_string(guid));
+        let uri = c_string(&format!("file://{}", resources.display()));
+        // SAFETY: NUL-terminated strings and a callback table that outlive the call.
+        let c = unsafe {
+            fmi2Instantiate(
+                name.as_ptr(),
+                fmi2Type_fmi2CoSimulation,
+                guid.as_ptr(),
+                uri.as_ptr(),
+                &functions,
+                0,
+                0,
+            )
+        };
+        if c.is_null() {
+            return Err(format!(
+                "fmi2Instantiate failed on {} (no scene.toml or structure.toml, or another GUID)",
+                resources.display()
+            ));
+        }
+        let inst = LocalInstance { c };
+        // SAFETY (all calls below): `c` is a live component from fmi2Instantiate.
+        check("fmi2SetupExperiment", unsafe {
+            fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0)
+        })?;
+        check("fmi2EnterInitializationMode", unsafe {
+            fmi2EnterInitializationMode(c)
+        })?;
+        check("fmi2ExitInitializationMode", unsafe {
+            fmi2ExitInitializationMode(c)
+        })?;
+        Ok(inst)
+    }
+
+    /// fmi2SetReal.
+    pub fn set_real(&mut self, vr: &[u32], value: &[f64]) -> Result<(), String> {
+        if vr.len() != value.len() {
+            return Err("fmi2SetReal: as many values as value references".into());
+        }
+        // SAFETY: a live component and two arrays of `vr.len()` elements.
+        check("fmi2SetReal", unsafe {
+            fmi2SetReal(self.c, vr.as_ptr(), vr.len(), value.as_ptr())
+        })
+    }
+
+    /// fmi2GetReal.
+    pub fn get_real(&mut self, vr: &[u32], value: &mut [f64]) -> Result<(), String> {
+        if vr.len() != value.len() {
+            return Err("fmi2GetReal: as many values as value references".into());
+        }
+        // SAFETY: a live component and two arrays of `vr.len()` elements.
+        check("fmi2GetReal", unsafe {
+            fmi2GetReal(self.c, vr.as_ptr(), vr.len(), value.as_mut_ptr())
+        })
+    }
+
+    /// fmi2GetInteger.
+    pub fn get_integer(&mut self, vr: &[u32], value: &mut [i32]) -> Result<(), String> {
+        if vr.len() != value.len() {
+            return Err("fmi2GetInteger: as many values as value references".into());
+        }
+        // SAFETY: a live component and two arrays of `vr.len()` elements.
+        check("fmi2GetInteger", unsafe {
+            fmi2GetInteger(self.c, vr.as_ptr(), vr.len(), value.as_mut_ptr())
+        })
+    }
+
+    /// fmi2DoStep from `t` by `h`.
+    pub fn do_step(&mut self, t: f64, h: f64) -> Result<(), String> {
+        // SAFETY: a live component.
+        check("fmi2DoStep", unsafe { fmi2DoStep(self.c, t, h, 1) })
+    }
+
+    /// The model's [`Model::solver_seconds`]: wall time inside the solver so far.
+    pub fn solver_seconds(&self) -> f64 {
+        // SAFETY: `c` is the boxed instance made by fmi2Instantiate, alive until drop.
+        unsafe { &*(self.c as *const Instance) }
+            .model
+            .solver_seconds()
+    }
+}
+
+impl Drop for LocalInstance {
+    fn drop(&mut self) {
+        // SAFETY: a live component, freed once; fmi2Terminate may fail in some states,
+        // which does not matter before freeing.
+        unsafe {
+            fmi2Terminate(self.c);
+            fmi2FreeInstance(self.c);
+        }
+    }
+}
+
+fn check(function: &str, status: fmi2Status) -> Result<(), String> {
+    if status == OK {
+        return Ok(());
+    }
+    Err(format!("{function} returned status {status}"))
+}

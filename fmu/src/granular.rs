@@ -470,6 +470,8 @@ pub struct Granular {
     /// The communication point reached, as the master computed it (`t + h` of the
     /// last step; `start` before any).
     now: f64,
+    /// Wall time spent in the solver's `advance_to` (s), see [`Model::solver_seconds`].
+    solver_seconds: f64,
 }
 
 fn build_sim(loaded: &LoadedScene) -> Result<AnySimulation, String> {
@@ -527,6 +529,7 @@ impl Granular {
             sinks: None,
             start: 0.0,
             now: 0.0,
+            solver_seconds: 0.0,
         })
     }
 
@@ -672,7 +675,9 @@ impl Granular {
         for &(b, v) in &rec.drives {
             self.sim.drive_barrier(b, v)?;
         }
+        let start = std::time::Instant::now();
         let r = self.sim.advance_to(rec.end);
+        self.solver_seconds += start.elapsed().as_secs_f64();
         self.last = self.sim.sample();
         self.history.push(rec);
         r.map_err(|e| format!("{e}"))
@@ -845,6 +850,10 @@ impl Model for Granular {
 
     fn time(&self) -> f64 {
         self.now
+    }
+
+    fn solver_seconds(&self) -> f64 {
+        self.solver_seconds
     }
 
     fn reset(&mut self) -> Result<(), String> {

@@ -96,6 +96,11 @@ pub trait Model: Send {
     fn do_step(&mut self, t: f64, h: f64) -> Result<(), StepError>;
     /// Model time (s), start time included.
     fn time(&self) -> f64;
+    /// Wall time (s) spent inside the solver's own stepping since the model was built,
+    /// so that the FMI layer around it can be measured (`granmix bench --suite fmi`).
+    fn solver_seconds(&self) -> f64 {
+        0.0
+    }
     /// Back to the freshly instantiated state.
     fn reset(&mut self) -> Result<(), String>;
     /// A full copy of the state, for `fmi2GetFMUstate`.

@@ -70,28 +70,31 @@ pub fn is_structure(text: &str) -> bool {
         .unwrap_or(false)
 }
 
-/// Write the FMU for `input` (a scene, with `sets` overrides, or a structure file) to
-/// `out`, with the shared library `lib`. Errors name the file at fault.
-pub fn write_fmu(input: &Path, out: &Path, lib: &Path, sets: &[String]) -> Result<(), String> {
-    let id = model_identifier(out)?;
+/// What an FMU holds besides its shared library.
+pub struct Contents {
+    /// `modelDescription.xml`.
+    pub model_description: String,
+    /// The GUID in the description, which `fmi2Instantiate` checks against the resources.
+    pub guid: String,
+    /// The files of `resources/`, by name.
+    pub resources: Vec<(String, Vec<u8>)>,
+}
+
+/// The description and resources of the FMU with model identifier `id` for `input` (a
+/// scene, with `sets` overrides, or a structure file). Errors name the file at fault.
+pub fn contents(input: &Path, id: &str, sets: &[String]) -> Result<Contents, String> {
     let text = std::fs::read_to_string(input)
         .map_err(|e| format!("cannot read {}: {e}", input.display()))?;
-    let so = std::fs::read(lib).map_err(|e| {
-        format!(
-            "FMU library {}: {e} (build it with `cargo build --release -p granmix-fmu`)",
-            lib.display()
-        )
-    })?;
-    let mut zip = ZipWriter::default();
-    let io = |e: std::io::Error| format!("{}: {e}", out.display());
-    let xml = if is_structure(&text) {
+    let mut resources = Vec::new();
+    let (info, xml) = if is_structure(&text) {
         if !sets.is_empty() {
             return Err("--set applies to scenes, not structure files".into());
         }
         let s = Structure::new(&text, &input.display().to_string())?;
-        zip.add("resources/structure.toml", text.as_bytes())
-            .map_err(io)?;
-        model_description(&s.info(&id), s.variables())
+        resources.push(("structure.toml".to_string(), text.into_bytes()));
+        let info = s.info(id);
+        let xml = model_description(&info, s.variables());
+        (info, xml)
     } else {
         let loaded = load_scene_file(input, sets).map_err(|e| e.to_string())?;
         let dir = input.parent().unwrap_or(Path::new("."));
@@ -107,20 +110,43 @@ pub fn write_fmu(input: &Path, out: &Path, lib: &Path, sets: &[String]) -> Resul
             let data = std::fs::read(&src).map_err(|e| {
                 format!("{}: {key}: cannot read {}: {e}", loaded.file, src.display())
             })?;
-            zip.add(&format!("resources/{flat}"), &data).map_err(io)?;
+            resources.push((flat.clone(), data));
             renames.push(format!("{key}=\"{flat}\""));
         }
         let packed =
             apply_overrides(&loaded.text, &loaded.file, &renames).map_err(|e| e.to_string())?;
         // The packed scene differs only in shape-file names, so the table is the same.
         let model = Granular::new(loaded, dir)?;
-        zip.add("resources/scene.toml", packed.as_bytes())
-            .map_err(io)?;
-        let mut info = model.info(&id);
+        let mut info = model.info(id);
         info.guid = granular::guid(&packed);
-        model_description(&info, model.variables())
+        resources.push(("scene.toml".to_string(), packed.into_bytes()));
+        let xml = model_description(&info, model.variables());
+        (info, xml)
     };
-    zip.add("modelDescription.xml", xml.as_bytes())
+    Ok(Contents {
+        model_description: xml,
+        guid: info.guid,
+        resources,
+    })
+}
+
+/// Write the FMU for `input` (a scene, with `sets` overrides, or a structure file) to
+/// `out`, with the shared library `lib`. Errors name the file at fault.
+pub fn write_fmu(input: &Path, out: &Path, lib: &Path, sets: &[String]) -> Result<(), String> {
+    let id = model_identifier(out)?;
+    let c = contents(input, &id, sets)?;
+    let so = std::fs::read(lib).map_err(|e| {
+        format!(
+            "FMU library {}: {e} (build it with `cargo build --release -p granmix-fmu`)",
+            lib.display()
+        )
+    })?;
+    let mut zip = ZipWriter::default();
+    let io = |e: std::io::Error| format!("{}: {e}", out.display());
+    for (name, data) in &c.resources {
+        zip.add(&format!("resources/{name}"), data).map_err(io)?;
+    }
+    zip.add("modelDescription.xml", c.model_description.as_bytes())
         .map_err(io)?;
     zip.add(&format!("binaries/linux64/{id}.so"), &so)
         .map_err(io)?;
@@ -129,4 +155,17 @@ pub fn write_fmu(input: &Path, out: &Path, lib: &Path, sets: &[String]) -> Resul
             .map_err(|e| format!("cannot create {}: {e}", parent.display()))?;
     }
     std::fs::write(out, zip.finish()).map_err(io)
+}
+
+/// Write the `resources/` of the FMU for `input` into the directory `dir` (as a master
+/// unpacks it) and return the FMU's GUID: what [`crate::ffi::LocalInstance`] needs to
+/// instantiate the FMU inside this process.
+pub fn write_resources(input: &Path, sets: &[String], dir: &Path) -> Result<String, String> {
+    let c = contents(input, "granmix", sets)?;
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    for (name, data) in &c.resources {
+        let path = dir.join(name);
+        std::fs::write(&path, data).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    Ok(c.guid)
 }

@@ -28,9 +28,9 @@ pub struct BenchArgs {
     out: PathBuf,
     /// Run a suite instead of the validation cases: `accuracy` (run time against
     /// error, every scheme, three resolutions), `stability` (where the solver breaks,
-    /// and that it breaks loudly) or `scale` (throughput and memory from 10 k to 2 M
-    /// particles).
-    #[arg(long, value_parser = ["accuracy", "stability", "scale"])]
+    /// and that it breaks loudly), `scale` (throughput and memory from 10 k to 2 M
+    /// particles) or `fmi` (the FMI layer's time per fmi2DoStep against the solver's).
+    #[arg(long, value_parser = ["accuracy", "stability", "scale", "fmi"])]
     suite: Option<String>,
     /// Also write the suite's Markdown report here (e.g. docs/stability.md).
     #[arg(long)]
@@ -425,6 +425,14 @@ pub fn bench(a: &BenchArgs) -> Result<ExitCode> {
             cases: &a.cases,
             resume: a.resume,
         })?;
+        return Ok(ExitCode::SUCCESS);
+    }
+    if a.suite.as_deref() == Some("fmi") {
+        let within = crate::bench_fmi::fmi(&a.scenes, &a.out, a.quick, a.report.as_deref())?;
+        if !within && !a.quick {
+            eprintln!("the FMI layer costs more than 1 % of the solver at 10 solver steps per communication step");
+            return Ok(ExitCode::from(1));
+        }
         return Ok(ExitCode::SUCCESS);
     }
     if a.suite.as_deref() == Some("scale") {

@@ -2,6 +2,7 @@
 
 mod accuracy;
 mod bench;
+mod bench_fmi;
 mod bench_ipc;
 mod check;
 mod pack;
