@@ -33,6 +33,9 @@ fn gap(sim: &Simulation<2>) -> f64 {
     g
 }
 
+/// The barrier's speed away from the soil (m/s) at time t (s) since the pull began.
+type Speed = Box<dyn Fn(f64) -> f64>;
+
 /// One pull: every step's load, the gap after it, and the time.
 struct Pull {
     loads: Vec<(f64, f64, f64)>,
@@ -80,7 +83,7 @@ fn dry_soil_never_pulls_a_receding_barrier() {
     let f0 = load_x(&rest);
     assert!(f0 > 20.0, "at-rest load {f0} N/m");
     let cut = rest.stepper.kernel.cutoff;
-    let cases: [(&str, Box<dyn Fn(f64) -> f64>, f64, bool); 4] = [
+    let cases: [(&str, Speed, f64, bool); 4] = [
         ("0.1 m/s", Box::new(|_| 0.1), 0.05, false),
         ("1 m/s", Box::new(|_| 1.0), 0.05, true),
         ("5 m/s", Box::new(|_| 5.0), 0.05, true),
