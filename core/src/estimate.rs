@@ -92,7 +92,7 @@ fn estimate_in<const D: usize>(scene: &Scene) -> Estimate {
     let dp = sim.dp;
     let n = &scene.numerics;
     let cell_vol = dp.powi(D as i32);
-    let mut rng = Rng(0x5EED_0F_B0D6E7);
+    let mut rng = Rng(0x5EED_0FB0_D6E7);
     let mut lo_all = Vect::<D>::repeat(Real::INFINITY);
     let mut hi_all = Vect::<D>::repeat(Real::NEG_INFINITY);
     let mut grow = |lo: &Vect<D>, hi: &Vect<D>| {
