@@ -5,8 +5,10 @@
 //! [`AnySimulation`] dispatches on the scene's dimension once, at the top.
 
 pub mod assets;
+pub mod budget;
 pub mod coarse;
 pub mod cosim;
+pub mod estimate;
 pub mod fine;
 pub mod geometry;
 pub mod guard;

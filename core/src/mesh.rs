@@ -50,10 +50,7 @@ impl TriMesh {
         match ext.as_str() {
             "obj" => parse_obj(&String::from_utf8_lossy(&bytes)),
             "stl" => parse_stl(&bytes),
-            _ => Err(format!(
-                "{}: unknown mesh format `.{ext}`; use .obj or .stl",
-                path.display()
-            )),
+            _ => Err(format!("unknown mesh format `.{ext}`; use .obj or .stl")),
         }
         .map_err(|e| format!("{}: {e}", path.display()))
     }

@@ -53,6 +53,11 @@ pub struct BuildError {
 impl<const D: usize> World<D> {
     /// Build from a validated scene.
     pub fn build(scene: &Scene) -> Result<Self, BuildError> {
+        // refuse a scene too large for memory before allocating anything
+        crate::budget::enforce(scene).map_err(|message| BuildError {
+            path: "simulation.dp".into(),
+            message,
+        })?;
         let sim = &scene.simulation;
         let dp = sim.dp;
         let gravity = v::<D>(&sim.gravity);

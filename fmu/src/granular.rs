@@ -359,6 +359,16 @@ fn build_table(loaded: &LoadedScene, sim: &AnySimulation) -> Result<Table, Strin
     );
     push(
         Variable::parameter(
+            "memory_budget",
+            None,
+            "memory budget in bytes: a scene estimated to need more is refused at \
+             initialisation (0: 80 % of the available memory)",
+            sim_spec.memory_budget,
+        ),
+        Slot::SceneValue("simulation.memory_budget".into()),
+    );
+    push(
+        Variable::parameter(
             "cfl",
             None,
             "CFL number of the fine time step, Eq. (51)",

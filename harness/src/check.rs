@@ -1,7 +1,12 @@
-//! `granmix check`: validate a scene and estimate its cost.
+//! `granmix check`: validate a scene, estimate its particles, memory and cost without
+//! building it (core/src/estimate.rs), and refuse it when it exceeds the memory budget.
+//! `--exact` builds it and prints the exact counts.
 
 use crate::run::load;
-use anyhow::Result;
+use anyhow::{bail, Result};
+use granmix_core::budget::{budget, human_bytes, over_budget};
+use granmix_core::estimate::{estimate, rest_dt};
+use granmix_core::scene::LoadedScene;
 use granmix_core::AnySimulation;
 use std::path::Path;
 
@@ -9,11 +14,67 @@ use std::path::Path;
 /// from `granmix bench` on the reference machine.
 const NOMINAL_PSS_PER_CORE: [f64; 2] = [1.5e6, 0.35e6];
 
-pub fn check(scene: &Path, set: &[String]) -> Result<()> {
+/// Bodies listed one by one; the rest are summed.
+const LISTED: usize = 12;
+
+pub fn check(scene: &Path, set: &[String], exact: bool) -> Result<()> {
     let loaded = load(scene, set)?;
-    let mut sim = AnySimulation::new(&loaded).map_err(|e| anyhow::anyhow!("{e}"))?;
     let s = &loaded.scene.simulation;
     println!("{}: valid {}D scene", scene.display(), s.dimension);
+    let e = estimate(&loaded.scene);
+    let b = budget(&loaded.scene);
+    if exact && e.bytes <= b.bytes {
+        return check_exact(&loaded);
+    }
+    println!(
+        "  estimated at dp = {} m (without building; --exact builds):",
+        s.dp
+    );
+    for (name, n) in &e.regions {
+        println!("  region {name:<20} {n:>10.3e} fine particles");
+    }
+    println!("  walls {:>34.3e} dummy particles", e.walls);
+    for (name, n) in e.bodies.iter().take(LISTED) {
+        println!("  body {name:<22} {n:>10.3e} particles");
+    }
+    if e.bodies.len() > LISTED {
+        let rest = &e.bodies[LISTED..];
+        let n: f64 = rest.iter().map(|b| b.1).sum();
+        println!("  … {} more bodies {n:>10.3e} particles", rest.len());
+    }
+    rock_reports(&loaded);
+    println!(
+        "  memory ~{} ({:.0} / {:.0} / {:.0} bytes per fine / wall / coarse particle); budget {} ({})",
+        human_bytes(e.bytes),
+        e.per_particle[0],
+        e.per_particle[1],
+        e.per_particle[2],
+        human_bytes(b.bytes),
+        b.origin
+    );
+    if e.bytes > b.bytes {
+        bail!("{}: {}", scene.display(), over_budget(&e, &b));
+    }
+    let dt = rest_dt(&loaded.scene);
+    if e.coarse() > 0.0 {
+        println!(
+            "  Δt_c (Eq. 52 and contacts): run `granmix check --exact` to build and measure it"
+        );
+    }
+    let (n, step) = if e.fine() > 0.0 {
+        (e.fine(), dt)
+    } else {
+        (e.coarse(), s.output_interval)
+    };
+    cost(&loaded, n, step, e.fine() > 0.0);
+    Ok(())
+}
+
+/// Build the scene and print its exact counts, Δt and cost (the budget checked first,
+/// in the build).
+fn check_exact(loaded: &LoadedScene) -> Result<()> {
+    let mut sim = AnySimulation::new(loaded).map_err(|e| anyhow::anyhow!("{e}"))?;
+    println!("  built (exact counts):");
     for (name, n) in sim.region_counts() {
         println!("  region {name:<20} {n:>10} fine particles");
     }
@@ -22,7 +83,6 @@ pub fn check(scene: &Path, set: &[String]) -> Result<()> {
         println!("  barrier {b}");
     }
     let bodies = sim.body_summaries();
-    const LISTED: usize = 12;
     for (name, model, n, mass) in bodies.iter().take(LISTED) {
         println!("  body {name:<22} {n:>10} particles  {model:<7}  mass {mass:.4e} kg");
     }
@@ -31,14 +91,7 @@ pub fn check(scene: &Path, set: &[String]) -> Result<()> {
         let n: usize = rest.iter().map(|b| b.2).sum();
         println!("  … {} more bodies {n:>10} particles", rest.len());
     }
-    for r in &loaded.scene.rock_reports {
-        println!(
-            "  rock fill {:<17} {:>6} rocks  content {:.1} %",
-            r.name,
-            r.rocks,
-            100.0 * r.content
-        );
-    }
+    rock_reports(loaded);
     let dt = sim.stable_dt();
     let mut dt_c = f64::INFINITY;
     if sim.coarse_count() > 0 {
@@ -49,30 +102,52 @@ pub fn check(scene: &Path, set: &[String]) -> Result<()> {
             loaded.scene.simulation.time_stepping_name()
         );
     }
-    let cores = rayon::current_num_threads() as f64;
-    let pss = NOMINAL_PSS_PER_CORE[s.dimension - 2] * cores;
-    let (n, steps) = if sim.fine_count() > 0 {
-        let steps = (s.end_time / dt).ceil();
+    let fine = sim.fine_count() > 0;
+    let (n, step) = if fine {
+        (sim.fine_count() as f64, dt)
+    } else {
+        (
+            sim.coarse_count() as f64,
+            dt_c.min(loaded.scene.simulation.output_interval),
+        )
+    };
+    cost(loaded, n, step, fine);
+    Ok(())
+}
+
+fn rock_reports(loaded: &LoadedScene) {
+    for r in &loaded.scene.rock_reports {
         println!(
-            "  Δt (Eq. 51, at rest) {dt:.3e} s → ~{steps:.0} fine steps to t = {} s",
+            "  rock fill {:<17} {:>6} rocks  content {:.1} %",
+            r.name,
+            r.rocks,
+            100.0 * r.content
+        );
+    }
+}
+
+/// Print the step count and the cost of `n` particles stepped at `step`.
+fn cost(loaded: &LoadedScene, n: f64, step: f64, fine: bool) {
+    let s = &loaded.scene.simulation;
+    let steps = (s.end_time / step).ceil();
+    if fine {
+        println!(
+            "  Δt (Eq. 51, at rest) {step:.3e} s → ~{steps:.0} fine steps to t = {} s",
             s.end_time
         );
-        (sim.fine_count() as f64, steps)
     } else {
         // coarse grains only: one coarse step per solver step (the output interval
         // caps it where contacts allow longer steps)
-        let step = dt_c.min(s.output_interval);
-        let steps = (s.end_time / step).ceil();
         println!(
             "  no fine grains: Δt = {step:.3e} s → ~{steps:.0} steps to t = {} s",
             s.end_time
         );
-        (sim.coarse_count() as f64, steps)
-    };
+    }
+    let cores = rayon::current_num_threads() as f64;
+    let pss = NOMINAL_PSS_PER_CORE[s.dimension - 2] * cores;
     println!(
         "  cost ~{:.3e} particle-steps ≈ {:.0} s on {cores} core(s)",
         n * steps,
         n * steps / pss
     );
-    Ok(())
 }

@@ -61,12 +61,24 @@ enum Command {
         /// Record the run to an MCAP file (particles, bodies, loads, energies, scene).
         #[arg(long, value_name = "FILE.mcap")]
         record: Option<PathBuf>,
+        /// Refuse the scene if its estimated memory exceeds SIZE (e.g. 8GiB, 500MB,
+        /// 4e9; default: 80 % of the available memory).
+        #[arg(long, value_name = "SIZE", value_parser = parse_size)]
+        memory_budget: Option<f64>,
     },
-    /// Validate a scene and print particle counts, Δt and estimated cost.
+    /// Validate a scene and estimate its particle counts, memory, Δt and cost without
+    /// building it; refuse it if over the memory budget.
     Check {
         scene: PathBuf,
         #[arg(long = "set", value_name = "KEY.PATH=VALUE")]
         set: Vec<String>,
+        /// Build the scene and print exact counts (and the coarse step Δt_c).
+        #[arg(long)]
+        exact: bool,
+        /// Refuse the scene if its estimated memory exceeds SIZE (e.g. 8GiB, 500MB,
+        /// 4e9; default: 80 % of the available memory).
+        #[arg(long, value_name = "SIZE", value_parser = parse_size)]
+        memory_budget: Option<f64>,
     },
     /// Run benchmark cases at several resolutions; writes JSON and a PNG.
     Bench(bench::BenchArgs),
@@ -110,6 +122,18 @@ fn main() -> ExitCode {
 /// Stack of the pool's threads, which run the whole command (the main thread's size).
 const WORKER_STACK: usize = 8 << 20;
 
+fn parse_size(text: &str) -> Result<f64, String> {
+    granmix_core::budget::parse_bytes(text)
+}
+
+/// The scene overrides with the memory budget, if given, as `simulation.memory_budget`.
+fn with_budget(mut set: Vec<String>, budget: Option<f64>) -> Vec<String> {
+    if let Some(b) = budget {
+        set.push(format!("simulation.memory_budget={b:?}"));
+    }
+    set
+}
+
 fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
     match cmd {
         Command::Run {
@@ -121,7 +145,9 @@ fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
             publish,
             publish_every,
             record,
+            memory_budget,
         } => {
+            let set = with_budget(set, memory_budget);
             let out = out.unwrap_or_else(|| {
                 PathBuf::from("out").join(
                     scene
@@ -162,8 +188,13 @@ fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
             }
             Ok(ExitCode::SUCCESS)
         }
-        Command::Check { scene, set } => {
-            check::check(&scene, &set)?;
+        Command::Check {
+            scene,
+            set,
+            exact,
+            memory_budget,
+        } => {
+            check::check(&scene, &with_budget(set, memory_budget), exact)?;
             Ok(ExitCode::SUCCESS)
         }
         Command::Bench(args) => bench::bench(&args),

@@ -227,3 +227,75 @@ fn rock_fills_place_the_content_reproducibly_or_say_why_not() {
     assert_eq!(e.path, "rock_fills[0].material", "{e}");
     assert!(e.line.is_some(), "{e}");
 }
+
+#[test]
+fn a_mesh_error_names_the_file_once() {
+    let dir = std::env::temp_dir().join(format!("granmix_mesh_err_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("rock.ply"), "ply\n").unwrap();
+    let text = r#"
+[simulation]
+dimension = 3
+gravity = [0.0, 0.0, -9.81]
+end_time = 0.1
+dp = 0.01
+output_interval = 0.01
+
+[[solids]]
+name = "rock"
+density = 2500.0
+youngs_modulus = 1e9
+poisson_ratio = 0.2
+
+[[bodies]]
+name = "boulder"
+material = "rock"
+model = "rigid"
+shape = { type = "mesh", file = "rock.ply" }
+"#;
+    let e = granmix_core::scene::load_scene_in(text, "bad.toml", &[], &dir)
+        .expect_err("an unknown mesh format is refused");
+    let msg = e.to_string();
+    assert_eq!(e.path, "bodies[0].shape.file", "{msg}");
+    assert!(msg.contains("unknown mesh format `.ply`"), "{msg}");
+    assert_eq!(msg.matches("rock.ply").count(), 1, "{msg}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn a_region_outside_every_container_is_refused() {
+    let text =
+        format!("{GOOD}\n[[containers]]\nname = \"tank\"\nmin = [0.0, 0.0]\nmax = [0.5, 0.5]\n");
+    load_scene_str(&text, "good.toml", &[]).unwrap();
+    // beside the closed +x face: no grain can reach the tank
+    let outside = text.replace(
+        "min = [0.0, 0.0], max = [0.1, 0.1]",
+        "min = [0.6, 0.0], max = [0.7, 0.1]",
+    );
+    let e = err(&outside, &[]);
+    assert_eq!(e.path, "regions[0].shape", "{e}");
+    assert_eq!(e.line, Some(19), "{e}");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("region `block` lies entirely outside container `tank`"),
+        "{msg}"
+    );
+    assert!(msg.contains("+x face at x = 0.5"), "{msg}");
+    // above the open top it is poured in; straddling the wall it is partly inside
+    let above = text.replace(
+        "min = [0.0, 0.0], max = [0.1, 0.1]",
+        "min = [0.1, 0.6], max = [0.2, 0.7]",
+    );
+    load_scene_str(&above, "above.toml", &[]).unwrap();
+    let straddling = text.replace(
+        "min = [0.0, 0.0], max = [0.1, 0.1]",
+        "min = [0.45, 0.0], max = [0.6, 0.1]",
+    );
+    load_scene_str(&straddling, "straddling.toml", &[]).unwrap();
+    // with the +x face open the region may flow in
+    let open = outside.replace(
+        "max = [0.5, 0.5]\n",
+        "max = [0.5, 0.5]\nopen = [\"+y\", \"+x\"]\n",
+    );
+    load_scene_str(&open, "open.toml", &[]).unwrap();
+}

@@ -70,6 +70,12 @@ pub fn load_scene_in(
         path,
         message,
     })?;
+    super::placement::check_regions(&scene).map_err(|(path, message)| SceneError {
+        file: file.to_string(),
+        line: locate(&text, &path),
+        path,
+        message,
+    })?;
     Ok(LoadedScene {
         scene,
         text,

@@ -2,6 +2,7 @@
 
 mod error;
 mod load;
+mod placement;
 mod rocks;
 mod types;
 mod validate;

@@ -88,6 +88,10 @@ pub struct SimulationSpec {
     /// CFL number of the coarse step, Eq. (52). Default 0.4.
     #[serde(default = "default_cfl")]
     pub cfl_coarse: f64,
+    /// Memory budget (bytes): a scene whose estimated memory exceeds it is refused
+    /// before any particle is built. 0 (default): 80 % of the machine's available memory.
+    #[serde(default)]
+    pub memory_budget: f64,
 }
 
 impl SimulationSpec {

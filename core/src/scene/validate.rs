@@ -219,6 +219,15 @@ pub fn validate(s: &Scene) -> Check {
     vec_len("simulation.gravity", &sim.gravity, d)?;
     positive("simulation.end_time", sim.end_time)?;
     positive("simulation.dp", sim.dp)?;
+    if !(sim.memory_budget.is_finite() && sim.memory_budget >= 0.0) {
+        return fail(
+            "simulation.memory_budget".to_string(),
+            format!(
+                "must be a size in bytes ≥ 0 (0: 80 % of the available memory), got {}",
+                sim.memory_budget
+            ),
+        );
+    }
     positive("simulation.output_interval", sim.output_interval)?;
     positive("simulation.max_speed", sim.max_speed)?;
     if !(sim.cfl > 0.0 && sim.cfl <= 2.0) {

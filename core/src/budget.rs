@@ -1,0 +1,158 @@
+//! The memory budget: a scene whose estimated memory ([`estimate`](crate::estimate))
+//! exceeds it is refused before any particle is allocated.
+//!
+//! The budget is `simulation.memory_budget` (bytes) when it is positive, else 80 % of
+//! the memory the machine has available (`MemAvailable` in `/proc/meminfo`; where that
+//! cannot be read, 80 % of 4 GiB).
+
+use crate::estimate::{estimate, Estimate};
+use crate::math::Real;
+use crate::scene::Scene;
+
+/// Share of the available memory a scene may use by default.
+pub const DEFAULT_SHARE: Real = 0.8;
+/// Memory assumed available where `/proc/meminfo` cannot be read.
+pub const FALLBACK_AVAILABLE: Real = 4.0 * GIB;
+const GIB: Real = 1024.0 * 1024.0 * 1024.0;
+
+/// A budget in bytes and where it came from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Budget {
+    pub bytes: Real,
+    pub origin: String,
+}
+
+/// The budget that applies to `scene`.
+pub fn budget(scene: &Scene) -> Budget {
+    let set = scene.simulation.memory_budget;
+    if set > 0.0 {
+        return Budget {
+            bytes: set,
+            origin: "simulation.memory_budget".into(),
+        };
+    }
+    match available_bytes() {
+        Some(a) => Budget {
+            bytes: DEFAULT_SHARE * a,
+            origin: format!("80 % of the {} available", human_bytes(a)),
+        },
+        None => Budget {
+            bytes: DEFAULT_SHARE * FALLBACK_AVAILABLE,
+            origin: "80 % of 4 GiB (available memory unknown)".into(),
+        },
+    }
+}
+
+/// `MemAvailable` of `/proc/meminfo`, in bytes.
+pub fn available_bytes() -> Option<Real> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let mut it = line.split_whitespace().skip(1);
+    let kib: Real = it.next()?.parse().ok()?;
+    (it.next() == Some("kB")).then_some(kib * 1024.0)
+}
+
+/// Estimate `scene` and refuse it when the estimate exceeds its budget. The error
+/// names dp, the estimated particles and bytes, the budget and how to change it.
+pub fn enforce(scene: &Scene) -> Result<Estimate, String> {
+    let e = estimate(scene);
+    let b = budget(scene);
+    if e.bytes > b.bytes {
+        return Err(over_budget(&e, &b));
+    }
+    Ok(e)
+}
+
+/// The refusal message.
+pub fn over_budget(e: &Estimate, b: &Budget) -> String {
+    format!(
+        "dp = {} m gives an estimated {:.3e} particles ({:.3e} fine, {:.3e} wall, {:.3e} coarse) \
+         needing about {} ({:.3e} bytes), over the memory budget of {} ({}); coarsen \
+         simulation.dp or raise the budget (`--memory-budget 8GiB` on the command line, \
+         simulation.memory_budget in bytes in the scene, the FMU parameter memory_budget)",
+        e.dp,
+        e.particles(),
+        e.fine(),
+        e.walls,
+        e.coarse(),
+        human_bytes(e.bytes),
+        e.bytes,
+        human_bytes(b.bytes),
+        b.origin
+    )
+}
+
+/// Bytes with a binary unit: `512 B`, `3.4 GiB`, `1.2e6 EiB`.
+pub fn human_bytes(b: Real) -> String {
+    const UNITS: [&str; 7] = ["B", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
+    let mut v = b;
+    let mut u = 0;
+    while v >= 1024.0 && u + 1 < UNITS.len() {
+        v /= 1024.0;
+        u += 1;
+    }
+    if u == 0 {
+        format!("{v:.0} B")
+    } else if v < 1e4 {
+        format!("{v:.1} {}", UNITS[u])
+    } else {
+        format!("{v:.2e} {}", UNITS[u])
+    }
+}
+
+/// Parse a size: a number of bytes (`8e9`) or a number with a unit, decimal (kB, MB,
+/// GB, TB) or binary (KiB, MiB, GiB, TiB); case-insensitive, spaces allowed.
+pub fn parse_bytes(text: &str) -> Result<Real, String> {
+    let t = text.trim();
+    let split = t
+        .find(|c: char| c.is_ascii_alphabetic() && c != 'e' && c != 'E')
+        .unwrap_or(t.len());
+    let (num, unit) = t.split_at(split);
+    let value: Real = num
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{text}` is not a size; write e.g. 8GiB, 500MB or 4e9"))?;
+    let factor = match unit.trim().to_ascii_lowercase().as_str() {
+        "" | "b" => 1.0,
+        "kb" | "k" => 1e3,
+        "mb" | "m" => 1e6,
+        "gb" | "g" => 1e9,
+        "tb" | "t" => 1e12,
+        "kib" => 1024.0,
+        "mib" => 1024.0 * 1024.0,
+        "gib" => GIB,
+        "tib" => GIB * 1024.0,
+        u => {
+            return Err(format!(
+                "unknown unit `{u}` in `{text}`; use B, kB, MB, GB, TB, KiB, MiB, GiB or TiB"
+            ))
+        }
+    };
+    let bytes = value * factor;
+    if !(bytes.is_finite() && bytes > 0.0) {
+        return Err(format!("`{text}`: the budget must be a positive size"));
+    }
+    Ok(bytes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse_with_decimal_and_binary_units() {
+        assert_eq!(parse_bytes("8GiB").unwrap(), 8.0 * GIB);
+        assert_eq!(parse_bytes(" 500 MB ").unwrap(), 5e8);
+        assert_eq!(parse_bytes("4e9").unwrap(), 4e9);
+        assert_eq!(parse_bytes("1.5kib").unwrap(), 1536.0);
+        assert!(parse_bytes("8 parsecs").is_err());
+        assert!(parse_bytes("-1GB").is_err());
+        assert!(parse_bytes("GB").is_err());
+    }
+
+    #[test]
+    fn human_bytes_picks_the_unit() {
+        assert_eq!(human_bytes(512.0), "512 B");
+        assert_eq!(human_bytes(3.5 * GIB), "3.5 GiB");
+    }
+}

@@ -1,0 +1,91 @@
+//! `granmix check` and `granmix run` refuse a scene over the memory budget at once, and
+//! `check` estimates without building.
+
+use std::path::PathBuf;
+use std::process::Command;
+use std::time::Instant;
+
+const BIN: &str = env!("CARGO_BIN_EXE_granmix");
+
+fn scene(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../models/scenes")
+        .join(name)
+}
+
+fn granmix(args: &[&str]) -> (i32, String, String, f64) {
+    let t = Instant::now();
+    let out = Command::new(BIN).args(args).output().expect("granmix runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+        t.elapsed().as_secs_f64(),
+    )
+}
+
+#[test]
+fn check_and_run_refuse_dp_1e_7_promptly() {
+    let s = scene("column_collapse_3d.toml");
+    let s = s.to_str().unwrap();
+    let out = std::env::temp_dir().join(format!("granmix_budget_{}", std::process::id()));
+    for args in [
+        vec!["check", s, "--set", "simulation.dp=1e-7"],
+        vec![
+            "run",
+            s,
+            "--set",
+            "simulation.dp=1e-7",
+            "--quiet",
+            "--no-vtk",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    ] {
+        let (code, stdout, stderr, took) = granmix(&args);
+        assert_eq!(code, 2, "{args:?}: {stdout}{stderr}");
+        assert!(took < 5.0, "{args:?} took {took:.1} s");
+        for part in [
+            "dp = 0.0000001 m",
+            "particles",
+            "memory budget",
+            "--memory-budget",
+        ] {
+            assert!(
+                stderr.contains(part),
+                "{args:?}: `{part}` missing: {stderr}"
+            );
+        }
+    }
+    std::fs::remove_dir_all(&out).ok();
+}
+
+#[test]
+fn check_estimates_and_the_flag_sets_the_budget() {
+    let s = scene("fmu_barrier_2d.toml");
+    let s = s.to_str().unwrap();
+    let (code, stdout, stderr, _) = granmix(&["check", s]);
+    assert_eq!(code, 0, "{stderr}");
+    for part in [
+        "region layer",
+        "fine particles",
+        "dummy particles",
+        "memory ~",
+        "Δt (Eq. 51, at rest)",
+        "cost ~",
+    ] {
+        assert!(stdout.contains(part), "`{part}` missing: {stdout}");
+    }
+    let (code, stdout, stderr, _) = granmix(&["check", s, "--exact"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("200 fine particles"), "{stdout}");
+    let (code, _, stderr, _) = granmix(&["check", s, "--memory-budget", "100kB"]);
+    assert_eq!(code, 2);
+    assert!(
+        stderr.contains("over the memory budget of 97.7 KiB"),
+        "{stderr}"
+    );
+    let (code, _, stderr, _) = granmix(&["check", s, "--memory-budget", "lots"]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("not a size"), "{stderr}");
+}
