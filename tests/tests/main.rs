@@ -9,6 +9,7 @@ mod cohesive_cut;
 mod contact_restitution;
 mod determinism;
 mod fmu_fmi_crate;
+mod memory_budget;
 mod scene_errors;
 mod scenes_smoke;
 mod slope_stability;

@@ -1,0 +1,4 @@
+//! The command line's tests, one module per concern, linked into one test binary.
+
+mod budget_cli;
+mod ipc;
