@@ -5,7 +5,7 @@ import time
 
 import numpy as np
 import pytest
-from conftest import Slave
+from conftest import SCENE, Slave, pack
 from fmpy.fmi1 import FMICallException
 
 H = 1e-3
@@ -88,14 +88,16 @@ def restore(s, blob):
     return dt
 
 
-def test_state_size_and_restore_do_not_grow_with_steps(fmus):
+def test_state_size_and_restore_do_not_grow_with_steps(tmp_path):
     """A state after ~1e2 solver steps and one after ~1e4 have the same size, and
-    restoring either takes the solver nowhere: `steps.fine` is the saved count."""
-    s = Slave(fmus["barrier"], "long")
-    s.step(0.011)
+    restoring either takes the solver nowhere: `steps.fine` is the saved count. The
+    scene is coarsened (dp = 0.02 m, 50 grains) so that 1e4 steps take about a second."""
+    fmu = pack(SCENE, tmp_path / "coarse.fmu", "simulation.dp=0.02")
+    s = Slave(fmu, "long")
+    s.step(0.021)
     early, n_early = saved(s)
     t0 = time.perf_counter()
-    s.step(1.1)
+    s.step(2.1)
     run_time = time.perf_counter() - t0
     late, n_late = saved(s)
     assert 80 <= n_early <= 150 and n_late >= 80 * n_early, (n_early, n_late)
@@ -105,7 +107,7 @@ def test_state_size_and_restore_do_not_grow_with_steps(fmus):
     raw_e, raw_l = decoded_length(early), decoded_length(late)
     assert abs(raw_l - raw_e) < 0.05 * raw_e, (raw_e, raw_l)
     assert len(late) < 1.5 * len(early), (len(early), len(late))
-    other = Slave(fmus["barrier"], "restored")
+    other = Slave(fmu, "restored")
     times = {}
     for name, blob, n in (("early", early, n_early), ("late", late, n_late)):
         times[name] = min(restore(other, blob) for _ in range(3))
