@@ -121,13 +121,14 @@ def test_state_size_and_restore_do_not_grow_with_steps(tmp_path):
 
 def test_restored_state_continues_bitwise(fmus):
     """Deserialised into another instance, a state continues exactly as the original,
-    through barrier motion (the driven wall's position and neighbour lists included)."""
-    s = Slave(fmus["barrier"], "orig")
+    grains flowing and the barrier moving (neighbour lists, the driven wall's position
+    and the step counters included)."""
+    s = Slave(fmus["impact"], "orig")
     run(s, 30, 0.0)
     blob, n = saved(s)
     t, at_save = s.t, s.get(*OUTPUTS)
     first = run(s, 20, 3e-4)
-    other = Slave(fmus["barrier"], "copy")
+    other = Slave(fmus["impact"], "copy")
     restore(other, blob)
     other.t = t
     assert int(other.fmu.getInteger([other.vr["steps.fine"]])[0]) == n
@@ -135,6 +136,8 @@ def test_restored_state_continues_bitwise(fmus):
     assert np.array_equal(other.get(*OUTPUTS), at_save)
     second = run(other, 20, 3e-4)
     assert np.array_equal(first, second)
+    steps = [x.fmu.getInteger([x.vr["steps.fine"], x.vr["steps.coarse"]]) for x in (s, other)]
+    assert steps[0] == steps[1] and steps[0][0] > n, steps
     s.free()
     other.free()
 
