@@ -9,7 +9,7 @@ use crate::timers::StageTimers;
 use std::fmt;
 
 /// A simulation of either dimension. Cloning copies the whole state (FMU rollback).
-#[derive(Clone)]
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub enum AnySimulation {
     D2(Box<Simulation<2>>),
     D3(Box<Simulation<3>>),

@@ -7,7 +7,7 @@ use crate::math::Real;
 use std::f64::consts::PI;
 
 /// The Wendland C2 kernel for a fixed smoothing length.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct WendlandC2 {
     pub h: Real,
     inv_h: Real,

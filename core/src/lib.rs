@@ -19,6 +19,7 @@ pub mod mesh;
 pub mod neighbors;
 pub mod observe;
 pub mod panels;
+mod restore;
 pub mod rng;
 pub mod scene;
 pub mod simulation;

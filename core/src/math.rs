@@ -42,7 +42,7 @@ pub fn sub_outer<const D: usize>(m: &mut nalgebra::SMatrix<Real, D, D>, a: &Vect
 }
 
 /// Symmetric 3×3 tensor stored as (xx, yy, zz, xy, xz, yz).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Sym(pub [Real; 6]);
 
 impl Sym {

@@ -20,7 +20,7 @@ pub const CHUNK: usize = 256;
 
 /// A uniform grid of cells over a fixed box; positions outside are clamped into the
 /// border cells (correct, only slower).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct CellGrid<const D: usize> {
     origin: [Real; 3],
     inv_cell: Real,
@@ -31,7 +31,10 @@ pub struct CellGrid<const D: usize> {
     /// `start[c]..start[c+1]` indexes `items` for cell c.
     start: Vec<u32>,
     items: Vec<u32>,
+    /// Scratch of [`CellGrid::bin`] (refilled there before it is read).
+    #[serde(skip)]
     cell_of: Vec<u32>,
+    #[serde(skip)]
     fill: Vec<u32>,
 }
 
@@ -191,7 +194,37 @@ impl<const D: usize> CellGrid<D> {
 
 /// Verlet lists of one chunk of particles: fine–fine, fine–wall and fine–coarse
 /// neighbours.
-#[derive(Clone, Debug, Default)]
+/// Serialise a [`CellGrid`] as its geometry only (origin, cell size, dimensions, axis
+/// order), for grids that are binned afresh before every read: they come back empty.
+pub mod geometry_only {
+    use super::CellGrid;
+    use crate::math::Real;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    type Geometry = ([Real; 3], Real, [usize; 3], [usize; 3]);
+
+    pub fn serialize<S: Serializer, const D: usize>(
+        g: &CellGrid<D>,
+        s: S,
+    ) -> Result<S::Ok, S::Error> {
+        (g.origin, g.inv_cell, g.dims, g.axes).serialize(s)
+    }
+
+    pub fn deserialize<'de, De: Deserializer<'de>, const D: usize>(
+        d: De,
+    ) -> Result<CellGrid<D>, De::Error> {
+        let (origin, inv_cell, dims, axes) = Geometry::deserialize(d)?;
+        Ok(CellGrid {
+            origin,
+            inv_cell,
+            dims,
+            axes,
+            ..Default::default()
+        })
+    }
+}
+
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct ChunkList {
     /// `fine[off[k]..off[k+1]]` are the fine neighbours j > i of particle
     /// i = `start + k` (each pair once).
@@ -222,7 +255,7 @@ fn headroom(v: &mut Vec<u32>) {
     }
 }
 
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct NeighborLists {
     pub chunks: Vec<ChunkList>,
     /// `slabs[s]..slabs[s+1]`: the particles of slab s (see the module notes).

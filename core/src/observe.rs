@@ -13,7 +13,7 @@ use crate::math::{Real, Sym, Vect};
 /// across the threshold with round-off: the coarse 3D collapse at a = 1.5 (dp = r0/10)
 /// ended at 0.24 or 0.26 m when dp changed by 1e-8, by a single bin dipping below the
 /// threshold in front of thicker ones; with the median, at 0.25 or 0.26 m.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct RunoutSpec<const D: usize> {
     /// Horizontal origin (x in 2D; x, y in 3D). The vertical axis is the last one.
     pub origin: Vec<Real>,
@@ -103,7 +103,7 @@ pub fn runout<const D: usize>(
 }
 
 /// Kernel-weighted (Shepard) average of stress and velocity at a point.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct ProbeValue {
     pub stress: Sym,
     pub velocity: [Real; 3],

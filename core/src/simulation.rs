@@ -10,7 +10,7 @@ use crate::stepper::{choose_step, StepParams, StepStats, Stepper};
 use crate::world::{BuildError, World};
 
 /// Barrier load over a sampling interval.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct BarrierSample {
     pub name: String,
     /// Impulse over the interval divided by its length (N, or N/m in 2D).
@@ -27,7 +27,7 @@ pub struct BarrierSample {
 }
 
 /// State of one coarse grain (3D layout; z = 0 in 2D, rotation about z).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct BodySample {
     pub name: String,
     /// Centre of mass (m).
@@ -52,7 +52,7 @@ pub struct BodySample {
 }
 
 /// Observations at one sampling time.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Sample {
     pub time: Real,
     pub steps: u64,
@@ -128,7 +128,7 @@ pub struct ParticleState {
 /// One simulation in `D` dimensions. Cloning copies the whole state (world, stepper
 /// scratch and neighbour lists, load accumulators), so a clone steps on bitwise
 /// identically: the FMU's state rollback.
-#[derive(Clone)]
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub struct Simulation<const D: usize> {
     pub world: World<D>,
     pub stepper: Stepper<D>,

@@ -20,7 +20,7 @@ use crate::world::{geostatic_tensor, World};
 use rayon::prelude::*;
 
 /// Method parameters of one run (one struct per subsystem; defaults from seed 000).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct StepParams {
     /// Smoothing length h = smoothing_ratio · dp (1.3 dp).
     pub h: Real,
@@ -110,11 +110,14 @@ pub fn choose_step(dt_f: Real, dt_c: Real, max_dt: Real, scheme: TimeStepping) -
 }
 
 /// Scratch memory and stage assembly for the fine step.
-#[derive(Clone)]
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub struct Stepper<const D: usize> {
     pub params: StepParams,
     pub kernel: WendlandC2,
+    /// Binned afresh at every list build: a serialised state keeps only its geometry.
+    #[serde(with = "crate::neighbors::geometry_only")]
     fine_grid: CellGrid<D>,
+    /// Binned when the walls moved since the last build: serialised in full.
     wall_grid: CellGrid<D>,
     pub lists: NeighborLists,
     /// Positions at the last list build, in single precision: only displacements
@@ -127,20 +130,31 @@ pub struct Stepper<const D: usize> {
     /// Largest displacement since the last list build (end of last step).
     max_disp: Real,
     vmax: Real,
+    /// Scratch: written in full by every step before it is read (not serialised).
+    #[serde(skip)]
     vel_new: Vec<Vect<D>>,
+    #[serde(skip)]
     art: Vec<Sym>,
+    #[serde(skip)]
     src: Vec<Source>,
+    #[serde(skip)]
     chunk_loads: Vec<Load>,
     /// Load on each barrier during the last step.
     pub step_loads: Vec<Load>,
     /// Fine-grain load on each barrier panel during the last step (`Walls::load_slot`).
     pub slot_loads: Vec<Load>,
+    /// Scratch: written in full by every step before it is read (not serialised).
+    #[serde(skip)]
     permute: PermuteScratch,
+    #[serde(skip)]
     order: Vec<u32>,
-    /// Pair sums of the two sweeps (zero between steps).
+    /// Pair sums of the two sweeps (zero between steps, so a restored state starts
+    /// them from an empty buffer that the step fills with zeros).
+    #[serde(skip)]
     pair_sums: Vec<PairSums<D>>,
     geostatic: Vec<Sym>,
     /// Per material: the geostatic pressure gradient of this step (ramp applied).
+    #[serde(skip)]
     geostatic_pressure: Vec<Real>,
     /// Per material: ξ G of the hourglass penalty (empty: off).
     hourglass: Vec<Real>,
@@ -154,13 +168,17 @@ pub struct Stepper<const D: usize> {
     g_full: Vect<D>,
     g_scale: Real,
     up: Vect<D>,
+    /// Wall-clock time per stage (a restored state starts them at zero).
+    #[serde(skip)]
     pub timers: StageTimers,
     /// Stages left out for this scene, with the reason.
     pub skipped: Vec<(String, String)>,
+    #[serde(skip)]
     failures: Vec<(Real, Real, ChunkFailure)>,
     /// Coarse grains: sub-stepper (None without bodies).
     pub coarse: Option<CoarseStepper<D>>,
     csrc: Vec<CoarseSource<D>>,
+    #[serde(with = "crate::neighbors::geometry_only")]
     coarse_grid: CellGrid<D>,
     coarse_at_build: Vec<Vect<D>>,
     reactions: Vec<Vec<(u32, Vect<D>)>>,

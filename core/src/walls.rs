@@ -5,7 +5,7 @@ use crate::geometry::Shape;
 use crate::math::{Real, Vect};
 
 /// One rigid wall object.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct WallObject<const D: usize> {
     pub name: String,
     /// Current rigid velocity (m/s): `prescribed` inside the motion window, else zero.
@@ -20,6 +20,9 @@ pub struct WallObject<const D: usize> {
     pub displacement: Vect<D>,
     /// The solid shape at t = 0 (coarse grains contact it exactly; shifted by
     /// `displacement`).
+    /// Not serialised: a restored state takes it back from a simulation of the same
+    /// scene (`Simulation::take_shapes_from`).
+    #[serde(skip)]
     pub shape: Option<Shape<D>>,
     /// Driven by a co-simulation partner: `velocity` is set through [`Walls::drive`] and
     /// kept across steps instead of following `prescribed`.
@@ -27,7 +30,7 @@ pub struct WallObject<const D: usize> {
 }
 
 /// A barrier: a wall object whose load is summed every step.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Barrier<const D: usize> {
     pub name: String,
     pub object: usize,
@@ -45,7 +48,7 @@ pub struct Barrier<const D: usize> {
 }
 
 /// All dummy wall particles.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Walls<const D: usize> {
     pub pos: Vec<Vect<D>>,
     pub object: Vec<u16>,

@@ -14,14 +14,14 @@ use nalgebra::{Rotation3, Vector3};
 type Pose = (Vector3<Real>, Rotation3<Real>);
 
 /// A probe point sampled into the time series.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Probe<const D: usize> {
     pub name: String,
     pub position: Vect<D>,
 }
 
 /// Everything that evolves or is looked up during a run.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct World<const D: usize> {
     pub fine: FineParticles<D>,
     pub materials: Vec<FineMaterial>,

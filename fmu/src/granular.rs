@@ -5,7 +5,7 @@
 //! barriers (scene key `input`) move rigidly during each step: with the given velocity,
 //! or with (target displacement − current displacement)/h.
 
-use crate::model::bytes::{Reader, Writer};
+use crate::envelope::{self, Encoding, ModelKind};
 use crate::model::{check_step, Model, StepError};
 use crate::variables::{Kind, Variable};
 use crate::xml::{self, ModelInfo};
@@ -17,7 +17,6 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 const AXES: [&str; 3] = ["x", "y", "z"];
-const STATE_TAG: &str = "granmix-state/1";
 
 /// Body quantity behind an output.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -422,13 +421,40 @@ fn build_table(loaded: &LoadedScene, sim: &AnySimulation) -> Result<Table, Strin
     })
 }
 
-/// One recorded communication step, replayed by deserialisation.
+/// What one communication step applies: where it ends and the barrier drives.
 #[derive(Clone, Debug)]
 struct StepRecord {
     /// Time at the end of the step.
     end: f64,
     /// Velocity applied to each driven barrier during the step.
     drives: Vec<(usize, [f64; 3])>,
+}
+
+/// How the payload of a serialised state is stored (measured in docs/fmu.md).
+const STATE_ENCODING: Encoding = Encoding::Deflate;
+
+/// The serialised state, as written ([`SavedRef`]) and read back ([`Saved`]): the
+/// same fields in the same order.
+#[derive(serde::Serialize)]
+struct SavedRef<'a> {
+    initialised: bool,
+    start: f64,
+    now: f64,
+    built_with: &'a [f64],
+    values: &'a [f64],
+    last: &'a Sample,
+    sim: &'a AnySimulation,
+}
+
+#[derive(serde::Deserialize)]
+struct Saved {
+    initialised: bool,
+    start: f64,
+    now: f64,
+    built_with: Vec<f64>,
+    values: Vec<f64>,
+    last: Sample,
+    sim: AnySimulation,
 }
 
 /// Where the bulk outputs go, opened when initialisation ends. Shared by the copies
@@ -467,7 +493,6 @@ pub struct Granular {
     built_with: Vec<f64>,
     sim: AnySimulation,
     last: Sample,
-    history: Vec<StepRecord>,
     initialised: bool,
     /// Values of String parameters by value reference (empty for other kinds).
     texts: Vec<String>,
@@ -532,7 +557,6 @@ impl Granular {
             table: Arc::new(table),
             sim,
             last,
-            history: Vec::new(),
             initialised: false,
             texts,
             instance: String::from("granmix"),
@@ -689,7 +713,6 @@ impl Granular {
         let r = self.sim.advance_to(rec.end);
         self.solver_seconds += start.elapsed().as_secs_f64();
         self.last = self.sim.sample();
-        self.history.push(rec);
         r.map_err(|e| format!("{e}"))
     }
 }
@@ -877,75 +900,60 @@ impl Model for Granular {
         Box::new(self.clone())
     }
 
-    /// The state is written as the parameter and input values plus the list of
-    /// communication steps taken; [`Model::restore_bytes`] rebuilds it by replaying
-    /// them, which the solver's determinism makes bitwise exact.
+    /// The state is the simulation itself (particles, walls, coarse grains, stepper
+    /// state and neighbour lists, load accumulators, time and counters), the outputs of
+    /// the last communication point and the parameter values, written with postcard
+    /// and deflated inside the envelope of [`crate::envelope`]. Restoring costs
+    /// O(particles) whatever the number of steps taken.
     fn to_bytes(&self) -> Result<Vec<u8>, String> {
-        let mut w = Writer::default();
-        w.str(STATE_TAG);
-        w.str(&guid(&self.loaded.text));
-        w.u64(self.initialised as u64);
-        w.u64(self.values.len() as u64);
-        for &v in &self.built_with {
-            w.f64(v);
-        }
-        for &v in &self.values {
-            w.f64(v);
-        }
-        w.u64(self.history.len() as u64);
-        for r in &self.history {
-            w.f64(r.end);
-            w.u64(r.drives.len() as u64);
-            for (b, v) in &r.drives {
-                w.u64(*b as u64);
-                for x in v {
-                    w.f64(*x);
-                }
-            }
-        }
-        Ok(w.0)
+        let state = SavedRef {
+            initialised: self.initialised,
+            start: self.start,
+            now: self.now,
+            built_with: &self.built_with,
+            values: &self.values,
+            last: &self.last,
+            sim: &self.sim,
+        };
+        let payload =
+            postcard::to_stdvec(&state).map_err(|e| format!("serialising the state: {e}"))?;
+        envelope::seal(
+            ModelKind::Granular,
+            &guid(&self.loaded.text),
+            STATE_ENCODING,
+            &payload,
+        )
     }
 
     fn restore_bytes(&self, bytes: &[u8]) -> Result<Box<dyn Model>, String> {
-        let mut r = Reader::new(bytes);
-        r.magic(STATE_TAG)?;
-        let g = r.str()?;
-        if g != guid(&self.loaded.text) {
-            return Err(format!("serialised state belongs to the FMU with GUID {g}"));
-        }
-        let initialised = r.u64()? != 0;
-        let n = r.u64()? as usize;
-        if n != self.values.len() {
+        let payload = envelope::open(bytes, ModelKind::Granular, &guid(&self.loaded.text))?;
+        let saved: Saved = postcard::from_bytes(&payload)
+            .map_err(|e| format!("serialised state: cannot decode its payload: {e}"))?;
+        let n = self.values.len();
+        if saved.values.len() != n || saved.built_with.len() != n {
             return Err(format!(
-                "serialised state has {n} values, the model {}",
-                self.values.len()
+                "serialised state has {} values, the model {n}",
+                saved.values.len()
             ));
         }
-        let mut m = Granular::new((*self.loaded).clone(), &self.dir)?;
-        for i in 0..n {
-            m.values[i] = r.f64()?;
-        }
-        m.ensure_built()?;
-        for i in 0..n {
-            m.values[i] = r.f64()?;
-        }
-        m.initialised = initialised;
-        m.texts = self.texts.clone();
-        m.instance = self.instance.clone();
-        m.sinks = self.sinks.clone();
-        m.start = self.start;
-        let steps = r.u64()?;
-        for _ in 0..steps {
-            let end = r.f64()?;
-            let nd = r.u64()? as usize;
-            let mut drives = Vec::with_capacity(nd.min(1024));
-            for _ in 0..nd {
-                let b = r.u64()? as usize;
-                drives.push((b, [r.f64()?, r.f64()?, r.f64()?]));
-            }
-            m.advance(StepRecord { end, drives })?;
-        }
-        m.now = self.start + m.sim.time();
-        Ok(Box::new(m))
+        let mut sim = saved.sim;
+        sim.take_static_from(&self.sim)
+            .map_err(|e| format!("serialised state: {e}"))?;
+        Ok(Box::new(Granular {
+            loaded: self.loaded.clone(),
+            dir: self.dir.clone(),
+            table: self.table.clone(),
+            values: saved.values,
+            built_with: saved.built_with,
+            sim,
+            last: saved.last,
+            initialised: saved.initialised,
+            texts: self.texts.clone(),
+            instance: self.instance.clone(),
+            sinks: self.sinks.clone(),
+            start: saved.start,
+            now: saved.now,
+            solver_seconds: 0.0,
+        }))
     }
 }

@@ -6,6 +6,7 @@
 //! interface that [`ffi`] drives; [`variables`] is the one table behind both
 //! `modelDescription.xml` ([`xml`]) and the run-time value references.
 
+pub mod envelope;
 pub mod ffi;
 pub mod granular;
 pub mod instance;

@@ -111,7 +111,8 @@ pub trait Model: Send {
     fn restore_bytes(&self, bytes: &[u8]) -> Result<Box<dyn Model>, String>;
 }
 
-/// Little-endian byte writer and reader for serialised FMU states.
+/// Little-endian byte writer and reader for the payload of serialised structure states
+/// (inside the envelope of [`crate::envelope`]).
 pub mod bytes {
     /// Append-only writer.
     #[derive(Default)]
@@ -122,10 +123,6 @@ pub mod bytes {
         }
         pub fn u64(&mut self, x: u64) {
             self.0.extend_from_slice(&x.to_le_bytes());
-        }
-        pub fn str(&mut self, s: &str) {
-            self.u64(s.len() as u64);
-            self.0.extend_from_slice(s.as_bytes());
         }
     }
     /// Reader over a serialised state; every read checks the length.
@@ -157,20 +154,6 @@ pub mod bytes {
         pub fn u64(&mut self) -> Result<u64, String> {
             let b = self.take(8)?;
             Ok(u64::from_le_bytes(b.try_into().expect("8 bytes")))
-        }
-        pub fn str(&mut self) -> Result<String, String> {
-            let n = self.u64()? as usize;
-            let b = self.take(n)?;
-            String::from_utf8(b.to_vec()).map_err(|e| format!("serialised state: {e}"))
-        }
-        pub fn magic(&mut self, tag: &str) -> Result<(), String> {
-            let got = self.str()?;
-            if got != tag {
-                return Err(format!(
-                    "serialised state is `{got}`, expected `{tag}` (state of another FMU?)"
-                ));
-            }
-            Ok(())
         }
     }
 }

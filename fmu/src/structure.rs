@@ -3,6 +3,7 @@
 //! springs. Each communication step is integrated exactly for the force held constant
 //! over the step: y(t + h) = exp(A h) y(t) on the state augmented with the forcing.
 
+use crate::envelope::{self, Encoding, ModelKind};
 use crate::model::bytes::{Reader, Writer};
 use crate::model::{check_step, Model, StepError};
 use crate::variables::{Causality, Variable};
@@ -11,8 +12,6 @@ use nalgebra::{DMatrix, DVector};
 use serde::Deserialize;
 use std::path::Path;
 use std::sync::Arc;
-
-const STATE_TAG: &str = "granmix-structure-state/1";
 
 /// `[structure]` of a structure file.
 #[derive(Debug, Clone, Deserialize)]
@@ -419,8 +418,6 @@ impl Model for Structure {
 
     fn to_bytes(&self) -> Result<Vec<u8>, String> {
         let mut w = Writer::default();
-        w.str(STATE_TAG);
-        w.str(&guid(&self.text));
         w.f64(self.time);
         for list in [&self.values, &self.x, &self.v, &self.impulse] {
             w.u64(list.len() as u64);
@@ -428,16 +425,12 @@ impl Model for Structure {
                 w.f64(x);
             }
         }
-        Ok(w.0)
+        envelope::seal(ModelKind::Structure, &guid(&self.text), Encoding::Raw, &w.0)
     }
 
     fn restore_bytes(&self, bytes: &[u8]) -> Result<Box<dyn Model>, String> {
-        let mut r = Reader::new(bytes);
-        r.magic(STATE_TAG)?;
-        let g = r.str()?;
-        if g != guid(&self.text) {
-            return Err(format!("serialised state belongs to the FMU with GUID {g}"));
-        }
+        let payload = envelope::open(bytes, ModelKind::Structure, &guid(&self.text))?;
+        let mut r = Reader::new(&payload);
         let mut m = self.clone();
         m.time = r.f64()?;
         for list in [&mut m.values, &mut m.x, &mut m.v, &mut m.impulse] {

@@ -8,7 +8,7 @@ use crate::scene::BodyModel;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 /// A coarse grain.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Body<const D: usize> {
     pub name: String,
     pub model: BodyModel,

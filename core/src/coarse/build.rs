@@ -11,7 +11,7 @@ use crate::world::BuildError;
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
 /// Coarse grains of a scene.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Coarse<const D: usize> {
     pub solids: Vec<SolidMaterial>,
     pub particles: CoarseParticles<D>,

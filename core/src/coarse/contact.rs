@@ -17,7 +17,7 @@ use crate::scene::{ContactModel, ContactSpec};
 use crate::walls::Walls;
 
 /// The contact law of a scene.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct ContactLaw {
     pub model: ContactModel,
     /// Coulomb coefficient μ.
@@ -242,7 +242,7 @@ impl ContactLaw {
 }
 
 /// Candidate contacts and their tangential springs.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Contacts<const D: usize> {
     /// (particle, wall object), sorted.
     pub wall: Vec<(u32, u32)>,

@@ -25,7 +25,7 @@ use crate::math::{Real, Sym, Vect};
 use rayon::prelude::*;
 
 /// The coarse-particle data the fine sweeps read.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct CoarseSource<const D: usize> {
     /// Position at the middle of the fine step.
     pub pos: Vect<D>,

@@ -4,7 +4,7 @@ use crate::math::Real;
 use crate::scene::SolidSpec;
 
 /// One solid material.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SolidMaterial {
     pub name: String,
     /// ρ0 (kg/m³).

@@ -3,7 +3,7 @@
 use crate::math::{Real, Vect};
 
 /// The particles of all coarse grains. Each body owns a contiguous range.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct CoarseParticles<const D: usize> {
     pub pos: Vec<Vect<D>>,
     pub vel: Vec<Vect<D>>,

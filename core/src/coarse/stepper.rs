@@ -15,7 +15,7 @@ use crate::walls::Walls;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 /// Sub-stepping state and scratch of the coarse grains.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct CoarseStepper<const D: usize> {
     pub law: ContactLaw,
     pub contacts: Contacts<D>,
@@ -38,6 +38,7 @@ pub struct CoarseStepper<const D: usize> {
     /// Contact load on each barrier load slot (panel) over the fine step, impulse / Δt_f.
     pub wall_loads: Vec<Load>,
     /// Seconds spent in contact evaluation since last taken.
+    #[serde(skip)]
     pub contact_secs: f64,
     gravity: Vector3<Real>,
     /// Runaway bound on any coarse particle's speed (`simulation.max_speed`).

@@ -16,7 +16,7 @@ use rayon::prelude::*;
 const GRAIN: usize = 64;
 
 /// Reference-configuration neighbour data of all elastic particles.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Tlsph<const D: usize> {
     /// `nbr[off[k]..off[k+1]]`: neighbours (indices into `elastic`) of the k-th elastic
     /// particle, all in the same body; fixed.

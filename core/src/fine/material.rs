@@ -4,7 +4,7 @@ use crate::math::Real;
 use crate::scene::MaterialSpec;
 
 /// One fine-grain material with its derived constants.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct FineMaterial {
     pub name: String,
     /// ρ0 (kg/m³).

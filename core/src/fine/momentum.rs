@@ -38,7 +38,7 @@ use rayon::prelude::*;
 
 /// Force and moment on a barrier (3D components; in 2D z-force is 0 and only the
 /// z-moment is non-zero).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Load {
     pub force: Vector3<Real>,
     pub moment: Vector3<Real>,

@@ -4,7 +4,7 @@ use crate::math::{Real, Sym, Vect};
 use nalgebra::{SMatrix, SVector};
 
 /// Updated-Lagrangian SPH particles of the fine grains.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct FineParticles<const D: usize> {
     pub pos: Vec<Vect<D>>,
     pub vel: Vec<Vect<D>>,

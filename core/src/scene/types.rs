@@ -105,7 +105,7 @@ impl SimulationSpec {
 }
 
 /// Time-stepping scheme of fine and coarse grains.
-#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, serde::Serialize, Deserialize, PartialEq, Eq, Default)]
 #[serde(rename_all = "kebab-case")]
 pub enum TimeStepping {
     #[default]
@@ -174,7 +174,7 @@ pub struct NumericsSpec {
 
 /// The deviatoric stress a dummy wall particle carries against a fine particle; its
 /// pressure is always Eq. (35)'s, P_w = P_i + ρ_i r max(0, g·(r_w − r_i)/r).
-#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, serde::Serialize, Deserialize, PartialEq, Eq, Default)]
 #[serde(rename_all = "kebab-case")]
 pub enum WallStress {
     /// The particle's deviatoric stress at the same share of the Drucker–Prager
@@ -188,7 +188,7 @@ pub enum WallStress {
 
 /// Which pressure enters the jump (P_L − P_R) of Eq. (19) in the continuity equation
 /// (the momentum equation always uses the stress).
-#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, serde::Serialize, Deserialize, PartialEq, Eq, Default)]
 #[serde(rename_all = "kebab-case")]
 pub enum ContinuityJump {
     /// K (ρ/ρ0 − 1), from the particle's own density: the jump diffuses density
@@ -444,7 +444,7 @@ pub struct SolidSpec {
 }
 
 /// How a coarse grain deforms.
-#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, serde::Serialize, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
 pub enum BodyModel {
     /// Total-Lagrangian SPH, Neo-Hookean with Kelvin–Voigt damping (Eqs. 36–47).
@@ -478,7 +478,7 @@ pub struct BodySpec {
 }
 
 /// Contact force law between coarse grains, and between coarse grains and walls.
-#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, serde::Serialize, Deserialize, PartialEq, Eq, Default)]
 #[serde(rename_all = "kebab-case")]
 pub enum ContactModel {
     /// Linear spring–dashpot normal force with a Coulomb-capped tangential spring.

@@ -1,0 +1,244 @@
+//! The envelope of a serialised FMU state (`fmi2SerializeFMUstate`): a header that says
+//! what the bytes are and whose they are, and a checksum over everything.
+//!
+//! Layout (integers little-endian):
+//!
+//! | bytes | field |
+//! |---|---|
+//! | 8 | magic `GRANMIX\x1a` |
+//! | 2 | format version ([`VERSION`]) |
+//! | 1 | model kind: 1 granular scene, 2 structural partner |
+//! | 1 | payload encoding: 0 raw, 1 deflate |
+//! | 1 + n | GUID of the FMU: length n, then its ASCII bytes |
+//! | 8 | payload length as stored |
+//! | 8 | payload length once decoded |
+//! | … | payload |
+//! | 4 | CRC-32 (IEEE) of every byte before it |
+//!
+//! [`open`] checks, in order: the magic (else "not a granmix FMU state"), the checksum
+//! (a flipped byte anywhere after the magic), the version, the kind, the GUID (a state
+//! of another FMU), then the lengths.
+
+use flate2::read::DeflateDecoder;
+use flate2::write::DeflateEncoder;
+use flate2::Compression;
+use std::io::{Read, Write};
+
+/// First bytes of every serialised state.
+pub const MAGIC: [u8; 8] = *b"GRANMIX\x1a";
+/// Format version written and read. Version 1 (a replay list) is no longer read.
+pub const VERSION: u16 = 2;
+
+/// Which model a state belongs to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+pub enum ModelKind {
+    Granular = 1,
+    Structure = 2,
+}
+
+impl ModelKind {
+    fn name(byte: u8) -> &'static str {
+        match byte {
+            1 => "a granular scene",
+            2 => "a structural partner",
+            _ => "an unknown model kind",
+        }
+    }
+}
+
+/// How the payload is stored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+pub enum Encoding {
+    Raw = 0,
+    Deflate = 1,
+}
+
+/// Wrap `payload` in the envelope.
+pub fn seal(
+    kind: ModelKind,
+    guid: &str,
+    encoding: Encoding,
+    payload: &[u8],
+) -> Result<Vec<u8>, String> {
+    let stored = match encoding {
+        Encoding::Raw => None,
+        Encoding::Deflate => {
+            let mut e =
+                DeflateEncoder::new(Vec::with_capacity(payload.len() / 2), Compression::fast());
+            e.write_all(payload)
+                .and_then(|_| e.finish())
+                .map(Some)
+                .map_err(|e| format!("compressing the state: {e}"))?
+        }
+    };
+    let body = stored.as_deref().unwrap_or(payload);
+    let guid = guid.as_bytes();
+    let glen = u8::try_from(guid.len()).map_err(|_| "GUID longer than 255 bytes".to_string())?;
+    let mut out = Vec::with_capacity(body.len() + guid.len() + 40);
+    out.extend_from_slice(&MAGIC);
+    out.extend_from_slice(&VERSION.to_le_bytes());
+    out.push(kind as u8);
+    out.push(encoding as u8);
+    out.push(glen);
+    out.extend_from_slice(guid);
+    out.extend_from_slice(&(body.len() as u64).to_le_bytes());
+    out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+    out.extend_from_slice(body);
+    let crc = crc32fast::hash(&out);
+    out.extend_from_slice(&crc.to_le_bytes());
+    Ok(out)
+}
+
+/// Check the envelope of `bytes` for a state of `kind` of the FMU `guid`, and return the
+/// decoded payload.
+pub fn open(bytes: &[u8], kind: ModelKind, guid: &str) -> Result<Vec<u8>, String> {
+    let n = bytes.len();
+    if n < MAGIC.len() || bytes[..MAGIC.len()] != MAGIC {
+        return Err(format!(
+            "not a granmix FMU state: the {n} bytes do not start with the granmix state tag"
+        ));
+    }
+    const FIXED: usize = 8 + 2 + 1 + 1 + 1 + 8 + 8 + 4;
+    if n < FIXED {
+        return Err(format!(
+            "serialised state truncated: {n} bytes, the header alone takes {FIXED}"
+        ));
+    }
+    let (data, tail) = bytes.split_at(n - 4);
+    let stored_crc = u32::from_le_bytes(tail.try_into().expect("4 bytes"));
+    let crc = crc32fast::hash(data);
+    if crc != stored_crc {
+        return Err(format!(
+            "serialised state corrupted: CRC-32 {crc:08x} of its {} bytes differs from the \
+             stored {stored_crc:08x}",
+            data.len()
+        ));
+    }
+    let mut at = MAGIC.len();
+    let mut take = |k: usize| -> Result<&[u8], String> {
+        let s = data
+            .get(at..at + k)
+            .ok_or_else(|| format!("serialised state truncated at byte {at} of {n}"))?;
+        at += k;
+        Ok(s)
+    };
+    let version = u16::from_le_bytes(take(2)?.try_into().expect("2 bytes"));
+    if version != VERSION {
+        return Err(format!(
+            "serialised state of format version {version}; this FMU reads version {VERSION}"
+        ));
+    }
+    let k = take(1)?[0];
+    if k != kind as u8 {
+        return Err(format!(
+            "serialised state of {}, not of {}",
+            ModelKind::name(k),
+            ModelKind::name(kind as u8)
+        ));
+    }
+    let encoding = match take(1)?[0] {
+        0 => Encoding::Raw,
+        1 => Encoding::Deflate,
+        e => {
+            return Err(format!(
+                "serialised state with unknown payload encoding {e}"
+            ))
+        }
+    };
+    let glen = take(1)?[0] as usize;
+    let g = String::from_utf8_lossy(take(glen)?).into_owned();
+    if g != guid {
+        return Err(format!(
+            "serialised state of another FMU (GUID {g}); this FMU's GUID is {guid}"
+        ));
+    }
+    let stored = u64::from_le_bytes(take(8)?.try_into().expect("8 bytes"));
+    let decoded = u64::from_le_bytes(take(8)?.try_into().expect("8 bytes"));
+    let body = &data[at..];
+    if stored != body.len() as u64 {
+        return Err(format!(
+            "serialised state: header gives a payload of {stored} bytes, {} follow",
+            body.len()
+        ));
+    }
+    match encoding {
+        Encoding::Raw if decoded != stored => Err(format!(
+            "serialised state: raw payload of {stored} bytes said to decode to {decoded}"
+        )),
+        Encoding::Raw => Ok(body.to_vec()),
+        Encoding::Deflate => {
+            let cap = usize::try_from(decoded)
+                .ok()
+                .filter(|&c| c / 1100 <= body.len() + 1)
+                .ok_or_else(|| {
+                    format!("serialised state: {stored} deflated bytes said to give {decoded}")
+                })?;
+            let mut out = Vec::with_capacity(cap);
+            DeflateDecoder::new(body)
+                .take(decoded + 1)
+                .read_to_end(&mut out)
+                .map_err(|e| format!("serialised state: decompressing: {e}"))?;
+            if out.len() as u64 != decoded {
+                return Err(format!(
+                    "serialised state: payload decoded to {} bytes, the header says {decoded}",
+                    out.len()
+                ));
+            }
+            Ok(out)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const G: &str = "{00000000-0000-0000-0000-000000000001}";
+
+    #[test]
+    fn round_trip_in_both_encodings() {
+        let payload: Vec<u8> = (0..5000u32).flat_map(|i| (i * 7).to_le_bytes()).collect();
+        for e in [Encoding::Raw, Encoding::Deflate] {
+            let b = seal(ModelKind::Granular, G, e, &payload).unwrap();
+            assert_eq!(open(&b, ModelKind::Granular, G).unwrap(), payload);
+        }
+    }
+
+    #[test]
+    fn every_flipped_byte_is_refused() {
+        let payload: Vec<u8> = (0..300u32).flat_map(|i| i.to_le_bytes()).collect();
+        let b = seal(ModelKind::Granular, G, Encoding::Deflate, &payload).unwrap();
+        for i in 0..b.len() {
+            for bit in [0x01u8, 0x80] {
+                let mut c = b.clone();
+                c[i] ^= bit;
+                let e = open(&c, ModelKind::Granular, G).unwrap_err();
+                let want = if i < MAGIC.len() {
+                    "not a granmix FMU state"
+                } else {
+                    "corrupted"
+                };
+                assert!(e.contains(want), "byte {i}: {e}");
+            }
+        }
+    }
+
+    #[test]
+    fn garbage_other_kind_and_other_fmu_say_so() {
+        let b = seal(ModelKind::Granular, G, Encoding::Raw, b"abc").unwrap();
+        let e = open(b"hello, this is not a state", ModelKind::Granular, G).unwrap_err();
+        assert!(e.starts_with("not a granmix FMU state"), "{e}");
+        let e = open(&b, ModelKind::Structure, G).unwrap_err();
+        assert!(
+            e.contains("of a granular scene, not of a structural partner"),
+            "{e}"
+        );
+        let other = G.replace('1', "2");
+        let e = open(&b, ModelKind::Granular, &other).unwrap_err();
+        assert!(e.contains("another FMU") && e.contains(G), "{e}");
+        let e = open(&b[..b.len() - 1], ModelKind::Granular, G).unwrap_err();
+        assert!(e.contains("corrupted"), "{e}");
+    }
+}
