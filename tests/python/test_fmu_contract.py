@@ -37,12 +37,13 @@ def test_retry_from_a_saved_state_after_a_blowup(fmus, capsys):
     state = s.fmu.getFMUstate()
     t = s.t
     # an absurd command: the barrier 0.5 m into the soil within one 1 ms step
-    # (500 m/s): the stability guard (max_speed = 100 m/s) stops the step
+    # (500 m/s): the stability guard stops the step (which of its checks trips first,
+    # the speed bound or a non-positive density, depends on the wall model)
     s.set("barrier.displacement.x", -0.5)
     with pytest.raises(FMICallException):
         s.fmu.doStep(currentCommunicationPoint=t, communicationStepSize=H)
     out = capsys.readouterr().out
-    assert "fmi2DoStep: " in out and "speed" in out and "max_speed" in out
+    assert out.count("fmi2DoStep: ") == 1 and "numerical blow-up" in out, out
     # in the error state every input and step is refused ...
     with pytest.raises(FMICallException):
         s.set("barrier.displacement.x", 0.0)
