@@ -12,7 +12,7 @@ use crate::xml::{self, ModelInfo};
 use granmix_core::scene::{load_scene_in, BarrierInput, LoadedScene};
 use granmix_core::simulation::Sample;
 use granmix_core::AnySimulation;
-use granmix_ipc::{FrameInfo, FramePublisher, ParticleRecord, Recorder, SceneInfo};
+use granmix_ipc::{FramePublisher, Recorder, SceneInfo};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
@@ -651,17 +651,7 @@ impl Granular {
         // stamped with the communication point (the experiment's start included)
         let sim = &self.sim;
         if let Some(p) = s.publisher.as_mut() {
-            let (fine, coarse) = sim.particle_counts();
-            let info = FrameInfo {
-                time: self.now,
-                step: sim.steps(),
-                fine_count: fine,
-                coarse_count: coarse,
-                dimension: sim.dimension() as u32,
-            };
-            p.publish_with(&info, |out| {
-                sim.fill_particles(out, |q| ParticleRecord::from(q))
-            });
+            p.publish_at(sim, self.now);
         }
         if let Some(r) = s.recorder.as_mut() {
             let sample = Sample {

@@ -155,9 +155,15 @@ impl FramePublisher {
 
     /// Publish the current particles of `sim` (if anybody listens).
     pub fn publish(&mut self, sim: &AnySimulation) -> Outcome {
+        self.publish_at(sim, sim.time())
+    }
+
+    /// Publish the current particles of `sim` stamped with `time` (an FMU's
+    /// communication point, which includes the experiment's start time).
+    pub fn publish_at(&mut self, sim: &AnySimulation, time: f64) -> Outcome {
         let (fine, coarse) = sim.particle_counts();
         let info = FrameInfo {
-            time: sim.time(),
+            time,
             step: sim.steps(),
             fine_count: fine,
             coarse_count: coarse,
