@@ -10,12 +10,12 @@
 //! thinner than the sampling resolution are the band −w < sdf < 0 scaled to their
 //! depth (coarea formula: the shell volume is the surface area times the depth).
 
-use crate::coarse::build::spec_rotation;
 use crate::fine::pair_sums::PairSums;
 use crate::fine::source::Source;
 use crate::geometry::Shape;
 use crate::math::{from3, to3, Real, Sym, Vect};
 use crate::rng::Rng;
+use crate::scene::spec_rotation;
 use crate::scene::{BodyModel, Scene, ShapeSpec};
 use nalgebra::{Rotation3, SMatrix, SVector, Vector3};
 use std::mem::size_of;

@@ -1,11 +1,11 @@
 //! The simulated world built from a scene: particles, materials, walls and probes.
 
-use crate::coarse::build::spec_rotation;
 use crate::coarse::build::Coarse;
 use crate::fine::material::FineMaterial;
 use crate::fine::state::FineParticles;
 use crate::geometry::Shape;
 use crate::math::{from3, to3, Real, Sym, Vect};
+use crate::scene::spec_rotation;
 use crate::scene::{InitialStress, Scene, ShapeSpec};
 use crate::walls::{Barrier, WallObject, Walls};
 use nalgebra::{Rotation3, Vector3};

@@ -6,9 +6,9 @@ use super::material::SolidMaterial;
 use super::particles::CoarseParticles;
 use crate::geometry::Shape;
 use crate::math::{from3, to3, Real};
-use crate::scene::{BodyModel, BodySpec, Scene};
+use crate::scene::{spec_rotation, BodyModel, Scene};
 use crate::world::BuildError;
-use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 /// Coarse grains of a scene.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
@@ -16,19 +16,6 @@ pub struct Coarse<const D: usize> {
     pub solids: Vec<SolidMaterial>,
     pub particles: CoarseParticles<D>,
     pub bodies: Vec<Body<D>>,
-}
-
-/// Rotation of a body spec: an angle about z in 2D, x-then-y-then-z angles in 3D.
-pub fn spec_rotation(b: &BodySpec, d: usize) -> Rotation3<Real> {
-    let r = b.rotation.as_deref().unwrap_or(&[]);
-    let deg = |k: usize| r.get(k).copied().unwrap_or(0.0).to_radians();
-    if d == 2 {
-        Rotation3::from_axis_angle(&Vector3::z_axis(), deg(0))
-    } else {
-        Rotation3::from_axis_angle(&Vector3::z_axis(), deg(2))
-            * Rotation3::from_axis_angle(&Vector3::y_axis(), deg(1))
-            * Rotation3::from_axis_angle(&Vector3::x_axis(), deg(0))
-    }
 }
 
 impl<const D: usize> Coarse<D> {

@@ -1,6 +1,8 @@
 //! The scene file schema (TOML). Units are SI, angles in degrees.
 //! Documented for users in `docs/scenes.md`; keep the two in step.
 
+use crate::math::Real;
+use nalgebra::{Rotation3, Vector3};
 use serde::Deserialize;
 
 /// A whole scene: one simulation, its materials, particle regions, walls and outputs.
@@ -578,4 +580,17 @@ pub struct RockFillReport {
     pub rocks: usize,
     /// Placed rock area over region area.
     pub content: f64,
+}
+
+/// Rotation of a body spec: an angle about z in 2D, x-then-y-then-z angles in 3D.
+pub fn spec_rotation(b: &BodySpec, d: usize) -> Rotation3<Real> {
+    let r = b.rotation.as_deref().unwrap_or(&[]);
+    let deg = |k: usize| r.get(k).copied().unwrap_or(0.0).to_radians();
+    if d == 2 {
+        Rotation3::from_axis_angle(&Vector3::z_axis(), deg(0))
+    } else {
+        Rotation3::from_axis_angle(&Vector3::z_axis(), deg(2))
+            * Rotation3::from_axis_angle(&Vector3::y_axis(), deg(1))
+            * Rotation3::from_axis_angle(&Vector3::x_axis(), deg(0))
+    }
 }
