@@ -1,4 +1,5 @@
 //! The command line's tests, one module per concern, linked into one test binary.
 
 mod budget_cli;
+mod golden;
 mod ipc;

@@ -22,6 +22,16 @@ pub fn load(name: &str, set: &[&str]) -> LoadedScene {
 
 /// Run a scene to its end (or until settled) and return every sample.
 pub fn run(name: &str, set: &[&str]) -> (Vec<Sample>, RunEnd, AnySimulation) {
+    run_until(name, set, |_| false)
+}
+
+/// Run a scene like [`run`], but stop early (`RunEnd::Stopped`) as soon as `done`,
+/// shown every sample so far, says the observable of interest has stopped changing.
+pub fn run_until(
+    name: &str,
+    set: &[&str],
+    mut done: impl FnMut(&[Sample]) -> bool,
+) -> (Vec<Sample>, RunEnd, AnySimulation) {
     let loaded = load(name, set);
     let mut sim = AnySimulation::new(&loaded).unwrap_or_else(|e| panic!("{e}"));
     let mut samples = Vec::new();
@@ -30,7 +40,7 @@ pub fn run(name: &str, set: &[&str]) -> (Vec<Sample>, RunEnd, AnySimulation) {
         &loaded.scene.simulation,
         |_, s| {
             samples.push(s.clone());
-            true
+            !done(&samples)
         },
         |_| {},
     );
