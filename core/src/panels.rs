@@ -3,7 +3,7 @@
 //! one panel, chosen from its initial position; the barrier's load is the sum of its
 //! panels' loads, in a fixed order.
 
-use crate::fine::momentum::Load;
+use crate::load::Load;
 use crate::math::{Real, Vect};
 use crate::walls::{Barrier, Walls};
 

@@ -1,8 +1,8 @@
 //! The `Simulation` API shared by the CLI and (later) the FMU: build from a scene,
 //! step with landing exactly on requested times, and sample observations.
 
-use crate::fine::momentum::Load;
 use crate::guard::Blowup;
+use crate::load::Load;
 use crate::math::{to3, Real, Vect};
 use crate::observe::{self, ProbeValue, RunoutSpec};
 use crate::scene::Scene;

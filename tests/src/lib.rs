@@ -1,8 +1,8 @@
-//! Shared helpers for the validation tests: load bundled scenes with overrides and run
-//! them through the same run loop as the CLI.
+//! Shared helpers for the validation tests: load bundled scenes with overrides, or
+//! scenes written in the test, and run them through the same run loop as the CLI.
 
 use granmix_core::runner::{self, RunEnd};
-use granmix_core::scene::{load_scene_file, LoadedScene};
+use granmix_core::scene::{load_scene_file, load_scene_str, LoadedScene};
 use granmix_core::simulation::Sample;
 use granmix_core::AnySimulation;
 use std::path::PathBuf;
@@ -45,6 +45,44 @@ pub fn run_until(
         |_| {},
     );
     (samples, end, sim)
+}
+
+/// Load and build a scene written in the test; `name` stands for its file in messages.
+pub fn build_text(text: &str, name: &str) -> (LoadedScene, AnySimulation) {
+    let loaded = load_scene_str(text, name, &[]).unwrap_or_else(|e| panic!("{e}"));
+    let sim = AnySimulation::new(&loaded).unwrap_or_else(|e| panic!("{name}: {e}"));
+    (loaded, sim)
+}
+
+/// Run a built scene to its end (or until settled), calling `on_sample` at t = 0 and at
+/// every output time. A blow-up fails the test with the guard's diagnostic.
+pub fn run_built(
+    loaded: &LoadedScene,
+    sim: &mut AnySimulation,
+    mut on_sample: impl FnMut(&Sample),
+) -> RunEnd {
+    let end = runner::run(
+        sim,
+        &loaded.scene.simulation,
+        |_, s| {
+            on_sample(s);
+            true
+        },
+        |_| {},
+    );
+    assert!(
+        !matches!(end, RunEnd::Blowup(_)),
+        "{}: {end:?}",
+        loaded.file
+    );
+    end
+}
+
+/// [`build_text`] then [`run_built`]: run a scene written in the test to its end.
+pub fn run_text(text: &str, name: &str, on_sample: impl FnMut(&Sample)) -> AnySimulation {
+    let (loaded, mut sim) = build_text(text, name);
+    run_built(&loaded, &mut sim, on_sample);
+    sim
 }
 
 /// Relative error |a − b| / |b|.

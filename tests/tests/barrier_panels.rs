@@ -87,9 +87,7 @@ model = "spring-dashpot"
 friction = 0.5
 restitution = 0.1
 "#;
-    let loaded =
-        granmix_core::scene::load_scene_str(text, "panel_blocks.toml", &[]).expect("scene");
-    let mut sim = AnySimulation::new(&loaded).expect("simulation");
+    let (_, mut sim) = granmix_tests::build_text(text, "panel_blocks.toml");
     sim.sample();
     sim.advance_to(0.4).expect("settle");
     sim.sample();

@@ -2,9 +2,7 @@
 //! vertical cut stands below its critical height and collapses above it.
 //! Reference: H_c = (4c/γ) tan(45° + φ/2) (Terzaghi; Rankine upper bound).
 
-use granmix_core::runner::{self, RunEnd};
-use granmix_core::scene::load_scene_str;
-use granmix_core::AnySimulation;
+use granmix_tests::{build_text, run_built};
 
 fn scene(height: f64) -> String {
     format!(
@@ -41,8 +39,7 @@ open = ["+x", "+y"]
 
 /// Largest displacement of the cut face (particles initially within one dp of x = 2 m).
 fn face_displacement(height: f64) -> f64 {
-    let loaded = load_scene_str(&scene(height), "cut.toml", &[]).unwrap();
-    let mut sim = AnySimulation::new(&loaded).unwrap();
+    let (loaded, mut sim) = build_text(&scene(height), "cut.toml");
     let f0 = sim.frame();
     let face: Vec<u32> = f0
         .id
@@ -53,8 +50,7 @@ fn face_displacement(height: f64) -> f64 {
         .collect();
     let x0: std::collections::HashMap<u32, f32> =
         f0.id.iter().zip(&f0.pos).map(|(i, p)| (*i, p[0])).collect();
-    let end = runner::run(&mut sim, &loaded.scene.simulation, |_, _| true, |_| {});
-    assert!(!matches!(end, RunEnd::Blowup(_)), "{end:?}");
+    run_built(&loaded, &mut sim, |_| {});
     let f = sim.frame();
     f.id.iter()
         .zip(&f.pos)

@@ -4,8 +4,7 @@
 //! v_out = e v_in (Cundall–Strack damping ratio from e), and never more energy out
 //! than went in.
 
-use granmix_core::scene::load_scene_str;
-use granmix_core::AnySimulation;
+use granmix_tests::build_text;
 
 fn rebound(restitution: f64, dimension: usize, cfl: f64) -> f64 {
     let (gravity, velocity, shape, wall) = if dimension == 2 {
@@ -57,8 +56,7 @@ friction = 0.5
 restitution = {restitution}
 "#
     );
-    let loaded = load_scene_str(&text, "landing.toml", &[]).expect("scene");
-    let mut sim = AnySimulation::new(&loaded).expect("simulation");
+    let (_, mut sim) = build_text(&text, "landing.toml");
     let up = dimension - 1;
     let mut out: f64 = 0.0;
     for n in 1..=50 {

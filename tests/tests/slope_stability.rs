@@ -4,9 +4,7 @@
 //! stress, a pile 4° below φ adjusts and comes to rest; a pile 4° above keeps flowing
 //! (speeds over the last 0.1 s of 0.6 s).
 
-use granmix_core::runner::{self, RunEnd};
-use granmix_core::scene::load_scene_str;
-use granmix_core::AnySimulation;
+use granmix_tests::run_text;
 
 fn max_speed_late(slope_deg: f64, phi: f64) -> f64 {
     let len = 0.3;
@@ -40,21 +38,12 @@ max = [0.6, 0.3]
 open = ["+x", "+y"]
 "#
     );
-    let loaded = load_scene_str(&text, "slope.toml", &[]).unwrap();
-    let mut sim = AnySimulation::new(&loaded).unwrap();
     let mut late = 0.0f64;
-    let end = runner::run(
-        &mut sim,
-        &loaded.scene.simulation,
-        |_, s| {
-            if s.time >= 0.5 {
-                late = late.max(s.max_speed);
-            }
-            true
-        },
-        |_| {},
-    );
-    assert!(!matches!(end, RunEnd::Blowup(_)), "{end:?}");
+    run_text(&text, "slope.toml", |s| {
+        if s.time >= 0.5 {
+            late = late.max(s.max_speed);
+        }
+    });
     late
 }
 

@@ -10,9 +10,7 @@
 //! soil. The default extrapolates the stress to the wall as Eq. (35) extrapolates
 //! the pressure.
 
-use granmix_core::runner::{self, RunEnd};
-use granmix_core::scene::load_scene_str;
-use granmix_core::AnySimulation;
+use granmix_tests::run_text;
 
 const DP: f64 = 0.005;
 const LEN: f64 = 0.6;
@@ -74,20 +72,11 @@ position = [{q3}, {mid}]
         gx = G * s,
         gy = -G * c,
     );
-    let loaded = load_scene_str(&text, "thin_layer.toml", &[]).unwrap();
-    let mut sim = AnySimulation::new(&loaded).unwrap();
     let mut out = Vec::new();
-    let end = runner::run(
-        &mut sim,
-        &loaded.scene.simulation,
-        |_, x| {
-            let v = x.probes.iter().map(|p| p.1.velocity[0]).sum::<f64>() / 3.0;
-            out.push((x.time, v));
-            true
-        },
-        |_| {},
-    );
-    assert!(!matches!(end, RunEnd::Blowup(_)), "{end:?}");
+    run_text(&text, "thin_layer.toml", |x| {
+        let v = x.probes.iter().map(|p| p.1.velocity[0]).sum::<f64>() / 3.0;
+        out.push((x.time, v));
+    });
     out
 }
 

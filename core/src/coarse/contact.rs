@@ -11,7 +11,7 @@
 use super::body::Body;
 use super::material::SolidMaterial;
 use super::particles::CoarseParticles;
-use crate::fine::momentum::Load;
+use crate::load::Load;
 use crate::math::{to3, Real, Vect};
 use crate::scene::{ContactModel, ContactSpec};
 use crate::walls::Walls;

@@ -19,9 +19,9 @@
 use super::body::Body;
 use super::material::SolidMaterial;
 use super::particles::CoarseParticles;
-use crate::fine::riemann::Riemann;
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Sym, Vect};
+use crate::riemann::Riemann;
 use rayon::prelude::*;
 
 /// The coarse-particle data the fine sweeps read.

@@ -21,13 +21,13 @@ use super::material::FineMaterial;
 use super::pair_block::{Pair, PairBlock, BLOCK};
 use super::pair_sums::PairSums;
 use super::plasticity::update_stress;
-use super::riemann::pair_reciprocals;
 use super::source::Source;
 use super::state::FineParticles;
 use crate::coarse::coupling::CoarseSource;
 use crate::kernel::WendlandC2;
 use crate::math::{sub_outer, Real, Sym, Vect};
 use crate::neighbors::{NeighborLists, CHUNK};
+use crate::riemann::pair_reciprocals;
 use crate::scene::ContinuityJump;
 use crate::slabs::two_phase;
 use crate::walls::Walls;
@@ -53,7 +53,7 @@ pub struct ContinuityParams<'a, const D: usize> {
     /// Pressure of the jump term of Eq. (19).
     pub jump: ContinuityJump,
     /// All materials share one impedance and sound speed
-    /// ([`uniform_acoustics`](super::riemann::uniform_acoustics)).
+    /// ([`uniform_acoustics`](super::material::uniform_acoustics)).
     pub uniform: bool,
 }
 

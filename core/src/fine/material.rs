@@ -56,3 +56,10 @@ impl FineMaterial {
         }
     }
 }
+
+/// Whether all fine materials share one impedance and sound speed, so that every
+/// pair takes the reciprocals of its particle i (the common single-soil scene).
+pub fn uniform_acoustics(mats: &[FineMaterial]) -> bool {
+    mats.windows(2)
+        .all(|w| w[0].rho0 * w[0].c0 == w[1].rho0 * w[1].c0 && w[0].c0 == w[1].c0)
+}

@@ -8,7 +8,6 @@ pub mod momentum;
 pub mod pair_block;
 pub mod pair_sums;
 pub mod plasticity;
-pub mod riemann;
 pub mod source;
 pub mod state;
 #[cfg(test)]

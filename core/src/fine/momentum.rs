@@ -22,34 +22,20 @@ use super::hourglass::{non_affine, pair_weight};
 use super::material::FineMaterial;
 use super::pair_block::{Pair, PairBlock, BLOCK};
 use super::pair_sums::PairSums;
-use super::riemann::{pair_reciprocals, Riemann, Side};
 use super::source::Source;
 use super::state::FineParticles;
 use super::wall_contact;
 use crate::coarse::coupling::{CoarseSource, Coupling, FineSide};
 use crate::kernel::WendlandC2;
+use crate::load::Load;
 use crate::math::{to3, Real, Sym, Vect};
 use crate::neighbors::{NeighborLists, CHUNK};
+use crate::riemann::{pair_reciprocals, Riemann, Side};
 use crate::scene::WallStress;
 use crate::slabs::two_phase;
 use crate::walls::Walls;
-use nalgebra::{SVector, Vector3};
+use nalgebra::SVector;
 use rayon::prelude::*;
-
-/// Force and moment on a barrier (3D components; in 2D z-force is 0 and only the
-/// z-moment is non-zero).
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Load {
-    pub force: Vector3<Real>,
-    pub moment: Vector3<Real>,
-}
-
-impl Load {
-    pub fn add(&mut self, o: &Load) {
-        self.force += o.force;
-        self.moment += o.moment;
-    }
-}
 
 /// Artificial-stress settings (cohesive materials only).
 #[derive(Clone, Copy, Debug)]
@@ -81,7 +67,7 @@ pub struct MomentumParams<'a, const D: usize> {
     /// The fine materials (sound speed of a pair of different soils).
     pub materials: &'a [FineMaterial],
     /// All materials share one impedance and sound speed
-    /// ([`uniform_acoustics`](super::riemann::uniform_acoustics)).
+    /// ([`uniform_acoustics`](super::material::uniform_acoustics)).
     pub uniform: bool,
 }
 

@@ -29,7 +29,7 @@ pub struct Source {
 
 impl Source {
     /// 1/(2 z) and 1/c for sound speed `c`: the pair reciprocals when both particles
-    /// share a material ([`pair_reciprocals`](super::riemann::pair_reciprocals)).
+    /// share a material ([`pair_reciprocals`](crate::riemann::pair_reciprocals)).
     /// Taken once per particle in the sweeps rather than stored, so that a record is
     /// 80 bytes.
     #[inline(always)]

@@ -5,17 +5,19 @@
 
 use super::continuity::{continuity_sweep, ContinuityOut, ContinuityParams, JumpDiffusion};
 use super::hourglass::{non_affine, pair_weight};
+use super::material::uniform_acoustics;
 use super::material::FineMaterial;
-use super::momentum::{momentum_sweep, CoarseSide, Load, MomentumParams};
+use super::momentum::{momentum_sweep, CoarseSide, MomentumParams};
 use super::pair_sums::PairSums;
 use super::plasticity::update_stress;
-use super::riemann::{pair_reciprocals, uniform_acoustics, Riemann, Side};
 use super::source::{pack, Source};
 use super::state::FineParticles;
 use crate::coarse::coupling::Coupling;
 use crate::kernel::WendlandC2;
+use crate::load::Load;
 use crate::math::{sub_outer, Real, Sym, Vect};
 use crate::neighbors::{Binned, CellGrid, NeighborLists};
+use crate::riemann::{pair_reciprocals, Riemann, Side};
 use crate::scene::{ContinuityJump, WallStress};
 use crate::walls::Walls;
 use nalgebra::{Matrix3, SMatrix, SVector};

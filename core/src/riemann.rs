@@ -1,4 +1,6 @@
-//! The low-dissipation Riemann solver of seed 000, Eqs. (17)–(23).
+//! The low-dissipation Riemann solver of seed 000, Eqs. (17)–(23). Shared: the fine
+//! sweeps use it between fine particles and at walls (Eqs. 32–35), the fine–coarse
+//! coupling at boulder surfaces (Eqs. 48–50), so it belongs to no particle family.
 //!
 //! Sign convention: e_ij points from j to i and the left/right states are the
 //! velocities *along −e_ij* (towards the partner), U_L = −v_i·e_ij, U_R = −v_j·e_ij, so
@@ -77,13 +79,6 @@ pub fn pair_reciprocals(
     } else {
         (1.0 / (zi + zj), 2.0 / (ci + cj))
     }
-}
-
-/// Whether all fine materials share one impedance and sound speed, so that every
-/// pair takes the reciprocals of its particle i (the common single-soil scene).
-pub fn uniform_acoustics(mats: &[super::material::FineMaterial]) -> bool {
-    mats.windows(2)
-        .all(|w| w[0].rho0 * w[0].c0 == w[1].rho0 * w[1].c0 && w[0].c0 == w[1].c0)
 }
 
 /// One side of the inter-particle Riemann problem, Eq. (21).
