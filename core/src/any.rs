@@ -45,7 +45,7 @@ impl AnySimulation {
     /// Build from a loaded scene.
     pub fn new(loaded: &LoadedScene) -> Result<Self, SetupError> {
         let scene = &loaded.scene;
-        let err = |e: crate::world::BuildError| {
+        let err = |e: crate::build_error::BuildError| {
             SetupError::Scene(SceneError {
                 file: loaded.file.clone(),
                 line: crate::scene::locate(&loaded.text, &e.path),

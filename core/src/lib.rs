@@ -6,6 +6,7 @@
 
 pub mod assets;
 pub mod budget;
+pub mod build_error;
 pub mod coarse;
 pub mod cosim;
 pub mod estimate;

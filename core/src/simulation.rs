@@ -1,13 +1,14 @@
 //! The `Simulation` API shared by the CLI and (later) the FMU: build from a scene,
 //! step with landing exactly on requested times, and sample observations.
 
+use crate::build_error::BuildError;
 use crate::guard::Blowup;
 use crate::load::Load;
 use crate::math::{to3, Real, Vect};
 use crate::observe::{self, ProbeValue, RunoutSpec};
 use crate::scene::Scene;
 use crate::stepper::{choose_step, StepParams, StepStats, Stepper};
-use crate::world::{BuildError, World};
+use crate::world::World;
 
 /// Barrier load over a sampling interval.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]

@@ -1,5 +1,6 @@
 //! The simulated world built from a scene: particles, materials, walls and probes.
 
+use crate::build_error::BuildError;
 use crate::coarse::build::Coarse;
 use crate::fine::material::FineMaterial;
 use crate::fine::state::FineParticles;
@@ -41,13 +42,6 @@ pub struct World<const D: usize> {
 
 fn v<const D: usize>(x: &[f64]) -> Vect<D> {
     Vect::<D>::from_iterator(x.iter().copied())
-}
-
-/// Error raised while building the world (geometry problems the schema cannot see).
-#[derive(Clone, Debug, PartialEq)]
-pub struct BuildError {
-    pub path: String,
-    pub message: String,
 }
 
 impl<const D: usize> World<D> {

@@ -4,10 +4,10 @@
 use super::body::Body;
 use super::material::SolidMaterial;
 use super::particles::CoarseParticles;
+use crate::build_error::BuildError;
 use crate::geometry::Shape;
 use crate::math::{from3, to3, Real};
 use crate::scene::{spec_rotation, BodyModel, Scene};
-use crate::world::BuildError;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 /// Coarse grains of a scene.
