@@ -1,4 +1,4 @@
-//! Bitwise record of the physics: bundled scenes run a few dozen steps through the CLI,
+//! Bitwise record of the physics: bundled scenes run 25–925 steps through the CLI,
 //! and their `series.csv` and the deterministic part of `summary.json` (observables,
 //! bodies, step counts, time steps, particle counts, status) must equal, byte for byte,
 //! the record in `harness/tests/golden/`. A refactoring that changes no physics leaves
@@ -11,7 +11,7 @@
 //! results are the same at any thread count (`determinism.rs`).
 //!
 //! After an intended change of physics, rewrite the record with
-//! `GRANMIX_BLESS=1 cargo test --release -p granmix --test cli golden` and say in the
+//! `GRANMIX_BLESS=1 cargo test --release --workspace --test cli golden` and say in the
 //! commit why the numbers moved.
 
 use granmix_core::scene::load_scene_file;
