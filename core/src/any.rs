@@ -1,10 +1,11 @@
 //! Dimension dispatch: one enum over the 2D and 3D simulations.
 
 use crate::guard::Blowup;
+use crate::input::LoadedScene;
 use crate::math::Real;
-use crate::scene::{LoadedScene, SceneError};
+use crate::scene::SceneError;
 use crate::simulation::{BarrierSample, Frame, ParticleState, Sample, Simulation};
-use crate::stepper::StepStats;
+use crate::step::StepStats;
 use crate::timers::StageTimers;
 use std::fmt;
 
@@ -145,7 +146,7 @@ impl AnySimulation {
         dispatch!(self, s => {
             let dt_f = s.stepper.stable_dt(&s.world);
             let dt_c = s.stepper.coarse_dt(&s.world, dt_f);
-            let (_, k) = crate::stepper::choose_step(dt_f, dt_c, Real::INFINITY, s.stepper.params.scheme);
+            let (_, k) = crate::step::choose_step(dt_f, dt_c, Real::INFINITY, s.stepper.params.scheme);
             (dt_c, k)
         })
     }

@@ -1,7 +1,10 @@
 //! granmix-core: SPH for binary granular mixtures (seed 000, Zhang et al.).
 //!
-//! Data flows one way: scene file → [`scene::Scene`] → [`world::World`] →
-//! [`stepper::Stepper`] → observations ([`simulation::Sample`], [`simulation::Frame`]).
+//! Data flows one way: scene file ([`input`]) → [`scene::Scene`] → [`world::World`] →
+//! [`step::Stepper`] → observations ([`sample::Sample`], [`sample::Frame`]). The
+//! particle families ([`fine`], [`coarse`]) never import each other; what couples them
+//! with each other and with walls is [`interactions`]. `docs/architecture.md` draws
+//! the layers.
 //! [`AnySimulation`] dispatches on the scene's dimension once, at the top.
 
 pub mod assets;
@@ -14,6 +17,8 @@ pub mod fine;
 pub mod geometry;
 pub mod guard;
 pub mod heightmap;
+pub mod input;
+pub mod interactions;
 pub mod kernel;
 pub mod load;
 pub mod math;
@@ -24,10 +29,11 @@ pub mod panels;
 mod restore;
 pub mod riemann;
 pub mod rng;
+pub mod sample;
 pub mod scene;
 pub mod simulation;
 pub mod slabs;
-pub mod stepper;
+pub mod step;
 pub mod timers;
 pub mod walls;
 pub mod world;

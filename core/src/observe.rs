@@ -3,6 +3,7 @@
 use crate::fine::state::FineParticles;
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Sym, Vect};
+use crate::sample::{ProbeValue, Sample};
 
 /// How run-out is measured. The deposit front is the outer edge of the last radial bin
 /// (width dp, scanning outward from the origin) whose deposit thickness ΣV / bin-area is
@@ -102,15 +103,6 @@ pub fn runout<const D: usize>(
     front
 }
 
-/// Kernel-weighted (Shepard) average of stress and velocity at a point.
-#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
-pub struct ProbeValue {
-    pub stress: Sym,
-    pub velocity: [Real; 3],
-    /// Number of particles within the kernel support.
-    pub support: usize,
-}
-
 pub fn probe<const D: usize>(
     p: &FineParticles<D>,
     kernel: &WendlandC2,
@@ -168,11 +160,7 @@ pub struct BlockEvents {
 }
 
 /// [`BlockEvents`] for the body named `watched`, with arrival taken on body `hit`.
-pub fn block_events(
-    samples: &[crate::simulation::Sample],
-    hit: &str,
-    watched: &str,
-) -> BlockEvents {
+pub fn block_events(samples: &[Sample], hit: &str, watched: &str) -> BlockEvents {
     let mut e = BlockEvents::default();
     for s in samples {
         if e.arrival.is_none() {

@@ -4,7 +4,7 @@
 //!
 //! Left out of the serialised form: the wall shapes (static, rebuilt identically from
 //! the scene), stage timers, and scratch buffers that every step writes in full before
-//! it reads them (see the `#[serde(skip)]` fields of [`crate::stepper::Stepper`]).
+//! it reads them (see the `#[serde(skip)]` fields of [`crate::step::Stepper`]).
 
 use crate::any::AnySimulation;
 use crate::simulation::Simulation;

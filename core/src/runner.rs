@@ -2,8 +2,8 @@
 //! time (landing exactly on it), sample, and stop at the end time or once settled.
 
 use crate::guard::Blowup;
+use crate::sample::Sample;
 use crate::scene::SimulationSpec;
-use crate::simulation::Sample;
 use crate::AnySimulation;
 
 /// How a run ended.

@@ -7,7 +7,8 @@ use crate::model::Model;
 use crate::structure::Structure;
 use crate::xml::model_description;
 use crate::zip::ZipWriter;
-use granmix_core::scene::{apply_overrides, load_scene_file, Scene, ShapeSpec};
+use granmix_core::input::load_scene_file;
+use granmix_core::scene::{apply_overrides, Scene, ShapeSpec};
 use std::path::Path;
 
 /// Model identifier from the output name: letters, digits and `_`, not starting with a

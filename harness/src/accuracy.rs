@@ -7,7 +7,7 @@
 //! the JSON (`--report docs/benchmarks.md`), with the multi-rate speed-up next to seed
 //! 000 Table 3.
 
-use crate::bench::{CraterRef, Metric};
+use crate::metric::{CraterRef, Metric};
 use crate::plot::{loglog, Curve};
 use crate::run::{run, RunOptions};
 use anyhow::Result;
@@ -44,7 +44,7 @@ fn series() -> Vec<Series> {
         (1.0, "collapse_3d_a1"),
         (1.5, "collapse_3d_a1.5"),
     ] {
-        let (levels, common, metric) = crate::bench::collapse_3d(a);
+        let (levels, common, metric) = crate::metric::collapse_3d(a);
         v.push(Series {
             case,
             scheme: "single-rate",

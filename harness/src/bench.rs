@@ -2,6 +2,7 @@
 //! per second, time per stage and the error against the case's reference; the set is
 //! written as JSON plus a PNG of error against run time.
 
+use crate::metric::{collapse_3d, CraterRef, EarthPressureRef, Metric};
 use crate::plot::{loglog, Curve};
 use crate::run::{run, RunOptions};
 use anyhow::{bail, Result};
@@ -41,168 +42,6 @@ pub struct BenchArgs {
     resume: bool,
 }
 
-/// How a case is scored.
-#[derive(Clone, Copy)]
-pub(crate) enum Metric {
-    /// Final run-out against a reference length (m).
-    Runout(f64),
-    /// Mid-depth vertical stress against −ρ g H/2 (Pa) from the probe `mid`.
-    ProbeSigmaYy(f64),
-    /// Crater depth of the first body (ball) against Eq. (62) of seed 000.
-    Crater(CraterRef),
-    /// Throughput only (short run).
-    Speed,
-    /// §6 blocks: the time block 2 lands (β first within 5° of 0) against seed 000's
-    /// ≈ 0.4 s; arrival and the final β are reported beside it.
-    BlockLanding(f64),
-    /// §5 incline: distance the first body slid by the end, against the analytic
-    /// ½ g (sin θ − μ cos θ) t² (m).
-    Slide(f64),
-    /// §7 rings: largest change of the total momentum over the run, relative to the
-    /// bodies' summed momentum magnitude at the start (2 KE₀ / v₀); reference 0.
-    MomentumDrift,
-    /// Earth pressure at rest: K = F_x / (½ ρ g H²) of the first barrier at the end,
-    /// against the band [K_a, K0]; the reference shown is K0, the error the distance
-    /// outside the band relative to K0 (0 inside it).
-    EarthPressure(EarthPressureRef),
-}
-
-/// A level layer of height `height` and density `density` behind a vertical barrier,
-/// friction angle `phi` (degrees): K_a = (1 − sin φ)/(1 + sin φ), K0 = 1 − sin φ.
-#[derive(Clone, Copy)]
-pub(crate) struct EarthPressureRef {
-    pub(crate) density: f64,
-    pub(crate) height: f64,
-    pub(crate) phi: f64,
-}
-
-impl EarthPressureRef {
-    /// (K_a, K0).
-    pub(crate) fn band(&self) -> (f64, f64) {
-        let s = self.phi.to_radians().sin();
-        ((1.0 - s) / (1.0 + s), 1.0 - s)
-    }
-}
-
-impl Metric {
-    /// (value, reference) of a finished run.
-    pub(crate) fn evaluate(&self, rep: &crate::run::RunReport) -> (Option<f64>, Option<f64>) {
-        let last = rep.samples.last().cloned().unwrap_or_default();
-        match *self {
-            Metric::Runout(r) => (Some(last.runout), Some(r)),
-            Metric::ProbeSigmaYy(r) => (
-                last.probes
-                    .iter()
-                    .find(|p| p.0 == "mid")
-                    .map(|p| p.1.stress.0[1]),
-                Some(r),
-            ),
-            Metric::Crater(r) => (
-                last.bodies
-                    .first()
-                    .map(|b| r.surface - (b.position[2] - r.radius)),
-                Some(r.depth()),
-            ),
-            Metric::Speed => (None, None),
-            Metric::BlockLanding(r) => (
-                granmix_core::observe::block_events(&rep.samples, "block1", "block2").landing,
-                Some(r),
-            ),
-            Metric::Slide(r) => {
-                let first = rep.samples.first().and_then(|s| s.bodies.first().cloned());
-                let end = last.bodies.first().cloned();
-                let d = first.zip(end).map(|(a, b)| {
-                    (0..3)
-                        .map(|k| (b.position[k] - a.position[k]).powi(2))
-                        .sum::<f64>()
-                        .sqrt()
-                });
-                (d, Some(r))
-            }
-            Metric::MomentumDrift => {
-                let Some(s0) = rep.samples.first() else {
-                    return (None, Some(0.0));
-                };
-                let v0 = s0
-                    .bodies
-                    .first()
-                    .map(|b| b.velocity.iter().map(|x| x * x).sum::<f64>().sqrt())
-                    .unwrap_or(0.0);
-                let scale = 2.0 * s0.coarse_kinetic_energy / v0.max(1e-300);
-                let drift = rep
-                    .samples
-                    .iter()
-                    .map(|s| {
-                        (0..3)
-                            .map(|k| (s.momentum[k] - s0.momentum[k]).powi(2))
-                            .sum::<f64>()
-                            .sqrt()
-                    })
-                    .fold(0.0, f64::max);
-                (Some(drift / scale.max(1e-300)), Some(0.0))
-            }
-            Metric::EarthPressure(r) => {
-                let unit = 0.5 * r.density * 9.81 * r.height * r.height;
-                (
-                    last.barriers.first().map(|b| b.force[0] / unit),
-                    Some(r.band().1),
-                )
-            }
-        }
-    }
-
-    /// Relative error of `value` against `reference` (the value itself when the
-    /// reference is 0); for a band, the distance outside it relative to its upper end.
-    pub(crate) fn error(&self, value: Option<f64>, reference: Option<f64>) -> Option<f64> {
-        match (self, value, reference) {
-            (Metric::EarthPressure(b), Some(v), _) => {
-                let (ka, k0) = b.band();
-                Some((ka - v).max(v - k0).max(0.0) / k0)
-            }
-            (_, Some(v), Some(0.0)) => Some(v.abs()),
-            (_, Some(v), Some(r)) => Some((v - r).abs() / r.abs()),
-            _ => None,
-        }
-    }
-}
-
-/// Eq. (62): D = (0.14/μ) (ρ_b/ρ_g)^½ (2R)^⅔ (H + D)^⅓, with the initial bed surface.
-#[derive(Clone, Copy)]
-pub(crate) struct CraterRef {
-    pub(crate) radius: f64,
-    pub(crate) mu: f64,
-    pub(crate) height: f64,
-    pub(crate) surface: f64,
-}
-
-impl CraterRef {
-    const RHO_BALL: f64 = 2200.0;
-    const RHO_BED: f64 = 1510.0;
-
-    /// Fixed point of Eq. (62) (a contraction: D^⅓ grows slowly).
-    pub(crate) fn depth(&self) -> f64 {
-        let a = 0.14 / self.mu
-            * (Self::RHO_BALL / Self::RHO_BED).sqrt()
-            * (2.0 * self.radius).powf(2.0 / 3.0);
-        let mut d = 0.0;
-        for _ in 0..100 {
-            d = a * (self.height + d).cbrt();
-        }
-        d
-    }
-
-    /// Scene overrides of this run.
-    pub(crate) fn overrides(&self) -> Vec<String> {
-        let v0 = (2.0 * 9.81 * self.height).sqrt();
-        vec![
-            format!("bodies.0.shape.radius={}", self.radius),
-            format!("bodies.0.shape.center.2={}", self.surface + self.radius),
-            format!("bodies.0.velocity.2={}", -v0),
-            format!("materials.0.friction_angle={}", self.mu.atan().to_degrees()),
-        ]
-    }
-}
-
 struct Case {
     name: String,
     scene: &'static str,
@@ -214,23 +53,6 @@ struct Case {
     /// Relative tolerance at the finest level.
     tolerance: Option<f64>,
     note: &'static str,
-}
-
-/// A resolution label and its scene overrides.
-pub(crate) type Level = (String, Vec<String>);
-
-/// VALIDATION §2 at aspect ratio `a`: the levels r0/10, r0/15, r0/20, the column
-/// height override and Lube's run-out r∞ = r0 (1 + 1.24 a), r0 = 0.1 m.
-pub(crate) fn collapse_3d(a: f64) -> (Vec<Level>, Vec<String>, Metric) {
-    let r0 = 0.1;
-    (
-        [10.0, 15.0, 20.0]
-            .iter()
-            .map(|k| (format!("r0/{k}"), vec![format!("simulation.dp={}", r0 / k)]))
-            .collect(),
-        vec![format!("regions.0.shape.height={}", a * r0)],
-        Metric::Runout(r0 * (1.0 + 1.24 * a)),
-    )
 }
 
 fn cases() -> Vec<Case> {

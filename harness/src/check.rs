@@ -6,7 +6,7 @@ use crate::run::load;
 use anyhow::{bail, Result};
 use granmix_core::budget::{budget, human_bytes, over_budget};
 use granmix_core::estimate::{estimate, rest_dt};
-use granmix_core::scene::LoadedScene;
+use granmix_core::input::LoadedScene;
 use granmix_core::AnySimulation;
 use std::path::Path;
 

@@ -5,6 +5,7 @@ mod bench;
 mod bench_fmi;
 mod bench_ipc;
 mod check;
+mod metric;
 mod pack;
 mod pattern;
 mod plot;

@@ -14,7 +14,7 @@
 //! `GRANMIX_BLESS=1 cargo test --release --workspace --test cli golden` and say in the
 //! commit why the numbers moved.
 
-use granmix_core::scene::load_scene_file;
+use granmix_core::input::load_scene_file;
 use granmix_core::AnySimulation;
 use serde_json::Value;
 use std::fmt::Write as _;

@@ -1,8 +1,8 @@
 //! Shared helpers for the validation tests: load bundled scenes with overrides, or
 //! scenes written in the test, and run them through the same run loop as the CLI.
 
+use granmix_core::input::{load_scene_file, load_scene_str, LoadedScene};
 use granmix_core::runner::{self, RunEnd};
-use granmix_core::scene::{load_scene_file, load_scene_str, LoadedScene};
 use granmix_core::simulation::Sample;
 use granmix_core::AnySimulation;
 use std::path::PathBuf;

@@ -2,7 +2,7 @@
 //! load is distributed as the soil's weight suggests (more on the lower panels of a
 //! retaining barrier).
 
-use granmix_core::scene::load_scene_file;
+use granmix_core::input::load_scene_file;
 use granmix_core::AnySimulation;
 use std::path::Path;
 

@@ -2,7 +2,7 @@
 //! impulse over the sampling interval: a free rigid boulder's momentum change equals
 //! (mean force + m g) × interval.
 
-use granmix_core::scene::load_scene_file;
+use granmix_core::input::load_scene_file;
 use granmix_core::AnySimulation;
 use std::path::Path;
 

@@ -97,7 +97,9 @@ fn flat_landing_rebounds_with_the_restitution_coefficient() {
 
 #[test]
 fn damping_ratio_inverts_the_no_pull_restitution() {
-    use granmix_core::coarse::contact::{damping_ratio_for_restitution, restitution_of_damping};
+    use granmix_core::interactions::contact::{
+        damping_ratio_for_restitution, restitution_of_damping,
+    };
     for e in [1e-6, 0.01, 0.1, 0.135, 0.2, 0.5, 0.9, 0.999] {
         let z = damping_ratio_for_restitution(e);
         assert!(

@@ -5,7 +5,7 @@
 use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation, Common};
 use fmi::traits::FmiImport;
-use granmix_core::scene::load_scene_file;
+use granmix_core::input::load_scene_file;
 use granmix_core::AnySimulation;
 use granmix_fmu::granular::Granular;
 use granmix_fmu::model::Model;

@@ -3,7 +3,7 @@
 //! refused before any allocation.
 
 use granmix_core::estimate::{estimate, fine_bytes_per_particle};
-use granmix_core::scene::load_scene_file;
+use granmix_core::input::load_scene_file;
 use granmix_core::AnySimulation;
 use std::path::PathBuf;
 use std::time::Instant;

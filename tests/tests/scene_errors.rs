@@ -1,6 +1,7 @@
 //! Bad scene input gets a clear error naming the file, key path and line.
 
-use granmix_core::scene::{load_scene_str, SceneError};
+use granmix_core::input::load_scene_str;
+use granmix_core::scene::SceneError;
 
 const GOOD: &str = r#"
 [simulation]
@@ -253,7 +254,7 @@ material = "rock"
 model = "rigid"
 shape = { type = "mesh", file = "rock.ply" }
 "#;
-    let e = granmix_core::scene::load_scene_in(text, "bad.toml", &[], &dir)
+    let e = granmix_core::input::load_scene_in(text, "bad.toml", &[], &dir)
         .expect_err("an unknown mesh format is refused");
     let msg = e.to_string();
     assert_eq!(e.path, "bodies[0].shape.file", "{msg}");

@@ -1,6 +1,6 @@
 //! Every bundled scene loads, builds and takes a few steps.
 
-use granmix_core::scene::load_scene_file;
+use granmix_core::input::load_scene_file;
 use granmix_core::AnySimulation;
 
 #[test]

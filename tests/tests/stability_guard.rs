@@ -68,7 +68,7 @@ fn runaway_boulder_stops_with_diagnostic() {
             "bodies.0.velocity=[0.0, -90.0]",
         ],
     );
-    let too_fast = granmix_core::scene::load_scene_file(
+    let too_fast = granmix_core::input::load_scene_file(
         &granmix_tests::scene_path("stability_impact_2d.toml"),
         &["bodies.0.velocity=[0.0, -150.0]".to_string()],
     )

@@ -77,7 +77,7 @@ pub fn refresh_omega<const D: usize>(b: &mut Body<D>) {
 mod tests {
     use super::*;
     use crate::coarse::build::Coarse;
-    use crate::scene::load_scene_str;
+    use crate::input::load_scene_str;
 
     /// A torque-free spinning brick keeps |L| and its energy, and ω precesses about L
     /// (Euler's equations), to the Verlet accuracy.

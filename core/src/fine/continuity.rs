@@ -7,32 +7,31 @@
 //! D_i     = 2ζ h c0 Σ_j Ψ_ij (r_ij·∇_i W_ij)/(r² + 0.01h²) V_j      Eqs. (25)–(26)
 //! The pressure jump of v* is taken from density by default, K (ρ/ρ0 − 1), or from the
 //! stress relative to the geostatic state (`numerics.continuity_jump`; see the pair loop).
-//! Walls are no-slip mirrors, v_w,dummy = 2 v_wall − v_i; the wall pressure of Eq. (35)
-//! acts in the momentum equation only.
+//! The terms of walls and coarse grains are interactions
+//! ([`interactions`](crate::interactions)); this module holds the fine–fine terms and
+//! the constitutive update.
 //!
-//! The sweep has two passes. The pair pass evaluates each fine–fine pair once and adds
-//! its terms in v_{n+1} to both particles' [`ContinuitySums`] (two-phase slab schedule,
-//! [`slabs`](crate::slabs)); the terms without velocity ([`JumpDiffusion`]) are already
-//! there, from the momentum sweep's pair pass. The particle pass adds the wall and
-//! coarse-grain terms and updates the stress.
+//! The pair pass evaluates each fine–fine pair once and adds its terms in v_{n+1} to
+//! both particles' [`ContinuitySums`] (two-phase slab schedule, [`slabs`](crate::slabs));
+//! the terms without velocity ([`JumpDiffusion`]) are already there, from the momentum
+//! sweep's pair pass. The particle pass
+//! ([`interactions::continuity_pass`](crate::interactions::continuity_pass)) takes the
+//! sums as [`Rates`], adds the interactions and [`Rates::update`]s the stress.
 
 use super::hourglass::penalty_kept;
 use super::material::FineMaterial;
 use super::pair_block::{Pair, PairBlock, BLOCK};
-use super::pair_sums::PairSums;
+use super::pair_sums::{ContinuitySums, PairSums};
 use super::plasticity::update_stress;
 use super::source::Source;
 use super::state::FineParticles;
-use crate::coarse::coupling::CoarseSource;
 use crate::kernel::WendlandC2;
 use crate::math::{sub_outer, Real, Sym, Vect};
-use crate::neighbors::{NeighborLists, CHUNK};
+use crate::neighbors::NeighborLists;
 use crate::riemann::pair_reciprocals;
 use crate::scene::ContinuityJump;
 use crate::slabs::two_phase;
-use crate::walls::Walls;
 use nalgebra::{Matrix3, SMatrix};
-use rayon::prelude::*;
 
 /// Inputs of the continuity/stress sweep that are not particle arrays.
 pub struct ContinuityParams<'a, const D: usize> {
@@ -57,45 +56,6 @@ pub struct ContinuityParams<'a, const D: usize> {
     pub uniform: bool,
 }
 
-/// Fine–fine pair sums of one particle, added from both sides of each pair.
-#[derive(Clone, Copy, Debug)]
-pub struct ContinuitySums<const D: usize> {
-    /// Σ_j 2 (U* − U_L) ∂W/∂r V_j of Eq. (15) (times ρ_i gives dρ_i/dt); its pressure
-    /// part from [`JumpDiffusion`], its velocity part from the pair pass.
-    pub drho: Real,
-    /// Σ_j −v_ij ⊗ e_ij ∂W/∂r V_j, Eq. (24).
-    pub grad: SMatrix<Real, D, D>,
-    /// Σ w, Σ w (r_ij·up), Σ w P_j and Σ w σˢ_j of Eq. (26), with
-    /// w = r_ij·∇_i W_ij V_j/(r² + 0.01h²).
-    pub w: Real,
-    pub wz: Real,
-    pub wp: Real,
-    pub wdev: Sym,
-}
-
-impl<const D: usize> ContinuitySums<D> {
-    pub fn zero() -> Self {
-        ContinuitySums {
-            drho: 0.0,
-            grad: SMatrix::zeros(),
-            w: 0.0,
-            wz: 0.0,
-            wp: 0.0,
-            wdev: Sym::ZERO,
-        }
-    }
-
-    #[inline(always)]
-    pub(super) fn add(&mut self, o: &Self) {
-        self.drho += o.drho;
-        self.grad += o.grad;
-        self.w += o.w;
-        self.wz += o.wz;
-        self.wp += o.wp;
-        self.wdev.axpy_in::<D>(1.0, &o.wdev);
-    }
-}
-
 /// Output buffers of the sweep.
 pub struct ContinuityOut<'a, const D: usize> {
     /// Pair sums, one per particle: the continuity part holds the momentum sweep's
@@ -112,121 +72,78 @@ pub struct ContinuityOut<'a, const D: usize> {
     pub hourglass_kept: &'a mut [f32],
 }
 
-/// Sweep with v_{n+1} already in `p.vel`.
-#[allow(clippy::too_many_arguments)]
-pub fn continuity_sweep<const D: usize>(
-    p: &FineParticles<D>,
-    src: &[Source],
-    mats: &[FineMaterial],
-    walls: &Walls<D>,
-    lists: &NeighborLists,
-    prm: &ContinuityParams<'_, D>,
-    coarse: &[CoarseSource<D>],
-    out: ContinuityOut<'_, D>,
-) {
-    let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
-    let h = prm.kernel.h;
-    let vw = walls.volume;
-    // neighbour arrays of one length, so that a neighbour index is bounds-checked once
-    let n = p.len();
-    let (pos, vel, src, material) = (&p.pos[..n], &p.vel[..n], &src[..n], &p.material[..n]);
-    pair_pass(p, src, mats, lists, prm, &mut *out.sums);
-    lists
-        .chunks
-        .par_iter()
-        .zip(out.sums.par_chunks_mut(CHUNK))
-        .zip(out.drho.par_chunks_mut(CHUNK))
-        .zip(out.stress.par_chunks_mut(CHUNK))
-        .zip(out.plastic_strain.par_chunks_mut(CHUNK))
-        .zip(out.vel_grad.par_chunks_mut(CHUNK))
-        .zip(out.hourglass_kept.par_chunks_mut(CHUNK))
-        .enumerate()
-        .for_each(
-            |(c, ((((((cl, sums), drho_out), stress_out), eps_out), lg_out), kept_out))| {
-                for k in 0..drho_out.len() {
-                    let i = c * CHUNK + k;
-                    let mi = &mats[material[i] as usize];
-                    let si = &src[i];
-                    let (xi, vi) = (pos[i], vel[i]);
-                    let rhoi = p.rho[i];
-                    let sig_i = stress_out[k];
-                    let geo = prm.geostatic[material[i] as usize].scale(prm.geostatic_scale);
-                    // the pair sums, left zero for the next step
-                    let sum = std::mem::replace(&mut sums[k].continuity, ContinuitySums::zero());
-                    let mut drho = sum.drho;
-                    let mut grad = sum.grad;
-                    // Ψ of Eq. (26) summed: σ_i − σ_j (σ = σˢ − P I) minus the geostatic
-                    // gradient −(r_ij·up) geo
-                    let mut diff = si.dev.scale(sum.w).sub(&sum.wdev);
-                    let dp = sum.wp - si.p * sum.w;
-                    diff.0[0] += dp;
-                    diff.0[1] += dp;
-                    diff.0[2] += dp;
-                    diff.axpy(-sum.wz, &geo);
-                    let (w0, w1) = (cl.woff[k] as usize, cl.woff[k + 1] as usize);
-                    for &w in &cl.wall[w0..w1] {
-                        let w = w as usize;
-                        let rij = xi - walls.pos[w];
-                        let r2 = rij.norm_squared();
-                        if r2 >= cut2 || r2 == 0.0 {
-                            continue;
-                        }
-                        let r = r2.sqrt();
-                        let e = rij * (1.0 / r);
-                        let dwv = prm.kernel.dw(r) * vw;
-                        // Eqs. (32)–(34): U* = u_w, so only the mirrored velocity enters.
-                        // The hydrostatic jump of Eq. (35) is the geostatic state itself,
-                        // which the fine–fine pair terms subtract too; it acts in the
-                        // momentum equation only (kept here, it made every grain resting on
-                        // a floor gain density exponentially).
-                        let rel = (vi - walls.velocity(w)) * 2.0;
-                        drho += rel.dot(&e) * dwv;
-                        sub_outer(&mut grad, &(rel * dwv), &e);
-                    }
-                    // coarse grains: free-slip mirrors moving with v̄ (Eqs. 48, 60): only the
-                    // normal relative velocity is reflected (no coarse–fine friction here;
-                    // μ_cf acts in the momentum sweep). The mirror plane is the coarse
-                    // particle's tangent plane, which holds for a fine particle in front of
-                    // it (n_j·e_ij > 0); one beside or behind it (at a corner or tip of a
-                    // body resolved by few particles) is reflected along e_ij instead, as
-                    // by an interior particle. Reflected across n_j, such a particle would
-                    // be compressed while it moves away from the body (n_j·e_ij < 0 flips
-                    // the sign of the approach rate).
-                    for &j in &cl.coarse[cl.coff[k] as usize..cl.coff[k + 1] as usize] {
-                        let cj = &coarse[j as usize];
-                        let rij = xi - cj.pos;
-                        let r2 = rij.norm_squared();
-                        if r2 >= cut2 || r2 == 0.0 {
-                            continue;
-                        }
-                        let r = r2.sqrt();
-                        let e = rij * (1.0 / r);
-                        let dwv = prm.kernel.dw(r) * cj.vol;
-                        let n = if cj.normal.dot(&e) > 0.0 {
-                            cj.normal
-                        } else {
-                            e
-                        };
-                        let rel = n * (2.0 * (vi - cj.vel).dot(&n));
-                        drho += rel.dot(&e) * dwv;
-                        sub_outer(&mut grad, &(rel * dwv), &e);
-                    }
-                    drho_out[k] = rhoi * drho;
-                    let mut l = Matrix3::<Real>::zeros();
-                    for a in 0..D {
-                        for b in 0..D {
-                            l[(a, b)] = grad[(a, b)];
-                        }
-                    }
-                    let d = diff.scale(2.0 * prm.zeta * h * mi.c0);
-                    let u = update_stress(mi, &l, &sig_i, &d, prm.dt);
-                    stress_out[k] = u.stress;
-                    eps_out[k] += u.plastic_strain;
-                    lg_out[k] = grad.cast::<f32>();
-                    kept_out[k] = penalty_kept(&u.stress, mi.shear, u.plastic_strain);
-                }
-            },
-        );
+/// One particle's rates from its pair sums, to which the interactions add their terms
+/// before [`Rates::update`].
+pub struct Rates<const D: usize> {
+    /// Σ 2 (U* − U_L) ∂W/∂r V of Eq. (15) (times ρ_i gives dρ_i/dt).
+    pub drho: Real,
+    /// The velocity gradient of Eq. (24).
+    pub grad: SMatrix<Real, D, D>,
+    /// Ψ of Eq. (26) summed.
+    diff: Sym,
+}
+
+impl<const D: usize> Rates<D> {
+    /// The rates of particle i (record `si`, material index `mat`) from its fine–fine
+    /// pair sums.
+    #[inline(always)]
+    pub fn from_sums(
+        prm: &ContinuityParams<'_, D>,
+        si: &Source,
+        mat: usize,
+        sum: &ContinuitySums<D>,
+    ) -> Self {
+        let geo = prm.geostatic[mat].scale(prm.geostatic_scale);
+        // Ψ of Eq. (26) summed: σ_i − σ_j (σ = σˢ − P I) minus the geostatic gradient
+        // −(r_ij·up) geo
+        let mut diff = si.dev.scale(sum.w).sub(&sum.wdev);
+        let dp = sum.wp - si.p * sum.w;
+        diff.0[0] += dp;
+        diff.0[1] += dp;
+        diff.0[2] += dp;
+        diff.axpy(-sum.wz, &geo);
+        Rates {
+            drho: sum.drho,
+            grad: sum.grad,
+            diff,
+        }
+    }
+
+    /// The constitutive update of particle i (material `mi`, density `rho`) over the
+    /// step, Eqs. (7)–(12) with the diffusion of Eq. (25): `stress` and
+    /// `plastic_strain` advanced in place, L_i in single precision into `vel_grad` and
+    /// the share of the hourglass penalty kept into `kept`. Returns dρ_i/dt.
+    #[inline(always)]
+    pub fn update(
+        &self,
+        prm: &ContinuityParams<'_, D>,
+        mi: &FineMaterial,
+        rho: Real,
+        out: ParticleOut<'_, D>,
+    ) -> Real {
+        let grad = self.grad;
+        let mut l = Matrix3::<Real>::zeros();
+        for a in 0..D {
+            for b in 0..D {
+                l[(a, b)] = grad[(a, b)];
+            }
+        }
+        let d = self.diff.scale(2.0 * prm.zeta * prm.kernel.h * mi.c0);
+        let u = update_stress(mi, &l, out.stress, &d, prm.dt);
+        *out.stress = u.stress;
+        *out.plastic_strain += u.plastic_strain;
+        *out.vel_grad = grad.cast::<f32>();
+        *out.kept = penalty_kept(&u.stress, mi.shear, u.plastic_strain);
+        rho * self.drho
+    }
+}
+
+/// One particle's entries of [`ContinuityOut`].
+pub struct ParticleOut<'a, const D: usize> {
+    pub stress: &'a mut Sym,
+    pub plastic_strain: &'a mut Real,
+    pub vel_grad: &'a mut SMatrix<f32, D, D>,
+    pub kept: &'a mut f32,
 }
 
 /// The continuity sweep's pair terms that need no velocity: the pressure jump of
@@ -312,7 +229,7 @@ impl<'a, const D: usize> JumpDiffusion<'a, D> {
 /// both of its particles: the velocity part of 2 (U* − U_L) in Eq. (15),
 /// 2 Z_j (U_R − U_L)/(Z_i + Z_j) with U_R − U_L = v_ij·e_ij (Z_i for j), and
 /// −v_ij ⊗ e_ij of Eq. (24), the same for j (v_ji ⊗ e_ji = v_ij ⊗ e_ij).
-fn pair_pass<const D: usize>(
+pub fn pair_pass<const D: usize>(
     p: &FineParticles<D>,
     src: &[Source],
     mats: &[FineMaterial],

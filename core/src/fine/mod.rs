@@ -10,6 +10,3 @@ pub mod pair_sums;
 pub mod plasticity;
 pub mod source;
 pub mod state;
-#[cfg(test)]
-mod symmetric_tests;
-pub mod wall_contact;

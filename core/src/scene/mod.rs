@@ -1,14 +1,12 @@
-//! Scene files: schema, loading with overrides, validation.
+//! Scene files: schema, text with overrides, validation. Reading a scene with the
+//! files its shapes name is [`input`](crate::input)'s work.
 
 mod error;
-mod load;
-mod placement;
-mod rocks;
+mod text;
 mod types;
 mod validate;
 
 pub use error::SceneError;
-pub use load::{
-    apply_overrides, load_scene_file, load_scene_in, load_scene_str, locate, LoadedScene,
-};
+pub use text::{apply_overrides, at, locate, parse};
 pub use types::*;
+pub use validate::{unknown_solid, validate, validate_shape};

@@ -583,7 +583,7 @@ fn validate_coarse(s: &Scene, fine_names: &HashSet<&str>) -> Check {
 
 /// "unknown solid `name` (known solids: …)", with a hint when `name` is a fine-grain
 /// material: bodies and rock fills take a `[[solids]]` entry.
-pub(crate) fn unknown_solid(s: &Scene, name: &str) -> String {
+pub fn unknown_solid(s: &Scene, name: &str) -> String {
     let known: Vec<_> = s.solids.iter().map(|m| m.name.as_str()).collect();
     let hint = if s.materials.iter().any(|m| m.name == name) {
         " (it is a fine-grain [[materials]] entry; bodies take a [[solids]] entry)"

@@ -3,9 +3,8 @@
 //! rocks become ordinary `[[bodies]]` with polygon shapes before validation, so
 //! everything downstream sees plain bodies.
 
-use super::types::{BodySpec, RockFillReport, RockFillSpec, Scene, ShapeSpec};
-use super::validate::validate_shape;
 use crate::geometry::Shape;
+use crate::scene::{validate_shape, BodySpec, RockFillReport, RockFillSpec, Scene, ShapeSpec};
 use std::f64::consts::PI;
 
 use crate::rng::Rng;
@@ -138,10 +137,7 @@ fn check(scene: &Scene, p: &str, f: &RockFillSpec) -> Result<(), Fail> {
         );
     }
     if !scene.solids.iter().any(|s| s.name == f.material) {
-        return bad(
-            "material",
-            super::validate::unknown_solid(scene, &f.material),
-        );
+        return bad("material", crate::scene::unknown_solid(scene, &f.material));
     }
     if !(0.0..=0.5).contains(&f.content) {
         return bad(

@@ -1,7 +1,7 @@
 //! Where regions lie: a region that no container can hold is refused at load.
 
-use super::types::{ContainerSpec, Scene};
 use crate::geometry::Shape;
+use crate::scene::{ContainerSpec, Scene};
 
 const AXES: [&str; 3] = ["x", "y", "z"];
 

@@ -3,11 +3,12 @@
 //! held over the fine step, then the time-averaged velocity of Eq. (60).
 //! Δt_c follows Eq. (52), tightened by the contact stiffness of nearby contacts.
 
-use super::build::Coarse;
-use super::contact::{ContactLaw, Contacts};
-use super::rigid;
-use super::tlsph::Tlsph;
+use crate::coarse::build::Coarse;
+use crate::coarse::rigid;
+use crate::coarse::tlsph::Tlsph;
+use crate::coarse::{Body, CoarseParticles};
 use crate::guard::Blowup;
+use crate::interactions::contact::{ContactLaw, Contacts};
 use crate::load::Load;
 use crate::math::{from3, to3, Real, Vect};
 use crate::scene::Scene;
@@ -267,7 +268,7 @@ impl<const D: usize> CoarseStepper<D> {
 
 /// Centre of mass, velocity, angular momentum/velocity and best-fit rotation of an
 /// elastic body, for output.
-fn elastic_summary<const D: usize>(b: &mut super::Body<D>, p: &super::CoarseParticles<D>) {
+fn elastic_summary<const D: usize>(b: &mut Body<D>, p: &CoarseParticles<D>) {
     let mut m = 0.0;
     let mut c = Vector3::zeros();
     let mut v = Vector3::zeros();

@@ -3,16 +3,19 @@
 //! particle over all its neighbours, on a disordered cloud of two soils with moving,
 //! stressed particles: the two agree to round-off.
 
-use super::continuity::{continuity_sweep, ContinuityOut, ContinuityParams, JumpDiffusion};
-use super::hourglass::{non_affine, pair_weight};
-use super::material::uniform_acoustics;
-use super::material::FineMaterial;
-use super::momentum::{momentum_sweep, CoarseSide, MomentumParams};
-use super::pair_sums::PairSums;
-use super::plasticity::update_stress;
-use super::source::{pack, Source};
-use super::state::FineParticles;
-use crate::coarse::coupling::Coupling;
+use super::continuity_pass::continuity_sweep;
+use super::fine_coarse::{CoarseSide, Coupling};
+use super::fine_wall::WallLaw;
+use super::momentum_pass::momentum_sweep;
+use crate::fine::continuity::{ContinuityOut, ContinuityParams, JumpDiffusion};
+use crate::fine::hourglass::{non_affine, pair_weight};
+use crate::fine::material::uniform_acoustics;
+use crate::fine::material::FineMaterial;
+use crate::fine::momentum::MomentumParams;
+use crate::fine::pair_sums::PairSums;
+use crate::fine::plasticity::update_stress;
+use crate::fine::source::{pack, Source};
+use crate::fine::state::FineParticles;
 use crate::kernel::WendlandC2;
 use crate::load::Load;
 use crate::math::{sub_outer, Real, Sym, Vect};
@@ -205,11 +208,8 @@ fn momentum<const D: usize>(
         gravity: cprm.gravity,
         dt: cprm.dt,
         artificial: None,
-        wall_friction: 0.0,
-        wall_stress: WallStress::Extrapolated,
         hourglass: &hourglass,
         hourglass_leak: &leak,
-        tension: &tension,
         materials: mats,
         uniform: uniform_acoustics(mats),
     };
@@ -228,7 +228,16 @@ fn momentum<const D: usize>(
             dt: cprm.dt,
             dp: 0.01,
         },
+        tension: &tension,
         reactions: &mut reactions,
+    };
+    let wall = WallLaw {
+        kernel,
+        riemann,
+        gravity: cprm.gravity,
+        dt: cprm.dt,
+        friction: 0.0,
+        stress: WallStress::Extrapolated,
     };
     momentum_sweep(
         p,
@@ -237,6 +246,7 @@ fn momentum<const D: usize>(
         lists,
         &[],
         &prm,
+        &wall,
         &mut vel_new,
         &mut hg,
         &mut loads,

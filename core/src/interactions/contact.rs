@@ -8,9 +8,7 @@
 //! Candidates are found once per fine step with a margin covering the motion within
 //! it; the force is evaluated at every coarse sub-step.
 
-use super::body::Body;
-use super::material::SolidMaterial;
-use super::particles::CoarseParticles;
+use crate::coarse::{Body, CoarseParticles, SolidMaterial};
 use crate::load::Load;
 use crate::math::{to3, Real, Vect};
 use crate::scene::{ContactModel, ContactSpec};

@@ -15,13 +15,15 @@
 //! the MPM–DEM of seed 004. A cohesive soil (c > 0) is bonded to the boulders as
 //! Eq. (48) has it: the mirrored stress σ_i carries the soil's tension, bounded by its
 //! own Drucker–Prager surface, so the interface is as strong as the soil.
+//!
+//! In the continuity equation a coarse particle is a free-slip mirror moving with v̄
+//! ([`continuity`]).
 
-use super::body::Body;
-use super::material::SolidMaterial;
-use super::particles::CoarseParticles;
+use crate::coarse::{Body, CoarseParticles, SolidMaterial};
 use crate::kernel::WendlandC2;
-use crate::math::{Real, Sym, Vect};
+use crate::math::{sub_outer, Real, Sym, Vect};
 use crate::riemann::Riemann;
+use nalgebra::SMatrix;
 use rayon::prelude::*;
 
 /// The coarse-particle data the fine sweeps read.
@@ -162,6 +164,50 @@ impl Coupling {
         }
         Some(a)
     }
+}
+
+/// Coarse grains seen by the fine sweeps: their packed records, the coupling law, per
+/// fine material whether the interface carries the soil's tension (cohesive soils,
+/// c > 0), and one reaction buffer per chunk that receives `(coarse particle, force)`
+/// records.
+pub struct CoarseSide<'a, const D: usize> {
+    pub src: &'a [CoarseSource<D>],
+    pub coupling: Coupling,
+    pub tension: &'a [bool],
+    pub reactions: &'a mut [Vec<(u32, Vect<D>)>],
+}
+
+/// The continuity terms of coarse particle `c` on fine particle i at `xi` moving with
+/// `vi` (Eqs. 48, 60), added to `drho` (Eq. 15) and `grad` (Eq. 24). The coarse
+/// particle is a free-slip mirror moving with v̄: only the normal relative velocity is
+/// reflected (no coarse–fine friction here; μ_cf acts in the momentum sweep). The
+/// mirror plane is the coarse particle's tangent plane, which holds for a fine particle
+/// in front of it (n_j·e_ij > 0); one beside or behind it (at a corner or tip of a body
+/// resolved by few particles) is reflected along e_ij instead, as by an interior
+/// particle. Reflected across n_j, such a particle would be compressed while it moves
+/// away from the body (n_j·e_ij < 0 flips the sign of the approach rate).
+#[inline(always)]
+pub fn continuity<const D: usize>(
+    kernel: &WendlandC2,
+    c: &CoarseSource<D>,
+    xi: &Vect<D>,
+    vi: &Vect<D>,
+    drho: &mut Real,
+    grad: &mut SMatrix<Real, D, D>,
+) {
+    let cut2 = kernel.cutoff * kernel.cutoff;
+    let rij = xi - c.pos;
+    let r2 = rij.norm_squared();
+    if r2 >= cut2 || r2 == 0.0 {
+        return;
+    }
+    let r = r2.sqrt();
+    let e = rij * (1.0 / r);
+    let dwv = kernel.dw(r) * c.vol;
+    let n = if c.normal.dot(&e) > 0.0 { c.normal } else { e };
+    let rel = n * (2.0 * (vi - c.vel).dot(&n));
+    *drho += rel.dot(&e) * dwv;
+    sub_outer(grad, &(rel * dwv), &e);
 }
 
 /// Scatter the per-chunk coarse reactions (`(particle, force)` records in chunk order)

@@ -1,86 +1,25 @@
-//! Reading a scene: `--set` overrides, strict deserialisation, and locating keys by line.
+//! Scene text: `--set` overrides, strict deserialisation, and locating keys by line.
 
 use super::error::SceneError;
 use super::types::Scene;
-use super::validate::validate;
 
-/// A parsed, validated scene together with the text it came from.
-#[derive(Debug, Clone)]
-pub struct LoadedScene {
-    pub scene: Scene,
-    /// The scene text after overrides (what was simulated).
-    pub text: String,
-    pub file: String,
-}
-
-/// Read and validate a scene file, applying `key.path=value` overrides first.
-pub fn load_scene_file(
-    path: &std::path::Path,
-    overrides: &[String],
-) -> Result<LoadedScene, SceneError> {
-    let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
-        file: file.clone(),
-        path: String::new(),
-        line: None,
-        message: format!("cannot read scene file: {e}"),
-    })?;
-    let dir = path.parent().unwrap_or(std::path::Path::new("."));
-    load_scene_in(&text, &file, overrides, dir)
-}
-
-/// Parse and validate scene text. `file` is used in error messages; files named by
-/// shapes are read relative to the working directory.
-pub fn load_scene_str(
-    text: &str,
-    file: &str,
-    overrides: &[String],
-) -> Result<LoadedScene, SceneError> {
-    load_scene_in(text, file, overrides, std::path::Path::new("."))
-}
-
-/// Parse and validate scene text whose shape files live in `dir`.
-pub fn load_scene_in(
-    text: &str,
-    file: &str,
-    overrides: &[String],
-    dir: &std::path::Path,
-) -> Result<LoadedScene, SceneError> {
-    let text = apply_overrides(text, file, overrides)?;
-    let de = toml::Deserializer::parse(&text).map_err(|e| toml_error(&text, file, "", &e))?;
-    let mut scene: Scene = serde_path_to_error::deserialize(de).map_err(|e| {
+/// Deserialise scene text (strictly: unknown keys are errors) without validating it.
+pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
+    let de = toml::Deserializer::parse(text).map_err(|e| toml_error(text, file, "", &e))?;
+    serde_path_to_error::deserialize(de).map_err(|e| {
         let path = clean_path(&e.path().to_string());
-        toml_error(&text, file, &path, e.inner())
-    })?;
-    super::rocks::expand(&mut scene).map_err(|(path, message)| SceneError {
-        file: file.to_string(),
-        line: locate(&text, &path),
-        path,
-        message,
-    })?;
-    validate(&scene).map_err(|(path, message)| SceneError {
-        file: file.to_string(),
-        line: locate(&text, &path),
-        path,
-        message,
-    })?;
-    scene.assets = crate::assets::load(&scene, dir).map_err(|(path, message)| SceneError {
-        file: file.to_string(),
-        line: locate(&text, &path),
-        path,
-        message,
-    })?;
-    super::placement::check_regions(&scene).map_err(|(path, message)| SceneError {
-        file: file.to_string(),
-        line: locate(&text, &path),
-        path,
-        message,
-    })?;
-    Ok(LoadedScene {
-        scene,
-        text,
-        file: file.to_string(),
+        toml_error(text, file, &path, e.inner())
     })
+}
+
+/// The error `(key path, message)` found in scene text, located by line.
+pub fn at(text: &str, file: &str, (path, message): (String, String)) -> SceneError {
+    SceneError {
+        file: file.to_string(),
+        line: locate(text, &path),
+        path,
+        message,
+    }
 }
 
 fn toml_error(text: &str, file: &str, path: &str, e: &toml::de::Error) -> SceneError {

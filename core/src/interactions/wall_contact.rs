@@ -16,7 +16,7 @@
 //! from a wall receives nothing from it, and the wall nothing from the soil; a cohesive
 //! soil is held back by at most σ_t per unit area.
 
-use super::material::FineMaterial;
+use crate::fine::material::FineMaterial;
 use crate::math::{Real, Sym, Vect};
 
 /// Tensile strength of the interface: the apex stress k_c/(3α_φ) of the

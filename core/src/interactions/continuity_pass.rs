@@ -1,0 +1,72 @@
+//! The fine grains' continuity and stress sweep with v_{n+1}: the fine–fine pair pass
+//! ([`fine::continuity`](crate::fine::continuity)), then one particle pass that adds,
+//! per fine particle, the walls as no-slip mirrors ([`fine_wall`](super::fine_wall),
+//! Eqs. 32–34) and the coarse grains as free-slip mirrors moving with v̄
+//! ([`fine_coarse`](super::fine_coarse), Eqs. 48, 60) to the pair sums, and updates the
+//! stress (Eqs. 7–12, 15, 24–26).
+
+use super::fine_coarse::{self, CoarseSource};
+use super::fine_wall;
+use crate::fine::continuity::{ContinuityOut, ContinuityParams, ParticleOut, Rates};
+use crate::fine::material::FineMaterial;
+use crate::fine::pair_sums::ContinuitySums;
+use crate::fine::source::Source;
+use crate::fine::state::FineParticles;
+use crate::neighbors::{NeighborLists, CHUNK};
+use crate::walls::Walls;
+use rayon::prelude::*;
+
+/// Sweep with v_{n+1} already in `p.vel`.
+#[allow(clippy::too_many_arguments)]
+pub fn continuity_sweep<const D: usize>(
+    p: &FineParticles<D>,
+    src: &[Source],
+    mats: &[FineMaterial],
+    walls: &Walls<D>,
+    lists: &NeighborLists,
+    prm: &ContinuityParams<'_, D>,
+    coarse: &[CoarseSource<D>],
+    out: ContinuityOut<'_, D>,
+) {
+    // neighbour arrays of one length, so that a neighbour index is bounds-checked once
+    let n = p.len();
+    let (pos, vel, src, material) = (&p.pos[..n], &p.vel[..n], &src[..n], &p.material[..n]);
+    crate::fine::continuity::pair_pass(p, src, mats, lists, prm, &mut *out.sums);
+    lists
+        .chunks
+        .par_iter()
+        .zip(out.sums.par_chunks_mut(CHUNK))
+        .zip(out.drho.par_chunks_mut(CHUNK))
+        .zip(out.stress.par_chunks_mut(CHUNK))
+        .zip(out.plastic_strain.par_chunks_mut(CHUNK))
+        .zip(out.vel_grad.par_chunks_mut(CHUNK))
+        .zip(out.hourglass_kept.par_chunks_mut(CHUNK))
+        .enumerate()
+        .for_each(
+            |(c, ((((((cl, sums), drho_out), stress_out), eps_out), lg_out), kept_out))| {
+                for k in 0..drho_out.len() {
+                    let i = c * CHUNK + k;
+                    let mat = material[i] as usize;
+                    let (xi, vi) = (pos[i], vel[i]);
+                    // the pair sums, left zero for the next step
+                    let sum = std::mem::replace(&mut sums[k].continuity, ContinuitySums::zero());
+                    let mut rates = Rates::from_sums(prm, &src[i], mat, &sum);
+                    let (drho, grad) = (&mut rates.drho, &mut rates.grad);
+                    for &w in &cl.wall[cl.woff[k] as usize..cl.woff[k + 1] as usize] {
+                        fine_wall::continuity(&prm.kernel, walls, &xi, &vi, w as usize, drho, grad);
+                    }
+                    for &j in &cl.coarse[cl.coff[k] as usize..cl.coff[k + 1] as usize] {
+                        let cj = &coarse[j as usize];
+                        fine_coarse::continuity(&prm.kernel, cj, &xi, &vi, drho, grad);
+                    }
+                    let out = ParticleOut {
+                        stress: &mut stress_out[k],
+                        plastic_strain: &mut eps_out[k],
+                        vel_grad: &mut lg_out[k],
+                        kept: &mut kept_out[k],
+                    };
+                    drho_out[k] = rates.update(prm, &mats[mat], p.rho[i], out);
+                }
+            },
+        );
+}

@@ -1,0 +1,237 @@
+//! Fine grains on walls: the dummy wall particles of seed 000 Eqs. (32)–(35).
+//!
+//! A wall particle w takes the stress of fine particle i (σ_w = σ_i, no-slip, or the
+//! extrapolated deviator of [`WallStrength`]); P*_w solves the one-sided Riemann
+//! problem along the wall normal n of Eq. (33), with the mirrored velocity of Eq. (34)
+//! and the hydrostatic increase of Eq. (35). The pair's interface stress is cut at the
+//! soil's tensile strength ([`wall_contact`](super::wall_contact)): a contact that
+//! would pull harder opens. Coulomb friction (`wall_friction`) acts against the slip,
+//! bounded by μ times the normal part. In the continuity equation the wall is a
+//! no-slip mirror, v_w = 2 u_w − v_i, and U* = u_w.
+
+use super::wall_contact;
+use crate::fine::material::FineMaterial;
+use crate::fine::source::Source;
+use crate::kernel::WendlandC2;
+use crate::math::{sub_outer, Real, Vect};
+use crate::riemann::Riemann;
+use crate::scene::WallStress;
+use crate::walls::Walls;
+use nalgebra::SMatrix;
+
+/// The fine-grain–wall law of one step.
+#[derive(Clone, Copy, Debug)]
+pub struct WallLaw<const D: usize> {
+    pub kernel: WendlandC2,
+    pub riemann: Riemann,
+    pub gravity: Vect<D>,
+    pub dt: Real,
+    /// Coulomb coefficient of fine grains on walls (0: off).
+    pub friction: Real,
+    /// Deviatoric stress of the dummy wall particles.
+    pub stress: WallStress,
+}
+
+/// Wall normal at `xi`, Eq. (33): Φ = −Σ_w ∇_i W_iw V_w, normalised (zero where Φ is).
+#[inline(always)]
+pub fn normal<const D: usize>(
+    kernel: &WendlandC2,
+    walls: &Walls<D>,
+    xi: &Vect<D>,
+    wl: &[u32],
+) -> Vect<D> {
+    let cut2 = kernel.cutoff * kernel.cutoff;
+    let mut phi = Vect::<D>::zeros();
+    for &w in wl {
+        let rij = xi - walls.pos[w as usize];
+        let r2 = rij.norm_squared();
+        if r2 >= cut2 || r2 == 0.0 {
+            continue;
+        }
+        let r = r2.sqrt();
+        phi -= rij * (kernel.dw(r) / r * walls.volume);
+    }
+    let nrm = phi.norm();
+    if nrm > 0.0 {
+        phi / nrm
+    } else {
+        phi
+    }
+}
+
+/// Fine particle i against the walls of its list, for one step.
+pub struct FineAtWall<'a, const D: usize> {
+    pub pos: Vect<D>,
+    pub vel: Vect<D>,
+    pub rho: Real,
+    pub src: &'a Source,
+    /// 1/c0 of i's material.
+    pub inv_c: Real,
+    /// Wall normal of Eq. (33) at i.
+    pub n: Vect<D>,
+    /// U_L = −n·v_i, Eq. (32).
+    pub ul: Real,
+    /// 1 / (walls in i's list): the share of the friction bound of one wall pair.
+    pub share: Real,
+    pub strength: WallStrength,
+    /// Tensile strength of the interface ([`wall_contact::tensile_strength`]).
+    pub tensile: Real,
+}
+
+impl<'a, const D: usize> FineAtWall<'a, D> {
+    /// The state of particle i (material `m`) at the walls `wl` of its list.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub fn new(
+        law: &WallLaw<D>,
+        walls: &Walls<D>,
+        m: &FineMaterial,
+        pos: Vect<D>,
+        vel: Vect<D>,
+        rho: Real,
+        src: &'a Source,
+        wl: &[u32],
+    ) -> Self {
+        let n = normal(&law.kernel, walls, &pos, wl);
+        FineAtWall {
+            pos,
+            vel,
+            rho,
+            src,
+            inv_c: 1.0 / m.c0,
+            n,
+            ul: -n.dot(&vel),
+            share: 1.0 / wl.len() as Real,
+            strength: match law.stress {
+                WallStress::Extrapolated => WallStrength::new(m, src),
+                WallStress::Mirrored => WallStrength::MIRROR,
+            },
+            tensile: wall_contact::tensile_strength(m),
+        }
+    }
+
+    /// Acceleration of i from wall particle `w`, Eqs. (32)–(35) (None outside the
+    /// kernel): (2/ρ_i) σ*·e_iw ∂W/∂r V_w with σ* = ½(σˢ_i + σˢ_w) − P*_w I cut at the
+    /// tensile strength, and Coulomb friction.
+    #[inline(always)]
+    pub fn acceleration(&self, law: &WallLaw<D>, walls: &Walls<D>, w: usize) -> Option<Vect<D>> {
+        let cut2 = law.kernel.cutoff * law.kernel.cutoff;
+        let si = self.src;
+        let rij = self.pos - walls.pos[w];
+        let r2 = rij.norm_squared();
+        if r2 >= cut2 || r2 == 0.0 {
+            return None;
+        }
+        let r = r2.sqrt();
+        let e = rij * (1.0 / r);
+        let dw = law.kernel.dw(r);
+        let n = self.n;
+        let uw = -n.dot(&walls.velocity(w));
+        // Eq. (34): U_R = −U_L + 2u_w, so U_L − U_R = 2(U_L − u_w).
+        let du = 2.0 * (self.ul - uw);
+        // Eq. (35): hydrostatic increase towards the wall.
+        let pr = si.p + self.rho * r * law.gravity.dot(&(-e)).max(0.0);
+        let beta = law.riemann.limiter(du, self.inv_c);
+        let pstar = 0.5 * (si.p + pr) + 0.5 * beta * si.z * du;
+        let mut sstar = si.dev.scale(0.5 * (1.0 + self.strength.ratio(pr)));
+        sstar.0[0] -= pstar;
+        sstar.0[1] -= pstar;
+        sstar.0[2] -= pstar;
+        // the contact opens beyond the soil's tensile strength
+        let sstar = wall_contact::cut(sstar, &n, self.tensile);
+        let inv_rho2 = 2.0 / self.rho;
+        let mut a = sstar.dot_vec(&e) * (inv_rho2 * dw * walls.volume);
+        if law.friction > 0.0 {
+            let an = a.dot(&n);
+            if an > 0.0 {
+                let vrel = self.vel - walls.velocity(w);
+                let vt = vrel - n * vrel.dot(&n);
+                let s = vt.norm();
+                if s > 0.0 {
+                    let mag = (law.friction * an).min(s / law.dt * self.share);
+                    a -= vt * (mag / s);
+                }
+            }
+        }
+        Some(a)
+    }
+}
+
+/// The continuity terms of wall particle `w` on fine particle i at `xi` moving with
+/// `vi`, Eqs. (32)–(34): U* = u_w, so only the mirrored velocity enters. Adds to
+/// `drho` (Eq. 15) and `grad` (Eq. 24). The hydrostatic jump of Eq. (35) is the
+/// geostatic state itself, which the fine–fine pair terms subtract too; it acts in
+/// the momentum equation only (kept here, it made every grain resting on a floor gain
+/// density exponentially).
+#[inline(always)]
+pub fn continuity<const D: usize>(
+    kernel: &WendlandC2,
+    walls: &Walls<D>,
+    xi: &Vect<D>,
+    vi: &Vect<D>,
+    w: usize,
+    drho: &mut Real,
+    grad: &mut SMatrix<Real, D, D>,
+) {
+    let cut2 = kernel.cutoff * kernel.cutoff;
+    let rij = xi - walls.pos[w];
+    let r2 = rij.norm_squared();
+    if r2 >= cut2 || r2 == 0.0 {
+        return;
+    }
+    let r = r2.sqrt();
+    let e = rij * (1.0 / r);
+    let dwv = kernel.dw(r) * walls.volume;
+    let rel = (vi - walls.velocity(w)) * 2.0;
+    *drho += rel.dot(&e) * dwv;
+    sub_outer(grad, &(rel * dwv), &e);
+}
+
+/// The deviatoric stress a dummy wall particle carries against particle i: the
+/// particle's σˢ_i at the same share of the Drucker–Prager strength √J2 ≤ 3α_φ P + k_c
+/// (Eqs. 4, 6) at the wall's pressure P_w of Eq. (35) as it uses at its own pressure,
+/// σˢ_w = m σˢ_i with m = (3α_φ P_w + k_c)/max(3α_φ P_i + k_c, √J2(σˢ_i)). In a
+/// frictional layer shear and pressure both grow with depth, so this extrapolates the
+/// stress to the wall as Eq. (35) extrapolates the pressure (for c = 0, m = P_w/P_i
+/// exactly); seed 000's mirror σˢ_w = σˢ_i gives a particle lying on the wall only the
+/// shear at its own centre, half the basal shear of a one-particle-thick layer. The
+/// pair term takes the mean ½(σˢ_i + σˢ_w), as Eq. (34) takes ½(P_L + P_R); m never
+/// lets the wall exceed the strength at its pressure, and is 1 where neither side
+/// has strength (a particle in tension without cohesion carries no shear).
+#[derive(Clone, Copy, Debug)]
+pub struct WallStrength {
+    /// 3α_φ, or 0 for the mirror.
+    three_alpha: Real,
+    k_c: Real,
+    /// 1 / max(3α_φ P_i + k_c, √J2(σˢ_i)), or 0 where that vanishes.
+    inv_used: Real,
+}
+
+impl WallStrength {
+    /// m = 1 everywhere.
+    pub const MIRROR: WallStrength = WallStrength {
+        three_alpha: 0.0,
+        k_c: 0.0,
+        inv_used: 0.0,
+    };
+
+    pub fn new(m: &FineMaterial, si: &Source) -> Self {
+        let three_alpha = 3.0 * m.alpha_phi;
+        let used = (three_alpha * si.p + m.k_c).max(si.dev.j2().sqrt());
+        WallStrength {
+            three_alpha,
+            k_c: m.k_c,
+            inv_used: if used > 0.0 { 1.0 / used } else { 0.0 },
+        }
+    }
+
+    /// m at the wall pressure `pw`.
+    #[inline(always)]
+    fn ratio(&self, pw: Real) -> Real {
+        if self.inv_used > 0.0 {
+            (self.three_alpha * pw + self.k_c).max(0.0) * self.inv_used
+        } else {
+            1.0
+        }
+    }
+}

@@ -1,0 +1,18 @@
+//! What couples the particle families with each other and with walls, above the
+//! families themselves (`fine/` and `coarse/` never import each other):
+//! - [`fine_wall`] and [`wall_contact`]: fine grains on walls, seed 000 Eqs. (32)–(35);
+//! - [`fine_coarse`]: fine grains on coarse grains, Eqs. (48)–(50), (60) and μ_cf;
+//! - [`contact`]: coarse grains on each other and on walls (seeds 001, 004);
+//! - [`barrier_load`]: the reactions that add up to barrier loads;
+//! - [`momentum_pass`] and [`continuity_pass`]: the fine sweeps' particle passes, which
+//!   fuse the fine–fine sums with the interactions above, one formula per module.
+
+pub mod barrier_load;
+pub mod contact;
+pub mod continuity_pass;
+pub mod fine_coarse;
+pub mod fine_wall;
+pub mod momentum_pass;
+#[cfg(test)]
+mod symmetric_tests;
+pub mod wall_contact;

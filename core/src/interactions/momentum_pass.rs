@@ -1,0 +1,106 @@
+//! The fine grains' momentum sweep: the fine–fine pair pass
+//! ([`fine::momentum`](crate::fine::momentum)), then one particle pass that adds, per
+//! fine particle, the walls ([`fine_wall`](super::fine_wall), Eqs. 32–35, with their
+//! barrier loads, [`barrier_load`](super::barrier_load)) and the coarse grains
+//! ([`fine_coarse`](super::fine_coarse), Eqs. 48–50) to the pair sums and integrates
+//! (Eq. 55). The interactions are fused into the one pass so that a particle's record
+//! is read once; each interaction's formula lives in its own module.
+
+use super::barrier_load;
+use super::fine_coarse::{CoarseSide, FineSide};
+use super::fine_wall::{FineAtWall, WallLaw};
+use crate::fine::continuity::JumpDiffusion;
+use crate::fine::momentum::{integrate, pair_acceleration, pair_pass, MomentumParams};
+use crate::fine::pair_sums::{MomentumSums, PairSums};
+use crate::fine::source::Source;
+use crate::fine::state::FineParticles;
+use crate::load::Load;
+use crate::math::{Real, Sym, Vect};
+use crate::neighbors::{NeighborLists, CHUNK};
+use crate::walls::Walls;
+use nalgebra::SVector;
+use rayon::prelude::*;
+
+/// Compute v_{n+1} into `vel_new`, advance the accumulated hourglass acceleration in
+/// `hourglass` (in place; each particle reads only its own entry) and per-chunk barrier
+/// loads into `loads` (`max(1, barriers)` slots per chunk). `sums` holds one entry per
+/// particle, all zero on entry; its momentum part is left zero, its continuity part
+/// holds the [`JumpDiffusion`] terms for the continuity sweep.
+#[allow(clippy::too_many_arguments)]
+pub fn momentum_sweep<const D: usize>(
+    p: &FineParticles<D>,
+    src: &[Source],
+    walls: &Walls<D>,
+    lists: &NeighborLists,
+    art: &[Sym],
+    prm: &MomentumParams<'_, D>,
+    wall: &WallLaw<D>,
+    vel_new: &mut [Vect<D>],
+    hourglass: &mut [SVector<f32, D>],
+    loads: &mut [Load],
+    coarse: CoarseSide<'_, D>,
+    jump: &JumpDiffusion<'_, D>,
+    sums: &mut [PairSums<D>],
+) {
+    let (csrc, coupling, tension) = (coarse.src, coarse.coupling, coarse.tension);
+    let nbs = walls.load_slots().max(1);
+    // neighbour arrays of one length, so that a neighbour index is bounds-checked once
+    let n = p.len();
+    let (pos, vel, src) = (&p.pos[..n], &p.vel[..n], &src[..n]);
+    pair_pass(p, src, lists, art, prm, jump, &mut *sums);
+    lists
+        .chunks
+        .par_iter()
+        .zip(sums.par_chunks_mut(CHUNK))
+        .zip(vel_new.par_chunks_mut(CHUNK))
+        .zip(hourglass.par_chunks_mut(CHUNK))
+        .zip(loads.par_chunks_mut(nbs))
+        .zip(coarse.reactions.par_iter_mut())
+        .enumerate()
+        .for_each(|(c, (((((cl, sums), vout), hout), lout), react))| {
+            for l in lout.iter_mut() {
+                *l = Load::default();
+            }
+            react.clear();
+            for (k, vo) in vout.iter_mut().enumerate() {
+                let i = c * CHUNK + k;
+                let mat = &prm.materials[p.material[i] as usize];
+                let (xi, vi, rhoi) = (pos[i], vel[i], p.rho[i]);
+                // the pair sums, left zero for the next step
+                let sum = std::mem::replace(&mut sums[k].momentum, MomentumSums::zero());
+                let mut acc = pair_acceleration(&sum, rhoi);
+                let (w0, w1) = (cl.woff[k] as usize, cl.woff[k + 1] as usize);
+                if w1 > w0 {
+                    let wl = &cl.wall[w0..w1];
+                    let at = FineAtWall::new(wall, walls, mat, xi, vi, rhoi, &src[i], wl);
+                    for &w in wl {
+                        if let Some(a) = at.acceleration(wall, walls, w as usize) {
+                            acc += a;
+                            barrier_load::add_reaction(walls, w as usize, &a, p.mass[i], lout);
+                        }
+                    }
+                }
+                let (c0, c1) = (cl.coff[k] as usize, cl.coff[k + 1] as usize);
+                if c1 > c0 {
+                    let fs = FineSide {
+                        pos: xi,
+                        vel: vi,
+                        rho: rhoi,
+                        stress: &p.stress[i],
+                        z: src[i].z,
+                        inv_c: 1.0 / mat.c0,
+                        c2: mat.c0 * mat.c0,
+                        tension: tension[p.material[i] as usize],
+                    };
+                    let share = 1.0 / (c1 - c0) as Real;
+                    for &j in &cl.coarse[c0..c1] {
+                        if let Some(a) = coupling.acceleration(&fs, &csrc[j as usize], share) {
+                            acc += a;
+                            react.push((j, a * (-p.mass[i])));
+                        }
+                    }
+                }
+                *vo = integrate(p, prm, i, acc, &sum.hourglass, &mut hout[k]);
+            }
+        });
+}

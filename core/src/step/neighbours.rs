@@ -1,0 +1,98 @@
+//! The neighbour stage: Verlet lists of fine particles with their fine, wall and
+//! coarse neighbours, rebuilt (particles re-sorted by cell) once the motion since the
+//! last build may have used up the skin.
+
+use super::Stepper;
+use crate::fine::source::pack;
+use crate::math::Real;
+use crate::neighbors::Binned;
+use crate::world::World;
+use rayon::prelude::*;
+
+impl<const D: usize> Stepper<D> {
+    /// Rebuild the lists if the skin may be used up over a step of `dt`; true if it
+    /// did.
+    pub(super) fn refresh_lists(&mut self, world: &mut World<D>, dt: Real) -> bool {
+        if !self.needs_rebuild(world, dt) {
+            return false;
+        }
+        self.rebuild(world);
+        pack(&world.fine, &world.materials, &mut self.src);
+        true
+    }
+
+    fn needs_rebuild(&self, world: &World<D>, dt: Real) -> bool {
+        if self.lists.chunks.is_empty() && !world.fine.is_empty() {
+            return true;
+        }
+        if world.fine.is_empty() {
+            return false;
+        }
+        let fine = self.max_disp + 0.5 * dt * self.vmax;
+        let wall = world.walls.max_displacement_since(&self.wall_disp_at_build);
+        let coarse = self
+            .csrc
+            .iter()
+            .zip(&self.coarse_at_build)
+            .map(|(c, b)| (c.pos - b).norm_squared())
+            .fold(0.0, Real::max)
+            .sqrt();
+        2.0 * fine > self.params.skin
+            || fine + wall > self.params.skin
+            || fine + coarse > self.params.skin
+            || self.coarse_at_build.len() != self.csrc.len()
+    }
+
+    /// Re-sort particles by cell and rebuild the Verlet lists.
+    fn rebuild(&mut self, world: &mut World<D>) {
+        self.fine_grid.bin(&world.fine.pos);
+        self.order.clear();
+        self.order.extend_from_slice(self.fine_grid.order());
+        world.fine.permute(&self.order, &mut self.permute);
+        self.fine_grid.bin(&world.fine.pos);
+        self.pos_at_build.clear();
+        self.pos_at_build
+            .par_extend(world.fine.pos.par_iter().map(|x| x.cast::<f32>()));
+        // |x − (f32)x| ≤ ½ ulp ≤ |x| ε_f32 / 2 per component
+        let reach = world
+            .fine
+            .pos
+            .par_iter()
+            .map(|x| x.amax())
+            .reduce(|| 0.0, Real::max);
+        self.round_off = reach * (f32::EPSILON as Real) * (D as Real).sqrt();
+        let walls_moved = world
+            .walls
+            .objects
+            .iter()
+            .zip(&self.wall_disp_at_build)
+            .any(|(o, d)| o.displacement != *d);
+        if !self.walls_binned || walls_moved {
+            self.wall_grid.bin(&world.walls.pos);
+            self.walls_binned = true;
+        }
+        self.wall_disp_at_build.clear();
+        self.wall_disp_at_build
+            .extend(world.walls.objects.iter().map(|o| o.displacement));
+        self.coarse_at_build.clear();
+        self.coarse_at_build.extend(self.csrc.iter().map(|c| c.pos));
+        self.coarse_grid.bin(&self.coarse_at_build);
+        let radius = self.kernel.cutoff + self.params.skin;
+        self.lists.build(
+            &world.fine.pos,
+            &self.fine_grid,
+            Binned {
+                pos: &world.walls.pos,
+                grid: &self.wall_grid,
+            },
+            Binned {
+                pos: &self.coarse_at_build,
+                grid: &self.coarse_grid,
+            },
+            radius,
+        );
+        self.reactions
+            .resize_with(self.lists.chunks.len(), Vec::new);
+        self.max_disp = 0.0;
+    }
+}
