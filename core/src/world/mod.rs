@@ -1,0 +1,140 @@
+//! The simulated world built from a scene: particles, materials, walls and probes.
+//! [`World::build`] delegates to the fine fill ([`regions`]), the walls
+//! ([`boundaries`]) and the coarse bodies ([`Coarse::build`]).
+
+use crate::build_error::BuildError;
+use crate::coarse::build::Coarse;
+use crate::fine::material::FineMaterial;
+use crate::fine::state::FineParticles;
+use crate::math::{Real, Sym, Vect};
+use crate::scene::Scene;
+use crate::walls::Walls;
+use nalgebra::{Rotation3, Vector3};
+
+mod boundaries;
+mod regions;
+
+/// A body's rotation about a centre.
+type Pose = (Vector3<Real>, Rotation3<Real>);
+
+/// A probe point sampled into the time series.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct Probe<const D: usize> {
+    pub name: String,
+    pub position: Vect<D>,
+}
+
+/// Everything that evolves or is looked up during a run.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct World<const D: usize> {
+    pub fine: FineParticles<D>,
+    pub materials: Vec<FineMaterial>,
+    pub walls: Walls<D>,
+    /// Coarse grains (boulders): bodies, their particles and solids.
+    pub coarse: Coarse<D>,
+    pub gravity: Vect<D>,
+    pub dp: Real,
+    pub time: Real,
+    pub steps: u64,
+    /// Fixed neighbour-search box (particles outside are clamped into border cells).
+    pub domain: (Vect<D>, Vect<D>),
+    pub probes: Vec<Probe<D>>,
+    /// Per-region particle counts, in scene order.
+    pub region_counts: Vec<(String, usize)>,
+}
+
+fn v<const D: usize>(x: &[f64]) -> Vect<D> {
+    Vect::<D>::from_iterator(x.iter().copied())
+}
+
+impl<const D: usize> World<D> {
+    /// Build from a validated scene.
+    pub fn build(scene: &Scene) -> Result<Self, BuildError> {
+        // refuse a scene too large for memory before allocating anything
+        crate::budget::enforce(scene).map_err(|message| BuildError {
+            path: "simulation.dp".into(),
+            message,
+        })?;
+        let sim = &scene.simulation;
+        let dp = sim.dp;
+        let gravity = v::<D>(&sim.gravity);
+        let gnorm = gravity.norm();
+        let up = if gnorm > 0.0 {
+            -gravity / gnorm
+        } else {
+            Vect::<D>::zeros()
+        };
+        let materials: Vec<FineMaterial> = scene
+            .materials
+            .iter()
+            .map(FineMaterial::from_spec)
+            .collect();
+        let vol = dp.powi(D as i32);
+        let (mut fine, region_counts) = regions::fill(scene, &materials, &up, dp, vol)?;
+        let walls = boundaries::build(scene, dp, vol)?;
+        let n = &scene.numerics;
+        let trim = (2.0 * n.smoothing_ratio + n.neighbor_skin + 1.0) * dp;
+        let coarse = Coarse::<D>::build(scene, trim)?;
+
+        // Domain: everything, plus a margin for the flow to spread into.
+        let mut lo = Vect::<D>::repeat(Real::INFINITY);
+        let mut hi = Vect::<D>::repeat(Real::NEG_INFINITY);
+        for p in fine
+            .pos
+            .iter()
+            .chain(walls.pos.iter())
+            .chain(coarse.particles.pos.iter())
+        {
+            lo = lo.inf(p);
+            hi = hi.sup(p);
+        }
+        let margin = (hi - lo).max() * 0.1 + 8.0 * dp;
+        let domain = (lo.add_scalar(-margin), hi.add_scalar(margin));
+
+        let probes = scene
+            .probes
+            .iter()
+            .map(|p| Probe {
+                name: p.name.clone(),
+                position: v::<D>(&p.position),
+            })
+            .collect();
+        // the arrays grew by doubling while the regions were filled
+        fine.shrink_to_fit();
+        Ok(World {
+            fine,
+            materials,
+            walls,
+            coarse,
+            gravity,
+            dp,
+            time: 0.0,
+            steps: 0,
+            domain,
+            probes,
+            region_counts,
+        })
+    }
+
+    /// Largest sound speed over fine materials.
+    pub fn max_c0(&self) -> Real {
+        self.materials.iter().map(|m| m.c0).fold(0.0, Real::max)
+    }
+}
+
+/// K0 (I − n n) + n n for the vertical unit vector n: the geostatic stress per unit
+/// vertical stress (Eq. 26, Jaky's K0 on the horizontal axes, including the
+/// out-of-plane axis in plane strain).
+pub fn geostatic_tensor<const D: usize>(up: &Vect<D>, k0: Real) -> Sym {
+    let mut n = [0.0; 3];
+    for k in 0..D {
+        n[k] = up[k];
+    }
+    let mut s = [0.0; 6];
+    let idx = [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)];
+    for (c, (a, b)) in idx.iter().enumerate() {
+        let delta = if a == b { 1.0 } else { 0.0 };
+        s[c] = k0 * (delta - n[*a] * n[*b]) + n[*a] * n[*b];
+    }
+    Sym(s)
+}
