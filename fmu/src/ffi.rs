@@ -8,46 +8,33 @@
 //! elements; strings are NUL-terminated. This is the only module with `unsafe`.
 
 use crate::instance::{allowed, load_model, resource_dir, Instance, State};
+use crate::logger::{c_string, Logger, Write};
 use crate::model::{Model, StepError};
 use crate::variables::{lookup, Causality, Kind};
 use fmi_sys::fmi2::*;
-use std::ffi::{c_char, CStr, CString};
+use std::ffi::{c_char, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-/// The master's logger and environment pointer.
-pub struct Logger {
-    pub callback: fmi2CallbackLogger,
-    pub environment: fmi2ComponentEnvironment,
-    pub instance_name: CString,
-    pub debug: bool,
-}
-
-fn c_string(s: &str) -> CString {
-    CString::new(s.replace('\0', " ")).unwrap_or_default()
-}
-
-impl Logger {
-    /// Send `message` to the master. User text goes through a `"%s"` format so `%` in
-    /// it is never interpreted. Informational messages only when debug logging is on.
-    pub fn log(&self, status: fmi2Status, category: &str, message: &str) {
-        if status == fmi2Status_fmi2OK && !self.debug {
-            return;
-        }
-        let Some(cb) = self.callback else { return };
-        let (cat, msg) = (c_string(category), c_string(message));
-        // SAFETY: the master gave us this logger in fmi2Instantiate; all strings are
-        // NUL-terminated and outlive the call.
+/// The master's logger callback as a [`Write`] closure. User text goes through a `"%s"`
+/// format so `%` in it is never interpreted.
+fn logger_write(functions: &fmi2CallbackFunctions, instance_name: &str) -> Option<Write> {
+    let callback = functions.logger?;
+    let environment = functions.componentEnvironment;
+    let name = c_string(instance_name);
+    Some(Box::new(move |status, category: &CStr, message: &CStr| {
+        // SAFETY: the master gave us this logger in fmi2Instantiate for the life of the
+        // instance; all strings are NUL-terminated and outlive the call.
         unsafe {
-            cb(
-                self.environment,
-                self.instance_name.as_ptr(),
+            callback(
+                environment,
+                name.as_ptr(),
                 status,
-                cat.as_ptr(),
+                category.as_ptr(),
                 c"%s".as_ptr(),
-                msg.as_ptr(),
+                message.as_ptr(),
             )
-        };
-    }
+        }
+    }))
 }
 
 const OK: fmi2Status = fmi2Status_fmi2OK;
@@ -179,12 +166,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
         // SAFETY: checked non-null; the master keeps it valid during the call.
         let f = unsafe { &*functions };
         let name = unsafe { string(instance_name) }.unwrap_or_default();
-        let logger = Logger {
-            callback: f.logger,
-            environment: f.componentEnvironment,
-            instance_name: CString::new(name.replace('\0', " ")).unwrap_or_default(),
-            debug: logging_on != 0,
-        };
+        let logger = Logger::new(logger_write(f, &name), logging_on != 0);
         let fail = |msg: String| {
             logger.log(ERROR, "logStatusError", &format!("fmi2Instantiate: {msg}"));
             std::ptr::null_mut()

@@ -1,8 +1,8 @@
 //! One FMU instance: its model, its place in the FMI 2.0 Co-Simulation state machine and
 //! its logger. No `unsafe` here: the FFI layer ([`crate::ffi`]) owns all of it.
 
-use crate::ffi::Logger;
 use crate::granular::Granular;
+use crate::logger::Logger;
 use crate::model::Model;
 use crate::structure::Structure;
 use fmi_sys::fmi2::*;

@@ -10,6 +10,7 @@ pub mod envelope;
 pub mod ffi;
 pub mod granular;
 pub mod instance;
+pub mod logger;
 pub mod model;
 pub mod package;
 pub mod structure;
