@@ -55,13 +55,65 @@ pub enum Encoding {
     Deflate = 1,
 }
 
+/// A state envelope that cannot be written, or bytes that are not a state of this FMU.
+/// Messages say what was expected and what was found.
+#[derive(Debug, thiserror::Error)]
+pub enum EnvelopeError {
+    /// Compressing the payload failed.
+    #[error("compressing the state: {0}")]
+    Compress(std::io::Error),
+    #[error("GUID longer than 255 bytes")]
+    GuidTooLong,
+    /// The bytes do not start with [`MAGIC`].
+    #[error("not a granmix FMU state: the {len} bytes do not start with the granmix state tag")]
+    NotAState { len: usize },
+    /// Fewer bytes than the fixed part of the header.
+    #[error("serialised state truncated: {len} bytes, the header alone takes {header}")]
+    Short { len: usize, header: usize },
+    /// A read at byte `at` runs past the end of the `len` bytes (the header or a
+    /// payload read by [`crate::model::bytes::Reader`]).
+    #[error("serialised state truncated at byte {at} of {len}")]
+    Truncated { at: usize, len: usize },
+    /// The checksum does not match: a byte changed after the tag.
+    #[error(
+        "serialised state corrupted: CRC-32 {crc:08x} of its {len} bytes differs from the \
+         stored {stored:08x}"
+    )]
+    Corrupted { crc: u32, len: usize, stored: u32 },
+    #[error("serialised state of format version {version}; this FMU reads version {VERSION}")]
+    Version { version: u16 },
+    /// A state of another kind of model (the byte of [`ModelKind`]).
+    #[error(
+        "serialised state of {}, not of {}",
+        ModelKind::name(*found),
+        ModelKind::name(*wanted as u8)
+    )]
+    Kind { found: u8, wanted: ModelKind },
+    #[error("serialised state with unknown payload encoding {0}")]
+    Encoding(u8),
+    /// A state of the FMU with GUID `found`.
+    #[error("serialised state of another FMU (GUID {found}); this FMU's GUID is {guid}")]
+    OtherFmu { found: String, guid: String },
+    #[error("serialised state: header gives a payload of {stored} bytes, {follow} follow")]
+    StoredLength { stored: u64, follow: usize },
+    #[error("serialised state: raw payload of {stored} bytes said to decode to {decoded}")]
+    RawLength { stored: u64, decoded: u64 },
+    /// A decoded length no deflated payload of this size can give.
+    #[error("serialised state: {stored} deflated bytes said to give {decoded}")]
+    DeflatedLength { stored: u64, decoded: u64 },
+    #[error("serialised state: decompressing: {0}")]
+    Decompress(std::io::Error),
+    #[error("serialised state: payload decoded to {got} bytes, the header says {decoded}")]
+    DecodedLength { got: usize, decoded: u64 },
+}
+
 /// Wrap `payload` in the envelope.
 pub fn seal(
     kind: ModelKind,
     guid: &str,
     encoding: Encoding,
     payload: &[u8],
-) -> Result<Vec<u8>, String> {
+) -> Result<Vec<u8>, EnvelopeError> {
     let stored = match encoding {
         Encoding::Raw => None,
         Encoding::Deflate => {
@@ -70,12 +122,12 @@ pub fn seal(
             e.write_all(payload)
                 .and_then(|_| e.finish())
                 .map(Some)
-                .map_err(|e| format!("compressing the state: {e}"))?
+                .map_err(EnvelopeError::Compress)?
         }
     };
     let body = stored.as_deref().unwrap_or(payload);
     let guid = guid.as_bytes();
-    let glen = u8::try_from(guid.len()).map_err(|_| "GUID longer than 255 bytes".to_string())?;
+    let glen = u8::try_from(guid.len()).map_err(|_| EnvelopeError::GuidTooLong)?;
     let mut out = Vec::with_capacity(body.len() + guid.len() + 40);
     out.extend_from_slice(&MAGIC);
     out.extend_from_slice(&VERSION.to_le_bytes());
@@ -93,98 +145,87 @@ pub fn seal(
 
 /// Check the envelope of `bytes` for a state of `kind` of the FMU `guid`, and return the
 /// decoded payload.
-pub fn open(bytes: &[u8], kind: ModelKind, guid: &str) -> Result<Vec<u8>, String> {
+pub fn open(bytes: &[u8], kind: ModelKind, guid: &str) -> Result<Vec<u8>, EnvelopeError> {
     let n = bytes.len();
     if n < MAGIC.len() || bytes[..MAGIC.len()] != MAGIC {
-        return Err(format!(
-            "not a granmix FMU state: the {n} bytes do not start with the granmix state tag"
-        ));
+        return Err(EnvelopeError::NotAState { len: n });
     }
     const FIXED: usize = 8 + 2 + 1 + 1 + 1 + 8 + 8 + 4;
     if n < FIXED {
-        return Err(format!(
-            "serialised state truncated: {n} bytes, the header alone takes {FIXED}"
-        ));
+        return Err(EnvelopeError::Short {
+            len: n,
+            header: FIXED,
+        });
     }
     let (data, tail) = bytes.split_at(n - 4);
     let stored_crc = u32::from_le_bytes(tail.try_into().expect("4 bytes"));
     let crc = crc32fast::hash(data);
     if crc != stored_crc {
-        return Err(format!(
-            "serialised state corrupted: CRC-32 {crc:08x} of its {} bytes differs from the \
-             stored {stored_crc:08x}",
-            data.len()
-        ));
+        return Err(EnvelopeError::Corrupted {
+            crc,
+            len: data.len(),
+            stored: stored_crc,
+        });
     }
     let mut at = MAGIC.len();
-    let mut take = |k: usize| -> Result<&[u8], String> {
+    let mut take = |k: usize| -> Result<&[u8], EnvelopeError> {
         let s = data
             .get(at..at + k)
-            .ok_or_else(|| format!("serialised state truncated at byte {at} of {n}"))?;
+            .ok_or(EnvelopeError::Truncated { at, len: n })?;
         at += k;
         Ok(s)
     };
     let version = u16::from_le_bytes(take(2)?.try_into().expect("2 bytes"));
     if version != VERSION {
-        return Err(format!(
-            "serialised state of format version {version}; this FMU reads version {VERSION}"
-        ));
+        return Err(EnvelopeError::Version { version });
     }
     let k = take(1)?[0];
     if k != kind as u8 {
-        return Err(format!(
-            "serialised state of {}, not of {}",
-            ModelKind::name(k),
-            ModelKind::name(kind as u8)
-        ));
+        return Err(EnvelopeError::Kind {
+            found: k,
+            wanted: kind,
+        });
     }
     let encoding = match take(1)?[0] {
         0 => Encoding::Raw,
         1 => Encoding::Deflate,
-        e => {
-            return Err(format!(
-                "serialised state with unknown payload encoding {e}"
-            ))
-        }
+        e => return Err(EnvelopeError::Encoding(e)),
     };
     let glen = take(1)?[0] as usize;
     let g = String::from_utf8_lossy(take(glen)?).into_owned();
     if g != guid {
-        return Err(format!(
-            "serialised state of another FMU (GUID {g}); this FMU's GUID is {guid}"
-        ));
+        return Err(EnvelopeError::OtherFmu {
+            found: g,
+            guid: guid.to_string(),
+        });
     }
     let stored = u64::from_le_bytes(take(8)?.try_into().expect("8 bytes"));
     let decoded = u64::from_le_bytes(take(8)?.try_into().expect("8 bytes"));
     let body = &data[at..];
     if stored != body.len() as u64 {
-        return Err(format!(
-            "serialised state: header gives a payload of {stored} bytes, {} follow",
-            body.len()
-        ));
+        return Err(EnvelopeError::StoredLength {
+            stored,
+            follow: body.len(),
+        });
     }
     match encoding {
-        Encoding::Raw if decoded != stored => Err(format!(
-            "serialised state: raw payload of {stored} bytes said to decode to {decoded}"
-        )),
+        Encoding::Raw if decoded != stored => Err(EnvelopeError::RawLength { stored, decoded }),
         Encoding::Raw => Ok(body.to_vec()),
         Encoding::Deflate => {
             let cap = usize::try_from(decoded)
                 .ok()
                 .filter(|&c| c / 1100 <= body.len() + 1)
-                .ok_or_else(|| {
-                    format!("serialised state: {stored} deflated bytes said to give {decoded}")
-                })?;
+                .ok_or(EnvelopeError::DeflatedLength { stored, decoded })?;
             let mut out = Vec::with_capacity(cap);
             DeflateDecoder::new(body)
                 .take(decoded + 1)
                 .read_to_end(&mut out)
-                .map_err(|e| format!("serialised state: decompressing: {e}"))?;
+                .map_err(EnvelopeError::Decompress)?;
             if out.len() as u64 != decoded {
-                return Err(format!(
-                    "serialised state: payload decoded to {} bytes, the header says {decoded}",
-                    out.len()
-                ));
+                return Err(EnvelopeError::DecodedLength {
+                    got: out.len(),
+                    decoded,
+                });
             }
             Ok(out)
         }
@@ -214,7 +255,7 @@ mod tests {
             for bit in [0x01u8, 0x80] {
                 let mut c = b.clone();
                 c[i] ^= bit;
-                let e = open(&c, ModelKind::Granular, G).unwrap_err();
+                let e = open(&c, ModelKind::Granular, G).unwrap_err().to_string();
                 let want = if i < MAGIC.len() {
                     "not a granmix FMU state"
                 } else {
@@ -228,17 +269,18 @@ mod tests {
     #[test]
     fn garbage_other_kind_and_other_fmu_say_so() {
         let b = seal(ModelKind::Granular, G, Encoding::Raw, b"abc").unwrap();
-        let e = open(b"hello, this is not a state", ModelKind::Granular, G).unwrap_err();
+        let message = |b: &[u8], kind, guid: &str| open(b, kind, guid).unwrap_err().to_string();
+        let e = message(b"hello, this is not a state", ModelKind::Granular, G);
         assert!(e.starts_with("not a granmix FMU state"), "{e}");
-        let e = open(&b, ModelKind::Structure, G).unwrap_err();
+        let e = message(&b, ModelKind::Structure, G);
         assert!(
             e.contains("of a granular scene, not of a structural partner"),
             "{e}"
         );
         let other = G.replace('1', "2");
-        let e = open(&b, ModelKind::Granular, &other).unwrap_err();
+        let e = message(&b, ModelKind::Granular, &other);
         assert!(e.contains("another FMU") && e.contains(G), "{e}");
-        let e = open(&b[..b.len() - 1], ModelKind::Granular, G).unwrap_err();
+        let e = message(&b[..b.len() - 1], ModelKind::Granular, G);
         assert!(e.contains("corrupted"), "{e}");
     }
 }

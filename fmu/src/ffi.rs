@@ -7,9 +7,11 @@
 //! `fmi2Instantiate` and not yet freed; array arguments point to at least `nvr`
 //! elements; strings are NUL-terminated. This is the only module with `unsafe`.
 
-use crate::instance::{allowed, load_model, resource_dir, Instance, State};
+use crate::error::{CallError, FmiError, ModelError, Unsupported};
+use crate::instance::{self, Instance};
 use crate::logger::{c_string, Logger, Write};
-use crate::model::{Model, StepError};
+use crate::model::Model;
+use crate::state::{allowed, State};
 use crate::variables::{lookup, Causality, Kind};
 use fmi_sys::fmi2::*;
 use std::ffi::{c_char, CStr};
@@ -41,13 +43,14 @@ const OK: fmi2Status = fmi2Status_fmi2OK;
 const ERROR: fmi2Status = fmi2Status_fmi2Error;
 const FATAL: fmi2Status = fmi2Status_fmi2Fatal;
 
-/// Run `f` on the instance behind `c` if `function` may be called in its state.
-/// Errors are logged and returned as fmi2Error; a panic sets the instance to Fatal.
+/// Run `f` on the instance behind `c` if `function` may be called in its state, and
+/// return the status of its outcome ([`report`]); a panic returns fmi2Fatal and sets
+/// the instance to Fatal.
 unsafe fn with_instance(
     c: fmi2Component,
     function: &str,
     states: u8,
-    f: impl FnOnce(&mut Instance) -> Result<fmi2Status, String>,
+    f: impl FnOnce(&mut Instance) -> Result<(), FmiError>,
 ) -> fmi2Status {
     if c.is_null() {
         return ERROR;
@@ -55,12 +58,13 @@ unsafe fn with_instance(
     // SAFETY: non-null components are boxed instances from fmi2Instantiate.
     let inst = unsafe { &mut *(c as *mut Instance) };
     let r = catch_unwind(AssertUnwindSafe(|| {
-        inst.check_state(states)?;
+        if !inst.state.in_set(states) {
+            return Err(CallError::State(inst.state).into());
+        }
         f(inst)
     }));
     match r {
-        Ok(Ok(s)) => s,
-        Ok(Err(msg)) => inst.error(function, &msg),
+        Ok(r) => report(inst, function, r),
         Err(p) => {
             let what = p
                 .downcast_ref::<String>()
@@ -78,28 +82,45 @@ unsafe fn with_instance(
     }
 }
 
+/// The status of a call of `function` that ended with `r`, the one place where an
+/// [`FmiError`] becomes an `fmi2Status`: both kinds return fmi2Error with the message
+/// logged as `<function>: <message>`; [`FmiError::Failed`] also puts the instance in the
+/// error state, [`FmiError::BadCall`] leaves its state as the call left it.
+fn report(inst: &mut Instance, function: &str, r: Result<(), FmiError>) -> fmi2Status {
+    let e = match r {
+        Ok(()) => return OK,
+        Err(e) => e,
+    };
+    if let FmiError::Failed(_) = e {
+        inst.state = State::Error;
+    }
+    inst.logger
+        .log(ERROR, "logStatusError", &format!("{function}: {e}"));
+    ERROR
+}
+
 /// Catch panics of functions that have no instance.
 fn guard<T>(fallback: T, f: impl FnOnce() -> T) -> T {
     catch_unwind(AssertUnwindSafe(f)).unwrap_or(fallback)
 }
 
-unsafe fn slice<'a, T>(p: *const T, n: usize) -> Result<&'a [T], String> {
+unsafe fn slice<'a, T>(p: *const T, n: usize) -> Result<&'a [T], CallError> {
     if n == 0 {
         return Ok(&[]);
     }
     if p.is_null() {
-        return Err("null array pointer".into());
+        return Err(CallError::Null("array pointer"));
     }
     // SAFETY: caller guarantees `n` readable elements.
     Ok(unsafe { std::slice::from_raw_parts(p, n) })
 }
 
-unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Result<&'a mut [T], String> {
+unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Result<&'a mut [T], CallError> {
     if n == 0 {
         return Ok(&mut []);
     }
     if p.is_null() {
-        return Err("null array pointer".into());
+        return Err(CallError::Null("array pointer"));
     }
     // SAFETY: caller guarantees `n` writable elements.
     Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
@@ -139,7 +160,7 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
     unsafe {
         with_instance(c, "fmi2SetDebugLogging", allowed::ANY_BUT_FATAL, |i| {
             i.logger.debug = logging_on != 0;
-            Ok(OK)
+            Ok(())
         })
     }
 }
@@ -167,34 +188,16 @@ pub unsafe extern "C" fn fmi2Instantiate(
         let f = unsafe { &*functions };
         let name = unsafe { string(instance_name) }.unwrap_or_default();
         let logger = Logger::new(logger_write(f, &name), logging_on != 0);
-        let fail = |msg: String| {
-            logger.log(ERROR, "logStatusError", &format!("fmi2Instantiate: {msg}"));
-            std::ptr::null_mut()
-        };
-        if name.is_empty() {
-            return fail("missing instance name".into());
-        }
-        if fmu_type != fmi2Type_fmi2CoSimulation {
-            return fail("this FMU supports Co-Simulation only".into());
-        }
-        let Some(uri) = (unsafe { string(resource_location) }) else {
-            return fail("missing fmuResourceLocation".into());
-        };
-        let dir = match resource_dir(&uri) {
-            Ok(d) => d,
-            Err(e) => return fail(e),
-        };
-        let (mut model, expected) = match load_model(&dir) {
-            Ok(m) => m,
-            Err(e) => return fail(e),
-        };
+        let uri = unsafe { string(resource_location) };
         let given = unsafe { string(guid) }.unwrap_or_default();
-        if given != expected {
-            return fail(format!(
-                "GUID {given} does not match this FMU's {expected} (modelDescription.xml and resources out of step?)"
-            ));
-        }
-        model.set_instance_name(&name);
+        let co_simulation = fmu_type == fmi2Type_fmi2CoSimulation;
+        let (model, dir) = match instance::open(&name, co_simulation, &given, uri.as_deref()) {
+            Ok(m) => m,
+            Err(e) => {
+                logger.log(ERROR, "logStatusError", &format!("fmi2Instantiate: {e}"));
+                return std::ptr::null_mut();
+            }
+        };
         logger.log(
             OK,
             "logAll",
@@ -243,10 +246,10 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
     unsafe {
         with_instance(c, "fmi2SetupExperiment", allowed::INSTANTIATED, |i| {
             if !start_time.is_finite() {
-                return Err(format!("start time {start_time:?} s is not a finite time"));
+                return Err(ModelError::StartTime(start_time).into());
             }
             i.model.set_start_time(start_time)?;
-            Ok(OK)
+            Ok(())
         })
     }
 }
@@ -264,7 +267,7 @@ pub unsafe extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2St
             allowed::INSTANTIATED,
             |i| {
                 i.state = State::InitializationMode;
-                Ok(OK)
+                Ok(())
             },
         )
     }
@@ -279,12 +282,9 @@ pub unsafe extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2St
 pub unsafe extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
     unsafe {
         with_instance(c, "fmi2ExitInitializationMode", allowed::INIT, |i| {
-            if let Err(e) = i.model.exit_initialization() {
-                i.state = State::Error;
-                return Err(e);
-            }
+            i.model.exit_initialization().map_err(FmiError::Failed)?;
             i.state = State::StepMode;
-            Ok(OK)
+            Ok(())
         })
     }
 }
@@ -299,7 +299,7 @@ pub unsafe extern "C" fn fmi2Terminate(c: fmi2Component) -> fmi2Status {
         with_instance(c, "fmi2Terminate", allowed::TERMINATE, |i| {
             i.state = State::Terminated;
             i.model.terminate()?;
-            Ok(OK)
+            Ok(())
         })
     }
 }
@@ -314,7 +314,7 @@ pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
         with_instance(c, "fmi2Reset", allowed::ANY_BUT_FATAL, |i| {
             i.model.reset()?;
             i.state = State::Instantiated;
-            Ok(OK)
+            Ok(())
         })
     }
 }
@@ -337,20 +337,18 @@ unsafe fn get_values<T>(
                 lookup(i.model.variables(), r, kind)?;
                 *o = convert(i.model.get(r)?);
             }
-            Ok(OK)
+            Ok(())
         })
     }
 }
 
 /// Whether variable `vr` of type `kind` may be set in state `state`.
-fn settable(model: &dyn Model, vr: u32, kind: Kind, state: State) -> Result<(), String> {
+fn settable(model: &dyn Model, vr: u32, kind: Kind, state: State) -> Result<(), CallError> {
     let var = lookup(model.variables(), vr, kind)?;
+    let name = var.name.clone();
     match (var.causality, state) {
-        (Causality::Output, _) => Err(format!("`{}` is an output and cannot be set", var.name)),
-        (Causality::Parameter, State::StepMode) => Err(format!(
-            "parameter `{}` is fixed once initialisation has ended",
-            var.name
-        )),
+        (Causality::Output, _) => Err(CallError::Output { name }),
+        (Causality::Parameter, State::StepMode) => Err(CallError::ParameterFixed { name }),
         _ => Ok(()),
     }
 }
@@ -378,7 +376,7 @@ unsafe fn set_values<T: Copy>(
             for (&v, &r) in vals.iter().zip(vrs) {
                 i.model.set(r, convert(v))?;
             }
-            Ok(OK)
+            Ok(())
         })
     }
 }
@@ -458,7 +456,7 @@ pub unsafe extern "C" fn fmi2GetString(
                 *o = h.as_ptr();
             }
             i.strings = held;
-            Ok(OK)
+            Ok(())
         })
     }
 }
@@ -534,15 +532,15 @@ pub unsafe extern "C" fn fmi2SetString(
                 settable(i.model.as_ref(), r, Kind::String, i.state)?;
                 i.model.check_string(r)?;
                 let Some(text) = string(p) else {
-                    let name = &i.model.variables()[r as usize].name;
-                    return Err(format!("`{name}`: null string"));
+                    let name = i.model.variables()[r as usize].name.clone();
+                    return Err(CallError::NullString { name }.into());
                 };
                 texts.push(text);
             }
             for (text, &r) in texts.iter().zip(vrs) {
                 i.model.set_string(r, text)?;
             }
-            Ok(OK)
+            Ok(())
         })
     }
 }
@@ -565,7 +563,7 @@ pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, state: *mut fmi2FMUst
     unsafe {
         with_instance(c, "fmi2GetFMUstate", allowed::STATE, |i| {
             if state.is_null() {
-                return Err("null FMUstate pointer".into());
+                return Err(CallError::Null("FMUstate pointer").into());
             }
             let snap = Snapshot {
                 model: i.model.snapshot(),
@@ -577,7 +575,7 @@ pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, state: *mut fmi2FMUst
                 // SAFETY: non-null states are boxed snapshots made here.
                 *(*state as *mut Snapshot) = snap;
             }
-            Ok(OK)
+            Ok(())
         })
     }
 }
@@ -593,13 +591,13 @@ pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, state: fmi2FMUstate) 
     unsafe {
         with_instance(c, "fmi2SetFMUstate", allowed::STATE, |i| {
             if state.is_null() {
-                return Err("null FMUstate".into());
+                return Err(CallError::Null("FMUstate").into());
             }
             // SAFETY: non-null states are boxed snapshots made here.
             let snap = &*(state as *const Snapshot);
             i.model = snap.model.snapshot();
             i.state = snap.state;
-            Ok(OK)
+            Ok(())
         })
     }
 }
@@ -616,22 +614,22 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
     unsafe {
         with_instance(c, "fmi2FreeFMUstate", allowed::STATE, |_| {
             if state.is_null() || (*state).is_null() {
-                return Ok(OK);
+                return Ok(());
             }
             // SAFETY: non-null states are boxed snapshots made here.
             drop(Box::from_raw(*state as *mut Snapshot));
             *state = std::ptr::null_mut();
-            Ok(OK)
+            Ok(())
         })
     }
 }
 
-unsafe fn state_bytes(state: fmi2FMUstate) -> Result<Vec<u8>, String> {
+unsafe fn state_bytes(state: fmi2FMUstate) -> Result<Vec<u8>, FmiError> {
     if state.is_null() {
-        return Err("null FMUstate".into());
+        return Err(CallError::Null("FMUstate").into());
     }
     // SAFETY: non-null states are boxed snapshots made here.
-    unsafe { &*(state as *const Snapshot) }.model.to_bytes()
+    Ok(unsafe { &*(state as *const Snapshot) }.model.to_bytes()?)
 }
 
 /// fmi2SerializedFMUstateSize.
@@ -647,10 +645,10 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
     unsafe {
         with_instance(c, "fmi2SerializedFMUstateSize", allowed::STATE, |_| {
             if size.is_null() {
-                return Err("null size pointer".into());
+                return Err(CallError::Null("size pointer").into());
             }
             *size = state_bytes(state)?.len();
-            Ok(OK)
+            Ok(())
         })
     }
 }
@@ -670,14 +668,15 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
         with_instance(c, "fmi2SerializeFMUstate", allowed::STATE, |_| {
             let bytes = state_bytes(state)?;
             if bytes.len() != size {
-                return Err(format!(
-                    "buffer of {size} bytes for a state of {}",
-                    bytes.len()
-                ));
+                return Err(CallError::Buffer {
+                    size,
+                    needed: bytes.len(),
+                }
+                .into());
             }
             let out = slice_mut(serialized as *mut u8, size)?;
             out.copy_from_slice(&bytes);
-            Ok(OK)
+            Ok(())
         })
     }
 }
@@ -696,7 +695,7 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     unsafe {
         with_instance(c, "fmi2DeSerializeFMUstate", allowed::STATE, |i| {
             if state.is_null() {
-                return Err("null FMUstate pointer".into());
+                return Err(CallError::Null("FMUstate pointer").into());
             }
             let bytes = slice(serialized as *const u8, size)?;
             let model = i.model.restore_bytes(bytes)?;
@@ -715,7 +714,7 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
             } else {
                 *(*state as *mut Snapshot) = snap;
             }
-            Ok(OK)
+            Ok(())
         })
     }
 }
@@ -739,7 +738,7 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
             c,
             "fmi2GetDirectionalDerivative",
             allowed::ANY_BUT_FATAL,
-            |_| Err("directional derivatives are not provided".into()),
+            |_| Err(CallError::from(Unsupported::DirectionalDerivatives).into()),
         )
     }
 }
@@ -761,7 +760,7 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
             c,
             "fmi2SetRealInputDerivatives",
             allowed::ANY_BUT_FATAL,
-            |_| Err("input derivatives are not supported (canInterpolateInputs = false)".into()),
+            |_| Err(CallError::from(Unsupported::InputDerivatives).into()),
         )
     }
 }
@@ -783,7 +782,7 @@ pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
             c,
             "fmi2GetRealOutputDerivatives",
             allowed::ANY_BUT_FATAL,
-            |_| Err("output derivatives are not provided (maxOutputDerivativeOrder = 0)".into()),
+            |_| Err(CallError::from(Unsupported::OutputDerivatives).into()),
         )
     }
 }
@@ -805,14 +804,7 @@ pub unsafe extern "C" fn fmi2DoStep(
 ) -> fmi2Status {
     unsafe {
         with_instance(c, "fmi2DoStep", allowed::STEP, |i| {
-            match i.model.do_step(t, h) {
-                Ok(()) => Ok(OK),
-                Err(StepError::Rejected(e)) => Err(e),
-                Err(StepError::Failed(e)) => {
-                    i.state = State::Error;
-                    Err(e)
-                }
-            }
+            Ok(i.model.do_step(t, h)?)
         })
     }
 }
@@ -825,7 +817,7 @@ pub unsafe extern "C" fn fmi2DoStep(
 pub unsafe extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
     unsafe {
         with_instance(c, "fmi2CancelStep", allowed::ANY_BUT_FATAL, |_| {
-            Err("steps are synchronous (fmi2DoStep never returns fmi2Pending)".into())
+            Err(CallError::from(Unsupported::Asynchronous).into())
         })
     }
 }
@@ -842,7 +834,7 @@ pub unsafe extern "C" fn fmi2GetStatus(
 ) -> fmi2Status {
     unsafe {
         with_instance(c, "fmi2GetStatus", allowed::ANY_BUT_FATAL, |_| {
-            Err("steps are synchronous (fmi2DoStep never returns fmi2Pending)".into())
+            Err(CallError::from(Unsupported::Asynchronous).into())
         })
     }
 }
@@ -860,13 +852,13 @@ pub unsafe extern "C" fn fmi2GetRealStatus(
     unsafe {
         with_instance(c, "fmi2GetRealStatus", allowed::GET, |i| {
             if kind != fmi2StatusKind_fmi2LastSuccessfulTime {
-                return Err(format!("status kind {kind} has no Real value"));
+                return Err(CallError::StatusKind { kind, of: "Real" }.into());
             }
             if value.is_null() {
-                return Err("null value pointer".into());
+                return Err(CallError::Null("value pointer").into());
             }
             *value = i.model.time();
-            Ok(OK)
+            Ok(())
         })
     }
 }
@@ -883,7 +875,11 @@ pub unsafe extern "C" fn fmi2GetIntegerStatus(
 ) -> fmi2Status {
     unsafe {
         with_instance(c, "fmi2GetIntegerStatus", allowed::ANY_BUT_FATAL, |_| {
-            Err(format!("status kind {kind} has no Integer value"))
+            Err(CallError::StatusKind {
+                kind,
+                of: "Integer",
+            }
+            .into())
         })
     }
 }
@@ -902,13 +898,17 @@ pub unsafe extern "C" fn fmi2GetBooleanStatus(
     unsafe {
         with_instance(c, "fmi2GetBooleanStatus", allowed::GET, |_| {
             if kind != fmi2StatusKind_fmi2Terminated {
-                return Err(format!("status kind {kind} has no Boolean value"));
+                return Err(CallError::StatusKind {
+                    kind,
+                    of: "Boolean",
+                }
+                .into());
             }
             if value.is_null() {
-                return Err("null value pointer".into());
+                return Err(CallError::Null("value pointer").into());
             }
             *value = 0;
-            Ok(OK)
+            Ok(())
         })
     }
 }
@@ -925,9 +925,29 @@ pub unsafe extern "C" fn fmi2GetStringStatus(
 ) -> fmi2Status {
     unsafe {
         with_instance(c, "fmi2GetStringStatus", allowed::ANY_BUT_FATAL, |_| {
-            Err("steps are synchronous (fmi2DoStep never returns fmi2Pending)".into())
+            Err(CallError::from(Unsupported::Asynchronous).into())
         })
     }
+}
+
+/// Why a [`LocalInstance`] call failed (the instance has no logger to say more).
+#[derive(Debug, thiserror::Error)]
+pub enum LocalError {
+    /// `fmi2Instantiate` returned null for the unpacked `resources`.
+    #[error(
+        "fmi2Instantiate failed on {} (no scene.toml or structure.toml, or another GUID)",
+        resources.display()
+    )]
+    Instantiate { resources: std::path::PathBuf },
+    /// Arrays of value references and values of different lengths.
+    #[error("{function}: as many values as value references")]
+    Lengths { function: &'static str },
+    /// `function` returned `status`, not fmi2OK.
+    #[error("{function} returned status {status}")]
+    Status {
+        function: &'static str,
+        status: fmi2Status,
+    },
 }
 
 /// An FMU instance driven from inside this process through the exported functions, as a
@@ -944,7 +964,7 @@ impl LocalInstance {
     /// ([`crate::package::write_resources`]) with the FMU's `guid`, then
     /// fmi2SetupExperiment (start 0), fmi2EnterInitializationMode and
     /// fmi2ExitInitializationMode.
-    pub fn new(name: &str, guid: &str, resources: &std::path::Path) -> Result<Self, String> {
+    pub fn new(name: &str, guid: &str, resources: &std::path::Path) -> Result<Self, LocalError> {
         let functions = fmi2CallbackFunctions {
             logger: None,
             allocateMemory: None,
@@ -967,10 +987,9 @@ impl LocalInstance {
             )
         };
         if c.is_null() {
-            return Err(format!(
-                "fmi2Instantiate failed on {} (no scene.toml or structure.toml, or another GUID)",
-                resources.display()
-            ));
+            return Err(LocalError::Instantiate {
+                resources: resources.to_path_buf(),
+            });
         }
         let inst = LocalInstance { c };
         // SAFETY (all calls below): `c` is a live component from fmi2Instantiate.
@@ -987,9 +1006,11 @@ impl LocalInstance {
     }
 
     /// fmi2SetReal.
-    pub fn set_real(&mut self, vr: &[u32], value: &[f64]) -> Result<(), String> {
+    pub fn set_real(&mut self, vr: &[u32], value: &[f64]) -> Result<(), LocalError> {
         if vr.len() != value.len() {
-            return Err("fmi2SetReal: as many values as value references".into());
+            return Err(LocalError::Lengths {
+                function: "fmi2SetReal",
+            });
         }
         // SAFETY: a live component and two arrays of `vr.len()` elements.
         check("fmi2SetReal", unsafe {
@@ -998,9 +1019,11 @@ impl LocalInstance {
     }
 
     /// fmi2GetReal.
-    pub fn get_real(&mut self, vr: &[u32], value: &mut [f64]) -> Result<(), String> {
+    pub fn get_real(&mut self, vr: &[u32], value: &mut [f64]) -> Result<(), LocalError> {
         if vr.len() != value.len() {
-            return Err("fmi2GetReal: as many values as value references".into());
+            return Err(LocalError::Lengths {
+                function: "fmi2GetReal",
+            });
         }
         // SAFETY: a live component and two arrays of `vr.len()` elements.
         check("fmi2GetReal", unsafe {
@@ -1009,9 +1032,11 @@ impl LocalInstance {
     }
 
     /// fmi2GetInteger.
-    pub fn get_integer(&mut self, vr: &[u32], value: &mut [i32]) -> Result<(), String> {
+    pub fn get_integer(&mut self, vr: &[u32], value: &mut [i32]) -> Result<(), LocalError> {
         if vr.len() != value.len() {
-            return Err("fmi2GetInteger: as many values as value references".into());
+            return Err(LocalError::Lengths {
+                function: "fmi2GetInteger",
+            });
         }
         // SAFETY: a live component and two arrays of `vr.len()` elements.
         check("fmi2GetInteger", unsafe {
@@ -1020,7 +1045,7 @@ impl LocalInstance {
     }
 
     /// fmi2DoStep from `t` by `h`.
-    pub fn do_step(&mut self, t: f64, h: f64) -> Result<(), String> {
+    pub fn do_step(&mut self, t: f64, h: f64) -> Result<(), LocalError> {
         // SAFETY: a live component.
         check("fmi2DoStep", unsafe { fmi2DoStep(self.c, t, h, 1) })
     }
@@ -1045,9 +1070,9 @@ impl Drop for LocalInstance {
     }
 }
 
-fn check(function: &str, status: fmi2Status) -> Result<(), String> {
+fn check(function: &'static str, status: fmi2Status) -> Result<(), LocalError> {
     if status == OK {
         return Ok(());
     }
-    Err(format!("{function} returned status {status}"))
+    Err(LocalError::Status { function, status })
 }

@@ -6,7 +6,8 @@
 //! or with (target displacement − current displacement)/h.
 
 use crate::envelope::{self, Encoding, ModelKind};
-use crate::model::{check_step, Model, StepError};
+use crate::error::{GranularError, ModelError, ReadError, StateError, StepError};
+use crate::model::{check_step, Model};
 use crate::variables::{Kind, Variable};
 use crate::xml::{self, ModelInfo};
 use granmix_core::input::{load_scene_in, LoadedScene};
@@ -67,7 +68,7 @@ struct Table {
     inputs: Vec<Option<BarrierInput>>,
 }
 
-fn build_table(loaded: &LoadedScene, sim: &AnySimulation) -> Result<Table, String> {
+fn build_table(loaded: &LoadedScene, sim: &AnySimulation) -> Result<Table, GranularError> {
     let scene = &loaded.scene;
     let d = sim.dimension();
     let per_m = d == 2;
@@ -97,7 +98,9 @@ fn build_table(loaded: &LoadedScene, sim: &AnySimulation) -> Result<Table, Strin
             .find(|w| &w.name == name)
             .and_then(|w| w.input);
         if mode.is_some() != sim.barrier_driven(b) {
-            return Err(format!("barrier `{name}`: input flag and world disagree"));
+            return Err(GranularError::InputFlag {
+                barrier: name.clone(),
+            });
         }
         inputs.push(mode);
         for (k, axis) in AXES.iter().enumerate().take(d) {
@@ -143,10 +146,10 @@ fn build_table(loaded: &LoadedScene, sim: &AnySimulation) -> Result<Table, Strin
                 [_] => format!("panel_{p}"),
                 [_, n2] => format!("panel_{}_{}", p / n2, p % n2),
                 _ => {
-                    return Err(format!(
-                        "barrier `{name}`: panels must have {} counts",
-                        d - 1
-                    ))
+                    return Err(GranularError::PanelCounts {
+                        barrier: name.clone(),
+                        counts: d - 1,
+                    })
                 }
             };
             for (k, axis) in AXES.iter().enumerate().take(d) {
@@ -468,9 +471,9 @@ struct Sinks {
 
 impl Sinks {
     /// Close the recording (writes its summary).
-    fn finish(&mut self) -> Result<(), String> {
+    fn finish(&mut self) -> Result<(), GranularError> {
         match self.recorder.take() {
-            Some(r) => r.finish().map(|_| ()).map_err(|e| e.to_string()),
+            Some(r) => r.finish().map(|_| ()).map_err(GranularError::Finish),
             None => Ok(()),
         }
     }
@@ -510,33 +513,33 @@ pub struct Granular {
     solver_seconds: f64,
 }
 
-fn build_sim(loaded: &LoadedScene) -> Result<AnySimulation, String> {
-    AnySimulation::new(loaded).map_err(|e| e.to_string())
+fn build_sim(loaded: &LoadedScene) -> Result<AnySimulation, GranularError> {
+    AnySimulation::new(loaded).map_err(|e| GranularError::Setup(e.to_string()))
 }
 
 /// The outputs before any step: the state's observations, with the loads the
 /// barriers carry in it (the force pass on the initial state, not 0).
-fn initial_sample(sim: &mut AnySimulation) -> Result<Sample, String> {
+fn initial_sample(sim: &mut AnySimulation) -> Result<Sample, GranularError> {
     let mut s = sim.sample();
     s.barriers = sim
         .state_loads()
-        .map_err(|e| format!("loads of the initial state: {e}"))?;
+        .map_err(|e| GranularError::InitialLoads(e.to_string()))?;
     Ok(s)
 }
 
 impl Granular {
     /// Load `scene.toml` from the FMU's resources directory.
-    pub fn from_resources(dir: &Path) -> Result<Self, String> {
+    pub fn from_resources(dir: &Path) -> Result<Self, GranularError> {
         let path = dir.join("scene.toml");
-        let text = std::fs::read_to_string(&path)
-            .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-        let loaded = load_scene_in(&text, &path.display().to_string(), &[], dir)
-            .map_err(|e| e.to_string())?;
+        let file = path.display().to_string();
+        let text = ReadError::read_to_string(path)?;
+        let loaded = load_scene_in(&text, &file, &[], dir)
+            .map_err(|e| GranularError::Scene(e.to_string()))?;
         Self::new(loaded, dir)
     }
 
     /// Build from a loaded scene whose shape files live in `dir`.
-    pub fn new(loaded: LoadedScene, dir: &Path) -> Result<Self, String> {
+    pub fn new(loaded: LoadedScene, dir: &Path) -> Result<Self, GranularError> {
         let mut sim = build_sim(&loaded)?;
         let table = build_table(&loaded, &sim)?;
         let values: Vec<f64> = table
@@ -604,7 +607,7 @@ impl Granular {
     }
 
     /// Open the particle channel and the recording the parameters ask for.
-    fn open_sinks(&mut self) -> Result<(), String> {
+    fn open_sinks(&mut self) -> Result<(), GranularError> {
         let enabled = self
             .table
             .slots
@@ -619,7 +622,7 @@ impl Granular {
             };
             let (f, c) = self.sim.particle_counts();
             sinks.publisher =
-                Some(FramePublisher::open(&spec, f + c).map_err(|e| format!("ipc.service: {e}"))?);
+                Some(FramePublisher::open(&spec, f + c).map_err(GranularError::Publisher)?);
         }
         let path = self.text_of(Slot::RecordPath).to_string();
         if !path.is_empty() {
@@ -630,10 +633,8 @@ impl Granular {
                 name: l.scene.simulation.name.clone(),
                 dimension: self.sim.dimension(),
             };
-            sinks.recorder = Some(
-                Recorder::create(Path::new(&path), &info)
-                    .map_err(|e| format!("record.path: {e}"))?,
-            );
+            sinks.recorder =
+                Some(Recorder::create(Path::new(&path), &info).map_err(GranularError::Record)?);
         }
         self.sinks = (sinks.publisher.is_some() || sinks.recorder.is_some())
             .then(|| Arc::new(Mutex::new(sinks)));
@@ -642,13 +643,11 @@ impl Granular {
 
     /// Publish and record the state at the current communication point. Publishing
     /// never fails the step (a frame nobody can take is dropped); recording errors do.
-    fn emit(&mut self) -> Result<(), String> {
+    fn emit(&mut self) -> Result<(), GranularError> {
         let Some(sinks) = &self.sinks else {
             return Ok(());
         };
-        let mut s = sinks
-            .lock()
-            .map_err(|_| "output sinks poisoned".to_string())?;
+        let mut s = sinks.lock().map_err(|_| GranularError::SinksPoisoned)?;
         // stamped with the communication point (the experiment's start included)
         let sim = &self.sim;
         if let Some(p) = s.publisher.as_mut() {
@@ -659,14 +658,13 @@ impl Granular {
                 time: self.now,
                 ..self.last.clone()
             };
-            r.record(sim, &sample)
-                .map_err(|e| format!("record.path: {e}"))?;
+            r.record(sim, &sample).map_err(GranularError::Record)?;
         }
         Ok(())
     }
 
     /// Rebuild the simulation when parameters changed since it was built.
-    fn ensure_built(&mut self) -> Result<(), String> {
+    fn ensure_built(&mut self) -> Result<(), GranularError> {
         if !self.params_changed() {
             return Ok(());
         }
@@ -687,8 +685,8 @@ impl Granular {
             }
         }
         let l = &self.loaded;
-        let loaded =
-            load_scene_in(&l.text, &l.file, &sets, &self.dir).map_err(|e| e.to_string())?;
+        let loaded = load_scene_in(&l.text, &l.file, &sets, &self.dir)
+            .map_err(|e| GranularError::Scene(e.to_string()))?;
         self.sim = build_sim(&loaded)?;
         self.last = initial_sample(&mut self.sim)?;
         self.built_with = self.values.clone();
@@ -696,15 +694,17 @@ impl Granular {
     }
 
     /// Run one communication step with the given barrier velocities.
-    fn advance(&mut self, rec: StepRecord) -> Result<(), String> {
+    fn advance(&mut self, rec: StepRecord) -> Result<(), GranularError> {
         for &(b, v) in &rec.drives {
-            self.sim.drive_barrier(b, v)?;
+            self.sim
+                .drive_barrier(b, v)
+                .map_err(|e| GranularError::Drive(e.to_string()))?;
         }
         let start = std::time::Instant::now();
         let r = self.sim.advance_to(rec.end);
         self.solver_seconds += start.elapsed().as_secs_f64();
         self.last = self.sim.sample();
-        r.map_err(|e| format!("{e}"))
+        r.map_err(|e| GranularError::Solver(e.to_string()))
     }
 }
 
@@ -736,7 +736,7 @@ impl Model for Granular {
         &self.table.variables
     }
 
-    fn get(&mut self, vr: u32) -> Result<f64, String> {
+    fn get(&mut self, vr: u32) -> Result<f64, ModelError> {
         if !self.initialised {
             self.ensure_built()?;
         }
@@ -761,21 +761,20 @@ impl Model for Granular {
         })
     }
 
-    fn get_string(&mut self, vr: u32) -> Result<String, String> {
+    fn get_string(&mut self, vr: u32) -> Result<String, ModelError> {
         Ok(self.texts[vr as usize].clone())
     }
 
-    fn check_string(&self, vr: u32) -> Result<(), String> {
+    fn check_string(&self, vr: u32) -> Result<(), ModelError> {
         if self.initialised {
-            return Err(format!(
-                "`{}` is fixed once initialisation has ended",
-                self.table.variables[vr as usize].name
-            ));
+            return Err(ModelError::Fixed {
+                name: self.table.variables[vr as usize].name.clone(),
+            });
         }
         Ok(())
     }
 
-    fn set_string(&mut self, vr: u32, value: &str) -> Result<(), String> {
+    fn set_string(&mut self, vr: u32, value: &str) -> Result<(), ModelError> {
         self.check_string(vr)?;
         self.texts[vr as usize] = value.to_string();
         Ok(())
@@ -785,43 +784,43 @@ impl Model for Granular {
         self.instance = name.to_string();
     }
 
-    fn terminate(&mut self) -> Result<(), String> {
+    fn terminate(&mut self) -> Result<(), ModelError> {
         match self.sinks.take() {
-            Some(s) => s
+            Some(s) => Ok(s
                 .lock()
-                .map_err(|_| "output sinks poisoned".to_string())?
-                .finish(),
+                .map_err(|_| GranularError::SinksPoisoned)?
+                .finish()?),
             None => Ok(()),
         }
     }
 
-    fn check(&self, vr: u32, value: f64) -> Result<(), String> {
+    fn check(&self, vr: u32, value: f64) -> Result<(), ModelError> {
         let v = &self.table.variables[vr as usize];
         if !value.is_finite() {
-            return Err(format!(
-                "`{}` set to {value:?}: values must be finite",
-                v.name
-            ));
+            return Err(ModelError::NotFinite {
+                name: v.name.clone(),
+                value,
+            });
         }
         Ok(())
     }
 
-    fn set(&mut self, vr: u32, value: f64) -> Result<(), String> {
+    fn set(&mut self, vr: u32, value: f64) -> Result<(), ModelError> {
         self.check(vr, value)?;
         self.values[vr as usize] = value;
         Ok(())
     }
 
-    fn exit_initialization(&mut self) -> Result<(), String> {
+    fn exit_initialization(&mut self) -> Result<(), ModelError> {
         self.ensure_built()?;
         self.initialised = true;
         self.open_sinks()?;
-        self.emit()
+        Ok(self.emit()?)
     }
 
-    fn set_start_time(&mut self, start: f64) -> Result<(), String> {
+    fn set_start_time(&mut self, start: f64) -> Result<(), ModelError> {
         if !start.is_finite() {
-            return Err(format!("start time {start:?} s is not a finite time"));
+            return Err(ModelError::StartTime(start));
         }
         self.start = start;
         self.now = start;
@@ -866,10 +865,9 @@ impl Model for Granular {
             };
             drives.push((b, v));
         }
-        self.advance(StepRecord { end, drives })
-            .map_err(StepError::Failed)?;
+        self.advance(StepRecord { end, drives })?;
         self.now = t + h;
-        self.emit().map_err(StepError::Failed)
+        Ok(self.emit()?)
     }
 
     fn time(&self) -> f64 {
@@ -880,7 +878,7 @@ impl Model for Granular {
         self.solver_seconds
     }
 
-    fn reset(&mut self) -> Result<(), String> {
+    fn reset(&mut self) -> Result<(), ModelError> {
         let instance = std::mem::take(&mut self.instance);
         *self = Granular::new((*self.loaded).clone(), &self.dir)?;
         self.instance = instance;
@@ -896,7 +894,7 @@ impl Model for Granular {
     /// the last communication point and the parameter values, written with postcard
     /// and deflated inside the envelope of [`crate::envelope`]. Restoring costs
     /// O(particles) whatever the number of steps taken.
-    fn to_bytes(&self) -> Result<Vec<u8>, String> {
+    fn to_bytes(&self) -> Result<Vec<u8>, ModelError> {
         let state = SavedRef {
             initialised: self.initialised,
             start: self.start,
@@ -906,30 +904,29 @@ impl Model for Granular {
             last: &self.last,
             sim: &self.sim,
         };
-        let payload =
-            postcard::to_stdvec(&state).map_err(|e| format!("serialising the state: {e}"))?;
-        envelope::seal(
+        let payload = postcard::to_stdvec(&state).map_err(StateError::Encode)?;
+        Ok(envelope::seal(
             ModelKind::Granular,
             &guid(&self.loaded.text),
             STATE_ENCODING,
             &payload,
-        )
+        )?)
     }
 
-    fn restore_bytes(&self, bytes: &[u8]) -> Result<Box<dyn Model>, String> {
+    fn restore_bytes(&self, bytes: &[u8]) -> Result<Box<dyn Model>, ModelError> {
         let payload = envelope::open(bytes, ModelKind::Granular, &guid(&self.loaded.text))?;
-        let saved: Saved = postcard::from_bytes(&payload)
-            .map_err(|e| format!("serialised state: cannot decode its payload: {e}"))?;
+        let saved: Saved = postcard::from_bytes(&payload).map_err(StateError::Decode)?;
         let n = self.values.len();
         if saved.values.len() != n || saved.built_with.len() != n {
-            return Err(format!(
-                "serialised state has {} values, the model {n}",
-                saved.values.len()
-            ));
+            return Err(StateError::ValueCount {
+                saved: saved.values.len(),
+                model: n,
+            }
+            .into());
         }
         let mut sim = saved.sim;
         sim.take_static_from(&self.sim)
-            .map_err(|e| format!("serialised state: {e}"))?;
+            .map_err(|e| StateError::Scene(e.to_string()))?;
         Ok(Box::new(Granular {
             loaded: self.loaded.clone(),
             dir: self.dir.clone(),

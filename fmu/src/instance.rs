@@ -1,42 +1,14 @@
-//! One FMU instance: its model, its place in the FMI 2.0 Co-Simulation state machine and
-//! its logger. No `unsafe` here: the FFI layer ([`crate::ffi`]) owns all of it.
+//! One FMU instance: its model, its place in the FMI 2.0 Co-Simulation state machine
+//! ([`crate::state`]) and its logger, and what `fmi2Instantiate` checks before it makes
+//! one ([`open`]). No `unsafe` here: the FFI layer ([`crate::ffi`]) owns all of it.
 
+use crate::error::{GranularError, StructureError};
 use crate::granular::Granular;
 use crate::logger::Logger;
 use crate::model::Model;
+use crate::state::State;
 use crate::structure::Structure;
-use fmi_sys::fmi2::*;
 use std::path::{Path, PathBuf};
-
-/// Instance states of the FMI 2.0 Co-Simulation state machine (as bit flags for the
-/// table of which function may be called when).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[repr(u8)]
-pub enum State {
-    Instantiated = 1,
-    InitializationMode = 2,
-    StepMode = 4,
-    Terminated = 8,
-    Error = 16,
-    Fatal = 32,
-}
-
-/// Sets of states in which a function may be called.
-pub mod allowed {
-    use super::State::*;
-    pub const ANY_BUT_FATAL: u8 = Instantiated as u8
-        | InitializationMode as u8
-        | StepMode as u8
-        | Terminated as u8
-        | Error as u8;
-    pub const INSTANTIATED: u8 = Instantiated as u8;
-    pub const INIT: u8 = InitializationMode as u8;
-    pub const STEP: u8 = StepMode as u8;
-    pub const TERMINATE: u8 = StepMode as u8 | Error as u8;
-    pub const GET: u8 = InitializationMode as u8 | StepMode as u8 | Terminated as u8 | Error as u8;
-    pub const SET: u8 = Instantiated as u8 | InitializationMode as u8 | StepMode as u8;
-    pub const STATE: u8 = ANY_BUT_FATAL;
-}
 
 /// One instance handed to the master as `fmi2Component`.
 pub struct Instance {
@@ -49,19 +21,87 @@ pub struct Instance {
     pub strings: Vec<std::ffi::CString>,
 }
 
+/// Why `fmi2Instantiate` returns no instance.
+#[derive(Debug, thiserror::Error)]
+pub enum InstanceError {
+    #[error("missing instance name")]
+    NoName,
+    #[error("this FMU supports Co-Simulation only")]
+    NotCoSimulation,
+    #[error("missing fmuResourceLocation")]
+    NoResourceLocation,
+    #[error("resource location `{uri}` is not a local file URI")]
+    NotLocal { uri: String },
+    #[error("resource location `{uri}` is not a file URI")]
+    NotFileUri { uri: String },
+    /// The decoded path is not UTF-8.
+    #[error("resource location `{uri}`: {error}")]
+    NotUtf8 {
+        uri: String,
+        error: std::string::FromUtf8Error,
+    },
+    #[error(
+        "resources directory {} holds neither scene.toml nor structure.toml",
+        dir.display()
+    )]
+    NoModel { dir: PathBuf },
+    #[error(transparent)]
+    Granular(#[from] GranularError),
+    #[error(transparent)]
+    Structure(#[from] StructureError),
+    /// The master's GUID is not the one of the model in the resources.
+    #[error(
+        "GUID {given} does not match this FMU's {expected} (modelDescription.xml and \
+         resources out of step?)"
+    )]
+    Guid { given: String, expected: String },
+}
+
+/// Check what `fmi2Instantiate` was given (`name`, whether it asks for Co-Simulation,
+/// `guid`, `resource_location`) and load the model from the resources: the model, named
+/// `name`, and the resources directory.
+pub fn open(
+    name: &str,
+    co_simulation: bool,
+    guid: &str,
+    resource_location: Option<&str>,
+) -> Result<(Box<dyn Model>, PathBuf), InstanceError> {
+    if name.is_empty() {
+        return Err(InstanceError::NoName);
+    }
+    if !co_simulation {
+        return Err(InstanceError::NotCoSimulation);
+    }
+    let uri = resource_location.ok_or(InstanceError::NoResourceLocation)?;
+    let dir = resource_dir(uri)?;
+    let (mut model, expected) = load_model(&dir)?;
+    if guid != expected {
+        return Err(InstanceError::Guid {
+            given: guid.to_string(),
+            expected,
+        });
+    }
+    model.set_instance_name(name);
+    Ok((model, dir))
+}
+
 /// Turn an `fmuResourceLocation` URI (`file:///path/` or `file:/path`) into a path.
-pub fn resource_dir(uri: &str) -> Result<PathBuf, String> {
+pub fn resource_dir(uri: &str) -> Result<PathBuf, InstanceError> {
     let rest = if let Some(r) = uri.strip_prefix("file://") {
         // file://host/path: only an empty host or localhost is local
         let r = r.strip_prefix("localhost").unwrap_or(r);
         if !r.starts_with('/') {
-            return Err(format!("resource location `{uri}` is not a local file URI"));
+            return Err(InstanceError::NotLocal {
+                uri: uri.to_string(),
+            });
         }
         r
     } else if let Some(r) = uri.strip_prefix("file:") {
         r
     } else {
-        return Err(format!("resource location `{uri}` is not a file URI"));
+        return Err(InstanceError::NotFileUri {
+            uri: uri.to_string(),
+        });
     };
     let bytes = rest.as_bytes();
     let mut out = Vec::with_capacity(bytes.len());
@@ -78,12 +118,15 @@ pub fn resource_dir(uri: &str) -> Result<PathBuf, String> {
         out.push(bytes[i]);
         i += 1;
     }
-    let s = String::from_utf8(out).map_err(|e| format!("resource location `{uri}`: {e}"))?;
+    let s = String::from_utf8(out).map_err(|error| InstanceError::NotUtf8 {
+        uri: uri.to_string(),
+        error,
+    })?;
     Ok(PathBuf::from(s))
 }
 
 /// The model found in a resources directory, and its GUID.
-pub fn load_model(dir: &Path) -> Result<(Box<dyn Model>, String), String> {
+pub fn load_model(dir: &Path) -> Result<(Box<dyn Model>, String), InstanceError> {
     if dir.join("scene.toml").is_file() {
         let g = Granular::from_resources(dir)?;
         let guid = g.info("granmix").guid;
@@ -93,29 +136,8 @@ pub fn load_model(dir: &Path) -> Result<(Box<dyn Model>, String), String> {
         let guid = s.info("granmix").guid;
         Ok((Box::new(s), guid))
     } else {
-        Err(format!(
-            "resources directory {} holds neither scene.toml nor structure.toml",
-            dir.display()
-        ))
-    }
-}
-
-impl Instance {
-    /// Log an error from function `function` and return fmi2Error.
-    pub fn error(&self, function: &str, message: &str) -> fmi2Status {
-        self.logger.log(
-            fmi2Status_fmi2Error,
-            "logStatusError",
-            &format!("{function}: {message}"),
-        );
-        fmi2Status_fmi2Error
-    }
-
-    /// Check that `function` may be called in the current state.
-    pub fn check_state(&self, allowed: u8) -> Result<(), String> {
-        if self.state as u8 & allowed == 0 {
-            return Err(format!("may not be called in state {:?}", self.state));
-        }
-        Ok(())
+        Err(InstanceError::NoModel {
+            dir: dir.to_path_buf(),
+        })
     }
 }

@@ -7,12 +7,14 @@
 //! `modelDescription.xml` ([`xml`]) and the run-time value references.
 
 pub mod envelope;
+pub mod error;
 pub mod ffi;
 pub mod granular;
 pub mod instance;
 pub mod logger;
 pub mod model;
 pub mod package;
+pub mod state;
 pub mod structure;
 pub mod variables;
 pub mod xml;

@@ -4,8 +4,9 @@
 //! over the step: y(t + h) = exp(A h) y(t) on the state augmented with the forcing.
 
 use crate::envelope::{self, Encoding, ModelKind};
+use crate::error::{ModelError, ReadError, StateError, StepError, StructureError};
 use crate::model::bytes::{Reader, Writer};
-use crate::model::{check_step, Model, StepError};
+use crate::model::{check_step, Model};
 use crate::variables::{Causality, Variable};
 use crate::xml::{self, ModelInfo};
 use nalgebra::{DMatrix, DVector};
@@ -56,10 +57,19 @@ pub struct StructureFile {
 
 impl StructureFile {
     /// Parse and check a structure file; errors name the file and key.
-    pub fn parse(text: &str, file: &str) -> Result<Self, String> {
-        let f: StructureFile = toml::from_str(text).map_err(|e| format!("{file}: {e}"))?;
+    pub fn parse(text: &str, file: &str) -> Result<Self, StructureError> {
+        let f: StructureFile = toml::from_str(text).map_err(|error| StructureError::Toml {
+            file: file.to_string(),
+            error,
+        })?;
         let s = &f.structure;
-        let bad = |key: &str, why: &str| Err(format!("{file}: structure.{key}: {why}"));
+        let bad = |key: &'static str, why: &'static str| {
+            Err(StructureError::Key {
+                file: file.to_string(),
+                key,
+                why,
+            })
+        };
         for (key, v) in [
             ("mass", s.mass),
             ("stop_time", s.stop_time),
@@ -226,14 +236,15 @@ pub fn guid(text: &str) -> String {
 
 impl Structure {
     /// Load `structure.toml` from the FMU's resources directory.
-    pub fn from_resources(dir: &Path) -> Result<Self, String> {
+    pub fn from_resources(dir: &Path) -> Result<Self, StructureError> {
         let path = dir.join("structure.toml");
-        let text = std::fs::read_to_string(&path)
-            .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-        Self::new(&text, &path.display().to_string())
+        let file = path.display().to_string();
+        let text = ReadError::read_to_string(path)?;
+        Self::new(&text, &file)
     }
 
-    pub fn new(text: &str, file: &str) -> Result<Self, String> {
+    /// Build from the text of structure file `file` (named in errors).
+    pub fn new(text: &str, file: &str) -> Result<Self, StructureError> {
         let f = StructureFile::parse(text, file)?;
         let layout = layout(&f);
         let n = f.dofs();
@@ -315,7 +326,7 @@ impl Model for Structure {
         &self.layout.variables
     }
 
-    fn get(&mut self, vr: u32) -> Result<f64, String> {
+    fn get(&mut self, vr: u32) -> Result<f64, ModelError> {
         let i = vr as usize;
         let l = &self.layout;
         let find = |list: &[usize]| list.iter().position(|&j| j == i);
@@ -330,13 +341,13 @@ impl Model for Structure {
         })
     }
 
-    fn check(&self, vr: u32, value: f64) -> Result<(), String> {
+    fn check(&self, vr: u32, value: f64) -> Result<(), ModelError> {
         let v = &self.layout.variables[vr as usize];
         if !value.is_finite() {
-            return Err(format!(
-                "`{}` set to {value:?}: values must be finite",
-                v.name
-            ));
+            return Err(ModelError::NotFinite {
+                name: v.name.clone(),
+                value,
+            });
         }
         if v.causality == Causality::Parameter {
             let p = self
@@ -350,24 +361,27 @@ impl Model for Structure {
                 _ => value >= 0.0,
             };
             if !ok {
-                return Err(format!("`{}` = {value:?} is out of range", v.name));
+                return Err(ModelError::OutOfRange {
+                    name: v.name.clone(),
+                    value,
+                });
             }
         }
         Ok(())
     }
 
-    fn set(&mut self, vr: u32, value: f64) -> Result<(), String> {
+    fn set(&mut self, vr: u32, value: f64) -> Result<(), ModelError> {
         self.check(vr, value)?;
         self.values[vr as usize] = value;
         Ok(())
     }
 
-    fn exit_initialization(&mut self) -> Result<(), String> {
+    fn exit_initialization(&mut self) -> Result<(), ModelError> {
         self.initialised = true;
         Ok(())
     }
 
-    fn set_start_time(&mut self, start: f64) -> Result<(), String> {
+    fn set_start_time(&mut self, start: f64) -> Result<(), ModelError> {
         self.time = start;
         Ok(())
     }
@@ -393,11 +407,13 @@ impl Model for Structure {
             self.impulse[i] += self.values[self.layout.force[i]] * h;
         }
         if y.iter().any(|z| !z.is_finite()) {
-            return Err(StepError::Failed(format!(
-                "structure `{}`: non-finite state at t = {:?} s",
-                self.file.structure.name,
-                t + h
-            )));
+            return Err(StepError::Failed(
+                StructureError::NonFinite {
+                    name: self.file.structure.name.clone(),
+                    t: t + h,
+                }
+                .into(),
+            ));
         }
         self.time = t + h;
         Ok(())
@@ -407,7 +423,7 @@ impl Model for Structure {
         self.time
     }
 
-    fn reset(&mut self) -> Result<(), String> {
+    fn reset(&mut self) -> Result<(), ModelError> {
         *self = Structure::new(&self.text, "structure.toml")?;
         Ok(())
     }
@@ -416,7 +432,7 @@ impl Model for Structure {
         Box::new(self.clone())
     }
 
-    fn to_bytes(&self) -> Result<Vec<u8>, String> {
+    fn to_bytes(&self) -> Result<Vec<u8>, ModelError> {
         let mut w = Writer::default();
         w.f64(self.time);
         for list in [&self.values, &self.x, &self.v, &self.impulse] {
@@ -425,10 +441,15 @@ impl Model for Structure {
                 w.f64(x);
             }
         }
-        envelope::seal(ModelKind::Structure, &guid(&self.text), Encoding::Raw, &w.0)
+        Ok(envelope::seal(
+            ModelKind::Structure,
+            &guid(&self.text),
+            Encoding::Raw,
+            &w.0,
+        )?)
     }
 
-    fn restore_bytes(&self, bytes: &[u8]) -> Result<Box<dyn Model>, String> {
+    fn restore_bytes(&self, bytes: &[u8]) -> Result<Box<dyn Model>, ModelError> {
         let payload = envelope::open(bytes, ModelKind::Structure, &guid(&self.text))?;
         let mut r = Reader::new(&payload);
         let mut m = self.clone();
@@ -436,10 +457,11 @@ impl Model for Structure {
         for list in [&mut m.values, &mut m.x, &mut m.v, &mut m.impulse] {
             let n = r.u64()? as usize;
             if n != list.len() {
-                return Err(format!(
-                    "serialised state: list of {n} values, expected {}",
-                    list.len()
-                ));
+                return Err(StateError::ListLength {
+                    found: n,
+                    expected: list.len(),
+                }
+                .into());
             }
             for x in list.iter_mut() {
                 *x = r.f64()?;

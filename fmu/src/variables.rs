@@ -108,19 +108,33 @@ pub enum Access {
     Write,
 }
 
+/// A value reference the table does not have, or has with another base type.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum LookupError {
+    #[error("unknown value reference {vr} (the model has {count})")]
+    Unknown { vr: u32, count: usize },
+    #[error("value reference {vr} (`{name}`) is {kind:?}, not {wanted:?}")]
+    WrongKind {
+        vr: u32,
+        name: String,
+        kind: Kind,
+        wanted: Kind,
+    },
+}
+
 /// Find variable `vr` of base type `kind`, or say why not.
-pub fn lookup(table: &[Variable], vr: u32, kind: Kind) -> Result<&Variable, String> {
-    let v = table.get(vr as usize).ok_or_else(|| {
-        format!(
-            "unknown value reference {vr} (the model has {})",
-            table.len()
-        )
+pub fn lookup(table: &[Variable], vr: u32, kind: Kind) -> Result<&Variable, LookupError> {
+    let v = table.get(vr as usize).ok_or(LookupError::Unknown {
+        vr,
+        count: table.len(),
     })?;
     if v.kind != kind {
-        return Err(format!(
-            "value reference {vr} (`{}`) is {:?}, not {kind:?}",
-            v.name, v.kind
-        ));
+        return Err(LookupError::WrongKind {
+            vr,
+            name: v.name.clone(),
+            kind: v.kind,
+            wanted: kind,
+        });
     }
     Ok(v)
 }
