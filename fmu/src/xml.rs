@@ -90,32 +90,7 @@ pub fn model_description(info: &ModelInfo, table: &[Variable]) -> String {
         r#"  <CoSimulation modelIdentifier="{}" canHandleVariableCommunicationStepSize="true" canInterpolateInputs="false" canGetAndSetFMUstate="true" canSerializeFMUstate="true" canNotUseMemoryManagementFunctions="true"/>"#,
         esc(&info.model_identifier)
     );
-    let mut units: Vec<&str> = table.iter().filter_map(|v| v.unit).collect();
-    units.sort();
-    units.dedup();
-    if !units.is_empty() {
-        let _ = writeln!(w, "  <UnitDefinitions>");
-        for u in units {
-            let [kg, m, s, rad] = base_unit(u);
-            let mut attrs = String::new();
-            for (k, e) in [("kg", kg), ("m", m), ("s", s), ("rad", rad)] {
-                if e != 0 {
-                    let _ = write!(attrs, r#" {k}="{e}""#);
-                }
-            }
-            let factor = if u == "deg" {
-                format!(r#" factor="{}""#, num(std::f64::consts::PI / 180.0))
-            } else {
-                String::new()
-            };
-            let _ = writeln!(
-                w,
-                r#"    <Unit name="{}"><BaseUnit{attrs}{factor}/></Unit>"#,
-                esc(u)
-            );
-        }
-        let _ = writeln!(w, "  </UnitDefinitions>");
-    }
+    unit_definitions(w, table);
     let _ = writeln!(
         w,
         r#"  <DefaultExperiment startTime="0.0" stopTime="{}" stepSize="{}"/>"#,
@@ -124,54 +99,97 @@ pub fn model_description(info: &ModelInfo, table: &[Variable]) -> String {
     );
     let _ = writeln!(w, "  <ModelVariables>");
     for (vr, v) in table.iter().enumerate() {
-        let (causality, variability) = match (v.causality, v.kind) {
-            (Causality::Parameter, _) => ("parameter", "fixed"),
-            (Causality::Input, Kind::Real) => ("input", "continuous"),
-            (Causality::Input, _) => ("input", "discrete"),
-            (Causality::Output, Kind::Real) => ("output", "continuous"),
-            (Causality::Output, _) => ("output", "discrete"),
+        scalar_variable(w, vr, v);
+    }
+    let _ = writeln!(w, "  </ModelVariables>");
+    model_structure(w, table);
+    let _ = writeln!(w, "</fmiModelDescription>");
+    x
+}
+
+/// `<UnitDefinitions>`: each unit of the table once, in sorted order (none: no element).
+fn unit_definitions(w: &mut String, table: &[Variable]) {
+    let mut units: Vec<&str> = table.iter().filter_map(|v| v.unit).collect();
+    units.sort();
+    units.dedup();
+    if units.is_empty() {
+        return;
+    }
+    let _ = writeln!(w, "  <UnitDefinitions>");
+    for u in units {
+        let [kg, m, s, rad] = base_unit(u);
+        let mut attrs = String::new();
+        for (k, e) in [("kg", kg), ("m", m), ("s", s), ("rad", rad)] {
+            if e != 0 {
+                let _ = write!(attrs, r#" {k}="{e}""#);
+            }
+        }
+        let factor = if u == "deg" {
+            format!(r#" factor="{}""#, num(std::f64::consts::PI / 180.0))
+        } else {
+            String::new()
         };
         let _ = writeln!(
             w,
-            r#"    <!-- {} -->
-    <ScalarVariable name="{}" valueReference="{vr}" causality="{causality}" variability="{variability}" description="{}">"#,
-            vr + 1,
-            esc(&structured_name(&v.name)),
-            esc(&v.description)
+            r#"    <Unit name="{}"><BaseUnit{attrs}{factor}/></Unit>"#,
+            esc(u)
         );
-        let mut attrs = String::new();
-        if let Some(u) = v.unit {
-            let _ = write!(attrs, r#" unit="{}""#, esc(u));
-        }
-        if let Some(s) = v.start {
-            let s = match v.kind {
-                Kind::Real => num(s),
-                Kind::Integer => format!("{}", s as i64),
-                Kind::Boolean => (if s != 0.0 { "true" } else { "false" }).to_string(),
-                Kind::String => String::new(),
-            };
-            let _ = write!(attrs, r#" start="{s}""#);
-        }
-        let tag = match v.kind {
-            Kind::Real => "Real",
-            Kind::Integer => {
-                attrs.clear(); // no units on integers
-                if let Some(s) = v.start {
-                    let _ = write!(attrs, r#" start="{}""#, s as i64);
-                }
-                "Integer"
-            }
-            Kind::Boolean => "Boolean",
-            Kind::String => {
-                attrs.clear(); // no units on strings
-                let text = v.start_text.as_deref().unwrap_or("");
-                let _ = write!(attrs, r#" start="{}""#, esc(text));
-                "String"
-            }
-        };
-        let _ = writeln!(w, "      <{tag}{attrs}/>\n    </ScalarVariable>");
     }
-    let _ = writeln!(w, "  </ModelVariables>");
+    let _ = writeln!(w, "  </UnitDefinitions>");
+}
+
+/// The `<ScalarVariable>` of variable `v` with value reference `vr`.
+fn scalar_variable(w: &mut String, vr: usize, v: &Variable) {
+    let (causality, variability) = match (v.causality, v.kind) {
+        (Causality::Parameter, _) => ("parameter", "fixed"),
+        (Causality::Input, Kind::Real) => ("input", "continuous"),
+        (Causality::Input, _) => ("input", "discrete"),
+        (Causality::Output, Kind::Real) => ("output", "continuous"),
+        (Causality::Output, _) => ("output", "discrete"),
+    };
+    let _ = writeln!(
+        w,
+        r#"    <!-- {} -->
+    <ScalarVariable name="{}" valueReference="{vr}" causality="{causality}" variability="{variability}" description="{}">"#,
+        vr + 1,
+        esc(&structured_name(&v.name)),
+        esc(&v.description)
+    );
+    let mut attrs = String::new();
+    if let Some(u) = v.unit {
+        let _ = write!(attrs, r#" unit="{}""#, esc(u));
+    }
+    if let Some(s) = v.start {
+        let s = match v.kind {
+            Kind::Real => num(s),
+            Kind::Integer => format!("{}", s as i64),
+            Kind::Boolean => (if s != 0.0 { "true" } else { "false" }).to_string(),
+            Kind::String => String::new(),
+        };
+        let _ = write!(attrs, r#" start="{s}""#);
+    }
+    let tag = match v.kind {
+        Kind::Real => "Real",
+        Kind::Integer => {
+            attrs.clear(); // no units on integers
+            if let Some(s) = v.start {
+                let _ = write!(attrs, r#" start="{}""#, s as i64);
+            }
+            "Integer"
+        }
+        Kind::Boolean => "Boolean",
+        Kind::String => {
+            attrs.clear(); // no units on strings
+            let text = v.start_text.as_deref().unwrap_or("");
+            let _ = write!(attrs, r#" start="{}""#, esc(text));
+            "String"
+        }
+    };
+    let _ = writeln!(w, "      <{tag}{attrs}/>\n    </ScalarVariable>");
+}
+
+/// `<ModelStructure>`: every output is an output and an initial unknown.
+fn model_structure(w: &mut String, table: &[Variable]) {
     let _ = writeln!(w, "  <ModelStructure>");
     let outputs: Vec<usize> = table
         .iter()
@@ -190,8 +208,6 @@ pub fn model_description(info: &ModelInfo, table: &[Variable]) -> String {
         let _ = writeln!(w, "    </{section}>");
     }
     let _ = writeln!(w, "  </ModelStructure>");
-    let _ = writeln!(w, "</fmiModelDescription>");
-    x
 }
 
 /// GUID derived from `content`: 128-bit FNV-1a, written as a braced UUID.
