@@ -5,9 +5,8 @@ use crate::input::LoadedScene;
 use crate::math::Real;
 use crate::scene::SceneError;
 use crate::simulation::{BarrierSample, Frame, ParticleState, Sample, Simulation};
-use crate::step::StepStats;
+use crate::step::{StepStats, Stepping};
 use crate::timers::StageTimers;
-use std::fmt;
 
 /// A simulation of either dimension. Cloning copies the whole state (FMU rollback).
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
@@ -17,19 +16,12 @@ pub enum AnySimulation {
 }
 
 /// Error while setting up a simulation from a scene.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, thiserror::Error)]
 pub enum SetupError {
+    /// The world cannot be built: the scene key at fault, located in its file.
+    #[error(transparent)]
     Scene(SceneError),
 }
-
-impl fmt::Display for SetupError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            SetupError::Scene(e) => write!(f, "{e}"),
-        }
-    }
-}
-impl std::error::Error for SetupError {}
 
 /// Run `$e` on the simulation inside an [`AnySimulation`], whichever its dimension.
 macro_rules! dispatch {
@@ -159,5 +151,17 @@ impl AnySimulation {
     }
     pub fn neighbor_builds(&self) -> usize {
         dispatch!(self, s => s.stepper.lists.builds)
+    }
+}
+
+impl Stepping for AnySimulation {
+    fn now(&self) -> Real {
+        self.time()
+    }
+    fn set_now(&mut self, t: Real) {
+        dispatch!(self, s => s.set_now(t))
+    }
+    fn step_at_most(&mut self, max_dt: Real) -> Result<StepStats, Blowup> {
+        self.step(max_dt)
     }
 }

@@ -3,6 +3,7 @@
 
 use crate::heightmap::Heightmap;
 use crate::mesh::TriMesh;
+use crate::shape_file::ShapeFileError;
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::Arc;
@@ -16,7 +17,7 @@ pub struct Assets {
 
 impl Assets {
     /// Read the mesh `file` (relative to `dir`) unless it is read already.
-    pub fn read_mesh(&mut self, file: &str, dir: &Path) -> Result<(), String> {
+    pub fn read_mesh(&mut self, file: &str, dir: &Path) -> Result<(), ShapeFileError> {
         if !self.meshes.contains_key(file) {
             let m = TriMesh::load(&dir.join(file))?;
             self.meshes.insert(file.to_string(), Arc::new(m));
@@ -25,7 +26,7 @@ impl Assets {
     }
 
     /// Read the terrain grid `file` (relative to `dir`) unless it is read already.
-    pub fn read_grid(&mut self, file: &str, dir: &Path) -> Result<(), String> {
+    pub fn read_grid(&mut self, file: &str, dir: &Path) -> Result<(), ShapeFileError> {
         if !self.grids.contains_key(file) {
             let g = Heightmap::load(&dir.join(file))?;
             self.grids.insert(file.to_string(), Arc::new(g));

@@ -52,15 +52,37 @@ pub fn available_bytes() -> Option<Real> {
     (it.next() == Some("kB")).then_some(kib * 1024.0)
 }
 
+/// A scene refused for its memory: its estimate and the budget it exceeds.
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("{}", over_budget(.estimate, .budget))]
+pub struct OverBudget {
+    pub estimate: Box<Estimate>,
+    pub budget: Budget,
+}
+
 /// Estimate `scene` and refuse it when the estimate exceeds its budget. The error
 /// names dp, the estimated particles and bytes, the budget and how to change it.
-pub fn enforce(scene: &Scene) -> Result<Estimate, String> {
-    let e = estimate(scene);
-    let b = budget(scene);
-    if e.bytes > b.bytes {
-        return Err(over_budget(&e, &b));
+pub fn enforce(scene: &Scene) -> Result<Estimate, OverBudget> {
+    let estimate = estimate(scene);
+    let budget = budget(scene);
+    if estimate.bytes > budget.bytes {
+        return Err(OverBudget {
+            estimate: Box::new(estimate),
+            budget,
+        });
     }
-    Ok(e)
+    Ok(estimate)
+}
+
+/// A size that [`parse_bytes`] cannot read.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SizeError {
+    #[error("`{0}` is not a size; write e.g. 8GiB, 500MB or 4e9")]
+    NotASize(String),
+    #[error("unknown unit `{unit}` in `{text}`; use B, kB, MB, GB, TB, KiB, MiB, GiB or TiB")]
+    UnknownUnit { unit: String, text: String },
+    #[error("`{0}`: the budget must be a positive size")]
+    NotPositive(String),
 }
 
 /// The refusal message.
@@ -102,7 +124,7 @@ pub fn human_bytes(b: Real) -> String {
 
 /// Parse a size: a number of bytes (`8e9`) or a number with a unit, decimal (kB, MB,
 /// GB, TB) or binary (KiB, MiB, GiB, TiB); case-insensitive, spaces allowed.
-pub fn parse_bytes(text: &str) -> Result<Real, String> {
+pub fn parse_bytes(text: &str) -> Result<Real, SizeError> {
     let t = text.trim();
     let split = t
         .find(|c: char| c.is_ascii_alphabetic() && c != 'e' && c != 'E')
@@ -111,7 +133,7 @@ pub fn parse_bytes(text: &str) -> Result<Real, String> {
     let value: Real = num
         .trim()
         .parse()
-        .map_err(|_| format!("`{text}` is not a size; write e.g. 8GiB, 500MB or 4e9"))?;
+        .map_err(|_| SizeError::NotASize(text.to_string()))?;
     let factor = match unit.trim().to_ascii_lowercase().as_str() {
         "" | "b" => 1.0,
         "kb" | "k" => 1e3,
@@ -123,14 +145,15 @@ pub fn parse_bytes(text: &str) -> Result<Real, String> {
         "gib" => GIB,
         "tib" => GIB * 1024.0,
         u => {
-            return Err(format!(
-                "unknown unit `{u}` in `{text}`; use B, kB, MB, GB, TB, KiB, MiB, GiB or TiB"
-            ))
+            return Err(SizeError::UnknownUnit {
+                unit: u.to_string(),
+                text: text.to_string(),
+            })
         }
     };
     let bytes = value * factor;
     if !(bytes.is_finite() && bytes > 0.0) {
-        return Err(format!("`{text}`: the budget must be a positive size"));
+        return Err(SizeError::NotPositive(text.to_string()));
     }
     Ok(bytes)
 }

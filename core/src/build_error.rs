@@ -4,7 +4,8 @@
 //! and the world that calls them share it without importing each other.
 
 /// Error raised while building the world, with the scene key at fault.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("`{path}`: {message}")]
 pub struct BuildError {
     /// Scene key path, e.g. `bodies[2].shape`.
     pub path: String,

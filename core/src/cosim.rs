@@ -6,6 +6,15 @@ use crate::math::{Real, Vect};
 use crate::simulation::Simulation;
 use crate::AnySimulation;
 
+/// A barrier that cannot be driven.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DriveError {
+    #[error("no barrier with index {0}")]
+    NoBarrier(usize),
+    #[error("barrier `{0}` is not input-driven (scene key `input`)")]
+    NotDriven(String),
+}
+
 impl<const D: usize> Simulation<D> {
     /// True when barrier `b` is driven by co-simulation inputs (scene key `input`).
     pub fn barrier_driven(&self, b: usize) -> bool {
@@ -27,18 +36,12 @@ impl<const D: usize> Simulation<D> {
 
     /// Move input-driven barrier `b` with `velocity` (components beyond `D` ignored)
     /// from now on, until driven again. Errors name the barrier when it is not driven.
-    pub fn drive_barrier(&mut self, b: usize, velocity: [Real; 3]) -> Result<(), String> {
+    pub fn drive_barrier(&mut self, b: usize, velocity: [Real; 3]) -> Result<(), DriveError> {
         let walls = &mut self.world.walls;
-        let bar = walls
-            .barriers
-            .get(b)
-            .ok_or_else(|| format!("no barrier with index {b}"))?;
+        let bar = walls.barriers.get(b).ok_or(DriveError::NoBarrier(b))?;
         let object = bar.object;
         if !walls.objects[object].driven {
-            return Err(format!(
-                "barrier `{}` is not input-driven (scene key `input`)",
-                bar.name
-            ));
+            return Err(DriveError::NotDriven(bar.name.clone()));
         }
         let v = Vect::<D>::from_iterator(velocity.iter().copied().take(D));
         walls.drive(object, v);
@@ -68,7 +71,7 @@ impl AnySimulation {
         dispatch!(self, s => s.barrier_velocity(b))
     }
     /// See [`Simulation::drive_barrier`].
-    pub fn drive_barrier(&mut self, b: usize, velocity: [Real; 3]) -> Result<(), String> {
+    pub fn drive_barrier(&mut self, b: usize, velocity: [Real; 3]) -> Result<(), DriveError> {
         dispatch!(self, s => s.drive_barrier(b, velocity))
     }
 }

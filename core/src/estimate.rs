@@ -14,6 +14,7 @@ use crate::fine::pair_sums::PairSums;
 use crate::fine::source::Source;
 use crate::geometry::Shape;
 use crate::math::{from3, to3, Real, Sym, Vect};
+use crate::resolution::Resolution;
 use crate::rng::Rng;
 use crate::scene::spec_rotation;
 use crate::scene::{BodyModel, Scene, ShapeSpec};
@@ -88,166 +89,17 @@ impl<const D: usize> Solid<D> {
 }
 
 fn estimate_in<const D: usize>(scene: &Scene) -> Estimate {
-    let sim = &scene.simulation;
-    let dp = sim.dp;
+    let res = Resolution::of::<D>(scene);
+    let dp = res.dp;
     let n = &scene.numerics;
-    let cell_vol = dp.powi(D as i32);
+    // one stream of samples, drawn by regions, walls and bodies in that order
     let mut rng = Rng(0x5EED_0FB0_D6E7);
-    let mut lo_all = Vect::<D>::repeat(Real::INFINITY);
-    let mut hi_all = Vect::<D>::repeat(Real::NEG_INFINITY);
-    let mut grow = |lo: &Vect<D>, hi: &Vect<D>| {
-        lo_all = lo_all.inf(lo);
-        hi_all = hi_all.sup(hi);
-    };
-
-    // solids as the builder sees them: non-plane walls and barriers, and bodies
-    let mut solids: Vec<Solid<D>> = Vec::new();
-    for w in scene.walls.iter().chain(&scene.barriers) {
-        if !matches!(w.shape, ShapeSpec::Plane { .. }) {
-            let shape = Shape::<D>::from_spec(&w.shape, &scene.assets);
-            let (lo, hi) = shape.bounds();
-            solids.push(Solid {
-                shape,
-                pose: None,
-                lo,
-                hi,
-            });
-        }
-    }
-    for b in &scene.bodies {
-        let shape = Shape::<D>::from_spec(&b.shape, &scene.assets);
-        let c = shape.center();
-        let (lo, hi) = shape.bounds();
-        // any rotation about the centre stays inside the bounding ball
-        let r = (hi - lo).norm() * 0.5;
-        solids.push(Solid {
-            pose: Some((to3(&c), spec_rotation(b, D))),
-            shape,
-            lo: c.add_scalar(-r),
-            hi: c.add_scalar(r),
-        });
-    }
-
-    let margin = 0.5 * dp * (1.0 - 1e-6);
-    let mut regions = Vec::new();
-    for r in &scene.regions {
-        let shape = Shape::<D>::from_spec(&r.shape, &scene.assets);
-        let (lo, hi) = shape.bounds();
-        grow(&lo, &hi);
-        let near: Vec<&Solid<D>> = solids
-            .iter()
-            .filter(|s| overlaps(&s.lo.add_scalar(-dp), &s.hi.add_scalar(dp), &lo, &hi))
-            .collect();
-        let exact = match &shape {
-            Shape::Box { min, max } => Some(box_count(&(max - min), dp)),
-            _ => shape.volume().map(|v| v / cell_vol),
-        };
-        let count = if exact.is_some() && near.is_empty() {
-            exact.unwrap_or(0.0)
-        } else {
-            let (mut inside, mut kept) = (0usize, 0usize);
-            sample_box(&lo, &hi, SAMPLES, &mut rng, |p| {
-                if shape.sdf(p) < 0.0 {
-                    inside += 1;
-                    if !near.iter().any(|s| s.sdf(p) < margin) {
-                        kept += 1;
-                    }
-                }
-            });
-            match exact {
-                Some(e) if inside > 0 => e * kept as Real / inside as Real,
-                Some(e) => e,
-                None => box_volume(&lo, &hi) * kept as Real / SAMPLES as Real / cell_vol,
-            }
-        };
-        regions.push((r.name.clone(), count));
-    }
-
-    let depth = n.wall_layers as Real * dp;
-    let mut walls = 0.0;
-    for w in scene.walls.iter().chain(&scene.barriers) {
-        let shape = Shape::<D>::from_spec(&w.shape, &scene.assets);
-        walls += match &shape {
-            Shape::Plane {
-                point, half_extent, ..
-            } => {
-                grow(
-                    &point.add_scalar(-half_extent.iter().fold(0.0, |a: Real, b| a.max(*b))),
-                    &point.add_scalar(half_extent.iter().fold(0.0, |a: Real, b| a.max(*b))),
-                );
-                half_extent
-                    .iter()
-                    .map(|h| 2.0 * (h / dp).floor() + 1.0)
-                    .product::<Real>()
-                    * n.wall_layers as Real
-            }
-            _ => {
-                let (mut lo, hi) = shape.bounds();
-                if let Shape::Terrain { .. } = shape {
-                    lo[D - 1] -= depth + dp;
-                }
-                grow(&lo, &hi);
-                shell_count(&shape, &lo, &hi, depth, dp, SAMPLES, &mut rng)
-            }
-        };
-    }
-    for c in &scene.containers {
-        let (lo, hi) = (Vect::<D>::from_iterator(c.min.iter().copied()), {
-            Vect::<D>::from_iterator(c.max.iter().copied())
-        });
-        let t = depth;
-        grow(&lo.add_scalar(-t), &hi.add_scalar(t));
-        let open: Vec<String> = c
-            .open
-            .clone()
-            .unwrap_or_else(|| vec![if D == 2 { "+y".into() } else { "+z".into() }]);
-        for a in 0..D {
-            for side in ["-", "+"] {
-                if open.contains(&format!("{side}{}", ["x", "y", "z"][a])) {
-                    continue;
-                }
-                // the face's box as the builder makes it: t thick along a, spanning the
-                // interior on higher axes and the corners on lower ones
-                let mut size = hi - lo;
-                size[a] = t;
-                for b in 0..a {
-                    size[b] += 2.0 * t;
-                }
-                walls += box_count(&size, dp);
-            }
-        }
-    }
-
-    let trim = (2.0 * n.smoothing_ratio + n.neighbor_skin + 1.0) * dp;
-    let mut bodies = Vec::new();
-    let mut largest_body_fill: Real = 0.0;
-    for (b, s) in scene
-        .bodies
-        .iter()
-        .zip(&solids[solids.len() - scene.bodies.len()..])
-    {
-        grow(&s.lo, &s.hi);
-        let (lo, hi) = s.shape.bounds();
-        let full = match s.shape.volume() {
-            Some(v) => v / cell_vol,
-            None => {
-                let mut inside = 0usize;
-                sample_box(&lo, &hi, BODY_SAMPLES, &mut rng, |p| {
-                    inside += (s.shape.sdf(p) < 0.0) as usize;
-                });
-                box_volume(&lo, &hi) * inside as Real / BODY_SAMPLES as Real / cell_vol
-            }
-        }
-        .max(2.0);
-        let kept = match b.model {
-            BodyModel::Elastic => full,
-            BodyModel::Rigid => {
-                shell_count(&s.shape, &lo, &hi, trim, dp, BODY_SAMPLES, &mut rng).clamp(2.0, full)
-            }
-        };
-        largest_body_fill = largest_body_fill.max(full);
-        bodies.push((b.name.clone(), kept));
-    }
+    let mut bounds = Bounds::<D>::new();
+    let solids = solids::<D>(scene);
+    let regions = count_regions(scene, &res, &solids, &mut rng, &mut bounds);
+    let walls = count_walls(scene, &mut rng, &mut bounds);
+    let (bodies, largest_body_fill) = count_bodies(scene, &res, &solids, &mut rng, &mut bounds);
+    let (lo_all, hi_all) = (bounds.lo, bounds.hi);
 
     // the domain: everything plus the builder's margin; one cell per list radius
     let radius = (2.0 * n.smoothing_ratio + n.neighbor_skin) * dp;
@@ -287,6 +139,208 @@ fn estimate_in<const D: usize>(scene: &Scene) -> Estimate {
         + largest_body_fill * BODY_FILL_BYTES_PER_DIM * D as Real
         + grids * 4.0 * cells;
     e
+}
+
+/// The box around everything counted so far.
+struct Bounds<const D: usize> {
+    lo: Vect<D>,
+    hi: Vect<D>,
+}
+
+impl<const D: usize> Bounds<D> {
+    fn new() -> Self {
+        Bounds {
+            lo: Vect::<D>::repeat(Real::INFINITY),
+            hi: Vect::<D>::repeat(Real::NEG_INFINITY),
+        }
+    }
+    fn grow(&mut self, lo: &Vect<D>, hi: &Vect<D>) {
+        self.lo = self.lo.inf(lo);
+        self.hi = self.hi.sup(hi);
+    }
+}
+
+/// Solids as the builder sees them: non-plane walls and barriers, then bodies.
+fn solids<const D: usize>(scene: &Scene) -> Vec<Solid<D>> {
+    let mut solids: Vec<Solid<D>> = Vec::new();
+    for w in scene.walls.iter().chain(&scene.barriers) {
+        if !matches!(w.shape, ShapeSpec::Plane { .. }) {
+            let shape = Shape::<D>::from_spec(&w.shape, &scene.assets);
+            let (lo, hi) = shape.bounds();
+            solids.push(Solid {
+                shape,
+                pose: None,
+                lo,
+                hi,
+            });
+        }
+    }
+    for b in &scene.bodies {
+        let shape = Shape::<D>::from_spec(&b.shape, &scene.assets);
+        let c = shape.center();
+        let (lo, hi) = shape.bounds();
+        // any rotation about the centre stays inside the bounding ball
+        let r = (hi - lo).norm() * 0.5;
+        solids.push(Solid {
+            pose: Some((to3(&c), spec_rotation(b, D))),
+            shape,
+            lo: c.add_scalar(-r),
+            hi: c.add_scalar(r),
+        });
+    }
+
+    solids
+}
+
+/// Fine particles of each region: exact for boxes and shapes with a volume away from
+/// solids, else sampled.
+fn count_regions<const D: usize>(
+    scene: &Scene,
+    res: &Resolution,
+    solids: &[Solid<D>],
+    rng: &mut Rng,
+    bounds: &mut Bounds<D>,
+) -> Vec<(String, Real)> {
+    let (dp, cell_vol) = (res.dp, res.volume);
+    let margin = 0.5 * dp * (1.0 - 1e-6);
+    let mut regions = Vec::new();
+    for r in &scene.regions {
+        let shape = Shape::<D>::from_spec(&r.shape, &scene.assets);
+        let (lo, hi) = shape.bounds();
+        bounds.grow(&lo, &hi);
+        let near: Vec<&Solid<D>> = solids
+            .iter()
+            .filter(|s| overlaps(&s.lo.add_scalar(-dp), &s.hi.add_scalar(dp), &lo, &hi))
+            .collect();
+        let exact = match &shape {
+            Shape::Box { min, max } => Some(box_count(&(max - min), dp)),
+            _ => shape.volume().map(|v| v / cell_vol),
+        };
+        let count = if exact.is_some() && near.is_empty() {
+            exact.unwrap_or(0.0)
+        } else {
+            let (mut inside, mut kept) = (0usize, 0usize);
+            sample_box(&lo, &hi, SAMPLES, rng, |p| {
+                if shape.sdf(p) < 0.0 {
+                    inside += 1;
+                    if !near.iter().any(|s| s.sdf(p) < margin) {
+                        kept += 1;
+                    }
+                }
+            });
+            match exact {
+                Some(e) if inside > 0 => e * kept as Real / inside as Real,
+                Some(e) => e,
+                None => box_volume(&lo, &hi) * kept as Real / SAMPLES as Real / cell_vol,
+            }
+        };
+        regions.push((r.name.clone(), count));
+    }
+
+    regions
+}
+
+/// Wall particles of walls, barriers and container faces.
+fn count_walls<const D: usize>(scene: &Scene, rng: &mut Rng, bounds: &mut Bounds<D>) -> Real {
+    let (dp, n) = (scene.simulation.dp, &scene.numerics);
+    let depth = n.wall_layers as Real * dp;
+    let mut walls = 0.0;
+    for w in scene.walls.iter().chain(&scene.barriers) {
+        let shape = Shape::<D>::from_spec(&w.shape, &scene.assets);
+        walls += match &shape {
+            Shape::Plane {
+                point, half_extent, ..
+            } => {
+                bounds.grow(
+                    &point.add_scalar(-half_extent.iter().fold(0.0, |a: Real, b| a.max(*b))),
+                    &point.add_scalar(half_extent.iter().fold(0.0, |a: Real, b| a.max(*b))),
+                );
+                half_extent
+                    .iter()
+                    .map(|h| 2.0 * (h / dp).floor() + 1.0)
+                    .product::<Real>()
+                    * n.wall_layers as Real
+            }
+            _ => {
+                let (mut lo, hi) = shape.bounds();
+                if let Shape::Terrain { .. } = shape {
+                    lo[D - 1] -= depth + dp;
+                }
+                bounds.grow(&lo, &hi);
+                shell_count(&shape, &lo, &hi, depth, dp, SAMPLES, rng)
+            }
+        };
+    }
+    for c in &scene.containers {
+        let (lo, hi) = (Vect::<D>::from_iterator(c.min.iter().copied()), {
+            Vect::<D>::from_iterator(c.max.iter().copied())
+        });
+        let t = depth;
+        bounds.grow(&lo.add_scalar(-t), &hi.add_scalar(t));
+        let open: Vec<String> = c
+            .open
+            .clone()
+            .unwrap_or_else(|| vec![if D == 2 { "+y".into() } else { "+z".into() }]);
+        for a in 0..D {
+            for side in ["-", "+"] {
+                if open.contains(&format!("{side}{}", ["x", "y", "z"][a])) {
+                    continue;
+                }
+                // the face's box as the builder makes it: t thick along a, spanning the
+                // interior on higher axes and the corners on lower ones
+                let mut size = hi - lo;
+                size[a] = t;
+                for b in 0..a {
+                    size[b] += 2.0 * t;
+                }
+                walls += box_count(&size, dp);
+            }
+        }
+    }
+
+    walls
+}
+
+/// Coarse particles of each body (a rigid body keeps a shell), and the largest fill.
+fn count_bodies<const D: usize>(
+    scene: &Scene,
+    res: &Resolution,
+    solids: &[Solid<D>],
+    rng: &mut Rng,
+    bounds: &mut Bounds<D>,
+) -> (Vec<(String, Real)>, Real) {
+    let (dp, cell_vol, trim) = (res.dp, res.volume, res.trim);
+    let mut bodies = Vec::new();
+    let mut largest_body_fill: Real = 0.0;
+    for (b, s) in scene
+        .bodies
+        .iter()
+        .zip(&solids[solids.len() - scene.bodies.len()..])
+    {
+        bounds.grow(&s.lo, &s.hi);
+        let (lo, hi) = s.shape.bounds();
+        let full = match s.shape.volume() {
+            Some(v) => v / cell_vol,
+            None => {
+                let mut inside = 0usize;
+                sample_box(&lo, &hi, BODY_SAMPLES, rng, |p| {
+                    inside += (s.shape.sdf(p) < 0.0) as usize;
+                });
+                box_volume(&lo, &hi) * inside as Real / BODY_SAMPLES as Real / cell_vol
+            }
+        }
+        .max(2.0);
+        let kept = match b.model {
+            BodyModel::Elastic => full,
+            BodyModel::Rigid => {
+                shell_count(&s.shape, &lo, &hi, trim, dp, BODY_SAMPLES, rng).clamp(2.0, full)
+            }
+        };
+        largest_body_fill = largest_body_fill.max(full);
+        bodies.push((b.name.clone(), kept));
+    }
+
+    (bodies, largest_body_fill)
 }
 
 /// Bytes per lattice point while a body is filled: each of the 2^D candidate lattices

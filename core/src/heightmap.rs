@@ -2,6 +2,7 @@
 //! (negative below the ground), for terrain walls.
 
 use crate::math::Real;
+use crate::shape_file::{FormatError, ShapeFileError};
 
 /// A regular elevation grid.
 #[derive(Clone, Debug)]
@@ -19,10 +20,13 @@ pub struct Heightmap {
 }
 
 impl Heightmap {
-    pub fn load(path: &std::path::Path) -> Result<Self, String> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-        parse_esri_ascii(&text).map_err(|e| format!("{}: {e}", path.display()))
+    pub fn load(path: &std::path::Path) -> Result<Self, ShapeFileError> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| ShapeFileError::Read {
+            file: file.clone(),
+            source,
+        })?;
+        parse_esri_ascii(&text).map_err(|error| ShapeFileError::Format { file, error })
     }
 
     /// Height at (x, y), bilinear, clamped to the grid's edge beyond it.
@@ -64,7 +68,8 @@ impl Heightmap {
 /// `xllcenter`, `yllcorner` or `yllcenter`, `cellsize`, optional `nodata_value`) and
 /// `nrows` rows of `ncols` values, north first. NODATA cells are not allowed in
 /// terrain walls.
-pub fn parse_esri_ascii(text: &str) -> Result<Heightmap, String> {
+pub fn parse_esri_ascii(text: &str) -> Result<Heightmap, FormatError> {
+    let whole = FormatError::Whole;
     let mut tokens = text.split_whitespace().peekable();
     let mut head = std::collections::BTreeMap::new();
     while let Some(t) = tokens.peek() {
@@ -74,45 +79,48 @@ pub fn parse_esri_ascii(text: &str) -> Result<Heightmap, String> {
         let key = tokens.next().unwrap_or_default().to_ascii_lowercase();
         let val: f64 = tokens
             .next()
-            .ok_or_else(|| format!("header `{key}` has no value"))?
+            .ok_or_else(|| whole(format!("header `{key}` has no value")))?
             .parse()
-            .map_err(|_| format!("header `{key}` is not a number"))?;
+            .map_err(|_| whole(format!("header `{key}` is not a number")))?;
         head.insert(key, val);
     }
     let get = |k: &str| head.get(k).copied();
-    let ncols = get("ncols").ok_or("missing header `ncols`")? as usize;
-    let nrows = get("nrows").ok_or("missing header `nrows`")? as usize;
-    let cell = get("cellsize").ok_or("missing header `cellsize`")?;
+    let ncols = get("ncols").ok_or_else(|| whole("missing header `ncols`".into()))? as usize;
+    let nrows = get("nrows").ok_or_else(|| whole("missing header `nrows`".into()))? as usize;
+    let cell = get("cellsize").ok_or_else(|| whole("missing header `cellsize`".into()))?;
     if ncols < 2 || nrows < 2 || cell.is_nan() || cell <= 0.0 {
-        return Err("need ncols ≥ 2, nrows ≥ 2 and cellsize > 0".into());
+        return Err(whole("need ncols ≥ 2, nrows ≥ 2 and cellsize > 0".into()));
     }
     let x0 = match (get("xllcenter"), get("xllcorner")) {
         (Some(c), _) => c,
         (None, Some(c)) => c + 0.5 * cell,
-        _ => return Err("missing header `xllcorner` or `xllcenter`".into()),
+        _ => return Err(whole("missing header `xllcorner` or `xllcenter`".into())),
     };
     let y0 = match (get("yllcenter"), get("yllcorner")) {
         (Some(c), _) => c,
         (None, Some(c)) => c + 0.5 * cell,
-        _ => return Err("missing header `yllcorner` or `yllcenter`".into()),
+        _ => return Err(whole("missing header `yllcorner` or `yllcenter`".into())),
     };
     let nodata = get("nodata_value");
     let vals: Vec<f64> = tokens
-        .map(|t| t.parse::<f64>().map_err(|_| format!("bad elevation `{t}`")))
+        .map(|t| {
+            t.parse::<f64>()
+                .map_err(|_| whole(format!("bad elevation `{t}`")))
+        })
         .collect::<Result<_, _>>()?;
     if vals.len() != ncols * nrows {
-        return Err(format!(
+        return Err(whole(format!(
             "expected {} elevations ({nrows} rows × {ncols} columns), found {}",
             ncols * nrows,
             vals.len()
-        ));
+        )));
     }
     let mut z = vec![0.0; ncols * nrows];
     for r in 0..nrows {
         for c in 0..ncols {
             let v = vals[r * ncols + c];
             if Some(v) == nodata || !v.is_finite() {
-                return Err(format!("NODATA at row {}, column {}", r + 1, c + 1));
+                return Err(whole(format!("NODATA at row {}, column {}", r + 1, c + 1)));
             }
             // file row 0 is the north edge
             z[(nrows - 1 - r) * ncols + c] = v;

@@ -3,6 +3,7 @@
 //! and any orientation of the triangles), and the enclosed volume.
 
 use crate::math::Real;
+use crate::shape_file::{FormatError, ShapeFileError};
 use nalgebra::Vector3;
 use std::f64::consts::PI;
 
@@ -17,19 +18,21 @@ pub struct TriMesh {
 }
 
 impl TriMesh {
-    fn new(tris: Vec<[V3; 3]>) -> Result<Self, String> {
+    fn new(tris: Vec<[V3; 3]>) -> Result<Self, FormatError> {
         if tris.len() < 4 {
-            return Err(format!(
+            return Err(FormatError::Whole(format!(
                 "a closed mesh needs at least 4 triangles, found {}",
                 tris.len()
-            ));
+            )));
         }
         let mut lo = V3::repeat(Real::INFINITY);
         let mut hi = V3::repeat(Real::NEG_INFINITY);
         for t in &tris {
             for v in t {
                 if !v.iter().all(|x| x.is_finite()) {
-                    return Err("a vertex coordinate is not a finite number".into());
+                    return Err(FormatError::Whole(
+                        "a vertex coordinate is not a finite number".into(),
+                    ));
                 }
                 lo = lo.inf(v);
                 hi = hi.sup(v);
@@ -39,9 +42,12 @@ impl TriMesh {
     }
 
     /// Read an `.obj` or `.stl` (ASCII or binary) file, chosen by extension.
-    pub fn load(path: &std::path::Path) -> Result<Self, String> {
-        let bytes =
-            std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    pub fn load(path: &std::path::Path) -> Result<Self, ShapeFileError> {
+        let file = path.display().to_string();
+        let bytes = std::fs::read(path).map_err(|source| ShapeFileError::Read {
+            file: file.clone(),
+            source,
+        })?;
         let ext = path
             .extension()
             .and_then(|e| e.to_str())
@@ -50,9 +56,9 @@ impl TriMesh {
         match ext.as_str() {
             "obj" => parse_obj(&String::from_utf8_lossy(&bytes)),
             "stl" => parse_stl(&bytes),
-            _ => Err(format!("unknown mesh format `.{ext}`; use .obj or .stl")),
+            _ => return Err(ShapeFileError::UnknownFormat { file, ext }),
         }
-        .map_err(|e| format!("{}: {e}", path.display()))
+        .map_err(|error| ShapeFileError::Format { file, error })
     }
 
     /// Generalised winding number at `p` (≈ 1 inside, 0 outside).
@@ -155,7 +161,7 @@ fn point_triangle_distance2(p: &V3, t: &[V3; 3]) -> Real {
 
 /// Wavefront OBJ: `v x y z` and `f i j k …` (polygons fanned into triangles; `i/t/n`
 /// and negative indices accepted).
-pub fn parse_obj(text: &str) -> Result<TriMesh, String> {
+pub fn parse_obj(text: &str) -> Result<TriMesh, FormatError> {
     let mut verts: Vec<V3> = Vec::new();
     let mut tris = Vec::new();
     for (ln, line) in text.lines().enumerate() {
@@ -166,9 +172,9 @@ pub fn parse_obj(text: &str) -> Result<TriMesh, String> {
                     .take(3)
                     .map(|s| s.parse::<Real>())
                     .collect::<Result<_, _>>()
-                    .map_err(|e| format!("line {}: bad vertex: {e}", ln + 1))?;
+                    .map_err(|e| FormatError::at(ln, format!("bad vertex: {e}")))?;
                 if c.len() != 3 {
-                    return Err(format!("line {}: a vertex needs 3 coordinates", ln + 1));
+                    return Err(FormatError::at(ln, "a vertex needs 3 coordinates"));
                 }
                 verts.push(V3::new(c[0], c[1], c[2]));
             }
@@ -178,15 +184,15 @@ pub fn parse_obj(text: &str) -> Result<TriMesh, String> {
                     let first = tok.split('/').next().unwrap_or("");
                     let i: i64 = first
                         .parse()
-                        .map_err(|_| format!("line {}: bad face index `{tok}`", ln + 1))?;
+                        .map_err(|_| FormatError::at(ln, format!("bad face index `{tok}`")))?;
                     let k = if i < 0 { verts.len() as i64 + i } else { i - 1 };
                     if k < 0 || k as usize >= verts.len() {
-                        return Err(format!("line {}: face index {i} out of range", ln + 1));
+                        return Err(FormatError::at(ln, format!("face index {i} out of range")));
                     }
                     idx.push(k as usize);
                 }
                 if idx.len() < 3 {
-                    return Err(format!("line {}: a face needs 3 vertices", ln + 1));
+                    return Err(FormatError::at(ln, "a face needs 3 vertices"));
                 }
                 for k in 1..idx.len() - 1 {
                     tris.push([verts[idx[0]], verts[idx[k]], verts[idx[k + 1]]]);
@@ -199,7 +205,7 @@ pub fn parse_obj(text: &str) -> Result<TriMesh, String> {
 }
 
 /// STL, binary or ASCII.
-pub fn parse_stl(bytes: &[u8]) -> Result<TriMesh, String> {
+pub fn parse_stl(bytes: &[u8]) -> Result<TriMesh, FormatError> {
     if bytes.len() >= 84 {
         let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
         if 84 + 50 * n == bytes.len() {
@@ -229,9 +235,9 @@ pub fn parse_stl(bytes: &[u8]) -> Result<TriMesh, String> {
                 .take(3)
                 .map(|s| s.parse::<Real>())
                 .collect::<Result<_, _>>()
-                .map_err(|e| format!("line {}: bad vertex: {e}", ln + 1))?;
+                .map_err(|e| FormatError::at(ln, format!("bad vertex: {e}")))?;
             if c.len() != 3 {
-                return Err(format!("line {}: a vertex needs 3 coordinates", ln + 1));
+                return Err(FormatError::at(ln, "a vertex needs 3 coordinates"));
             }
             cur.push(V3::new(c[0], c[1], c[2]));
             if cur.len() == 3 {

@@ -9,22 +9,41 @@
 use crate::any::AnySimulation;
 use crate::simulation::Simulation;
 
+/// A saved state that does not fit the scene it is restored into.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum StateMismatch {
+    #[error("the saved state's walls differ from the scene's")]
+    Walls,
+    #[error("the saved state's barriers or bodies differ from the scene's")]
+    BarriersOrBodies,
+    #[error(
+        "the saved state's {0} fine particles have arrays of other lengths or unknown materials"
+    )]
+    FineArrays(usize),
+    #[error("the saved state's {0} coarse particles have arrays of other lengths")]
+    CoarseArrays(usize),
+    #[error("the saved state's wall particles are inconsistent")]
+    WallParticles,
+    #[error("the saved state is {state}D, the scene {scene}D")]
+    Dimension { state: usize, scene: usize },
+}
+
 impl<const D: usize> Simulation<D> {
     /// Take the wall shapes from `template`, a simulation of the same scene, and check
     /// that this state fits it: same walls, barriers and bodies, and every per-particle
     /// array of one length.
-    pub fn take_static_from(&mut self, template: &Simulation<D>) -> Result<(), String> {
+    pub fn take_static_from(&mut self, template: &Simulation<D>) -> Result<(), StateMismatch> {
         let (w, t) = (&mut self.world, &template.world);
         let names = |o: &[crate::walls::WallObject<D>]| -> Vec<String> {
             o.iter().map(|o| o.name.clone()).collect()
         };
         if names(&w.walls.objects) != names(&t.walls.objects) {
-            return Err("the saved state's walls differ from the scene's".into());
+            return Err(StateMismatch::Walls);
         }
         if w.walls.barriers.len() != t.walls.barriers.len()
             || w.coarse.bodies.len() != t.coarse.bodies.len()
         {
-            return Err("the saved state's barriers or bodies differ from the scene's".into());
+            return Err(StateMismatch::BarriersOrBodies);
         }
         let f = &w.fine;
         let n = f.pos.len();
@@ -43,10 +62,7 @@ impl<const D: usize> Simulation<D> {
         ];
         let materials = w.materials.len();
         if lens.iter().any(|&l| l != n) || f.material.iter().any(|&m| m as usize >= materials) {
-            return Err(format!(
-                "the saved state's {n} fine particles have arrays of other lengths or \
-                 unknown materials"
-            ));
+            return Err(StateMismatch::FineArrays(n));
         }
         let c = &w.coarse.particles;
         let nc = c.pos.len();
@@ -56,12 +72,10 @@ impl<const D: usize> Simulation<D> {
             .any(|&l| l != nc)
             || c.body.iter().any(|&b| b as usize >= bodies)
         {
-            return Err(format!(
-                "the saved state's {nc} coarse particles have arrays of other lengths"
-            ));
+            return Err(StateMismatch::CoarseArrays(nc));
         }
         if w.walls.pos.len() != w.walls.object.len() {
-            return Err("the saved state's wall particles are inconsistent".into());
+            return Err(StateMismatch::WallParticles);
         }
         for (o, from) in w.walls.objects.iter_mut().zip(&t.walls.objects) {
             o.shape = from.shape.clone();
@@ -72,15 +86,14 @@ impl<const D: usize> Simulation<D> {
 
 impl AnySimulation {
     /// [`Simulation::take_static_from`] for either dimension.
-    pub fn take_static_from(&mut self, template: &AnySimulation) -> Result<(), String> {
+    pub fn take_static_from(&mut self, template: &AnySimulation) -> Result<(), StateMismatch> {
         match (self, template) {
             (AnySimulation::D2(s), AnySimulation::D2(t)) => s.take_static_from(t),
             (AnySimulation::D3(s), AnySimulation::D3(t)) => s.take_static_from(t),
-            (s, t) => Err(format!(
-                "the saved state is {}D, the scene {}D",
-                s.dimension(),
-                t.dimension()
-            )),
+            (s, t) => Err(StateMismatch::Dimension {
+                state: s.dimension(),
+                scene: t.dimension(),
+            }),
         }
     }
 }

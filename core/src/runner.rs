@@ -4,6 +4,7 @@
 use crate::guard::Blowup;
 use crate::sample::Sample;
 use crate::scene::SimulationSpec;
+use crate::step::land_on;
 use crate::AnySimulation;
 
 /// How a run ended.
@@ -38,15 +39,8 @@ pub fn run(
     let mut k = 1u64;
     loop {
         let target = (k as f64 * spec.output_interval).min(end);
-        while sim.time() < target {
-            let remaining = target - sim.time();
-            if remaining <= 1e-12 * target {
-                break;
-            }
-            if let Err(b) = sim.step(remaining) {
-                return RunEnd::Blowup(b);
-            }
-            on_step(sim);
+        if let Err(b) = land_on(sim, target, &mut on_step) {
+            return RunEnd::Blowup(b);
         }
         let s = sim.sample();
         if !on_sample(sim, &s) {

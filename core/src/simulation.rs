@@ -6,9 +6,10 @@ use crate::guard::Blowup;
 use crate::load::Load;
 use crate::math::{to3, Real, Vect};
 use crate::observe::{self, RunoutSpec};
+use crate::resolution::Resolution;
 pub use crate::sample::{BarrierSample, BodySample, Frame, ParticleState, ProbeValue, Sample};
 use crate::scene::Scene;
-use crate::step::{choose_step, StepParams, StepStats, Stepper};
+use crate::step::{choose_step, land_on, StepParams, StepStats, Stepper, Stepping};
 use crate::world::World;
 
 /// One simulation in `D` dimensions. Cloning copies the whole state (world, stepper
@@ -45,10 +46,17 @@ fn arr<const D: usize>(v: &Vect<D>) -> [f32; 3] {
 }
 
 impl<const D: usize> Simulation<D> {
+    /// Build from a validated scene. Everything the run needs of the scene is read
+    /// here, before the world is built; nothing reads the scene afterwards.
     pub fn new(scene: &Scene) -> Result<Self, BuildError> {
-        let world = World::<D>::build(scene)?;
-        let stepper = Stepper::new(&world, scene, StepParams::from_scene(scene));
-        let origin = scene.observe.runout_origin.clone().unwrap_or_else(|| {
+        let resolution = Resolution::of::<D>(scene);
+        let params = StepParams::from_scene(scene, &resolution);
+        let origin = scene.observe.runout_origin.clone();
+        let direction = scene.observe.runout_direction.unwrap_or(1.0);
+        let dt_cap = scene.simulation.output_interval;
+        let world = World::<D>::build(scene, resolution)?;
+        let stepper = Stepper::new(&world, params);
+        let origin = origin.unwrap_or_else(|| {
             // default: the horizontal centre of the initial particles (3D) or min x (2D)
             let n = world.fine.len().max(1) as Real;
             if D == 2 {
@@ -63,10 +71,7 @@ impl<const D: usize> Simulation<D> {
                 vec![c[0], c[1]]
             }
         });
-        let runout = RunoutSpec {
-            origin,
-            direction: scene.observe.runout_direction.unwrap_or(1.0),
-        };
+        let runout = RunoutSpec { origin, direction };
         let nb = world.walls.barriers.len();
         let slots = world.walls.load_slots();
         let bodies = world.coarse.bodies.len();
@@ -80,7 +85,7 @@ impl<const D: usize> Simulation<D> {
             peak: vec![0.0; nb],
             interval_start: 0.0,
             last_dt: 0.0,
-            dt_cap: scene.simulation.output_interval,
+            dt_cap,
             last_dt_f: 0.0,
             last_dt_c: 0.0,
             last_kappa: 1,
@@ -131,48 +136,15 @@ impl<const D: usize> Simulation<D> {
     }
 
     fn advance_to_here(&mut self, t: Real) -> Result<(), Blowup> {
-        while self.world.time < t {
-            let remaining = t - self.world.time;
-            if remaining <= 1e-12 * t.abs().max(1e-300) {
-                self.world.time = t;
-                break;
-            }
-            self.step(remaining)?;
-            if t - self.world.time < 0.0 {
-                self.world.time = t;
-            }
-        }
-        Ok(())
+        land_on(self, t, &mut |_| {})
     }
 
     /// Observations now; barrier loads are averaged since the previous sample.
     pub fn sample(&mut self) -> Sample {
         let w = &self.world;
         let span = w.time - self.interval_start;
-        let barriers = w
-            .walls
-            .barriers
-            .iter()
-            .enumerate()
-            .map(|(b, bar)| {
-                let inv = if span > 0.0 { 1.0 / span } else { 0.0 };
-                let l = &self.stepper.step_loads[b];
-                BarrierSample {
-                    name: bar.name.clone(),
-                    force: (self.impulse[b].force * inv).into(),
-                    moment: (self.impulse[b].moment * inv).into(),
-                    peak_force: self.peak[b],
-                    last_force: l.force.into(),
-                    panels: if bar.panels.is_empty() {
-                        Vec::new()
-                    } else {
-                        (0..w.walls.panel_count(b))
-                            .map(|i| (self.panel_impulse[bar.slot0 + i].force * inv).into())
-                            .collect()
-                    },
-                }
-            })
-            .collect();
+        let inv = if span > 0.0 { 1.0 / span } else { 0.0 };
+        let barriers = self.barrier_samples(inv);
         let probes = w
             .probes
             .iter()
@@ -183,29 +155,7 @@ impl<const D: usize> Simulation<D> {
                 )
             })
             .collect();
-        let bodies = w
-            .coarse
-            .bodies
-            .iter()
-            .zip(&self.body_impulse)
-            .map(|(b, imp)| {
-                let inv = if span > 0.0 { 1.0 / span } else { 0.0 };
-                let q = b.orientation.quaternion();
-                BodySample {
-                    name: b.name.clone(),
-                    position: b.com.into(),
-                    orientation: [q.w, q.i, q.j, q.k],
-                    velocity: b.vel.into(),
-                    angular_velocity: b.omega.into(),
-                    force: b.force.into(),
-                    torque: b.torque.into(),
-                    fine_force: b.fine_force.into(),
-                    mean_force: (imp.force * inv).into(),
-                    mean_torque: (imp.moment * inv).into(),
-                    contacts: b.contacts,
-                }
-            })
-            .collect();
+        let bodies = self.body_samples(inv);
         let cp = &w.coarse.particles;
         let coarse_ke: Real = (0..cp.len())
             .map(|i| 0.5 * cp.mass[i] * cp.vel[i].norm_squared())
@@ -225,7 +175,7 @@ impl<const D: usize> Simulation<D> {
                 c.steps,
                 self.last_kappa,
                 c.tlsph
-                    .strain_energy(cp, &w.coarse.bodies, &w.coarse.solids, w.dp.powi(D as i32)),
+                    .strain_energy(cp, &w.coarse.bodies, &w.coarse.solids, w.resolution.volume),
                 c.contacts.energy,
             ),
             None => (0, 1, 0.0, 0.0),
@@ -242,7 +192,7 @@ impl<const D: usize> Simulation<D> {
             dt: self.last_dt,
             kinetic_energy: observe::kinetic_energy(&w.fine),
             potential_energy: observe::potential_energy(&w.fine, &w.gravity),
-            runout: observe::runout(&w.fine, &coarse_volumes, &self.runout, w.dp),
+            runout: observe::runout(&w.fine, &coarse_volumes, &self.runout, w.resolution.dp),
             max_speed: self.stepper.vmax(),
             barriers,
             probes,
@@ -268,6 +218,59 @@ impl<const D: usize> Simulation<D> {
         }
         self.interval_start = w.time;
         s
+    }
+
+    /// Each barrier's loads over the sampling interval (`inv` = 1 / its length).
+    fn barrier_samples(&self, inv: Real) -> Vec<BarrierSample> {
+        let w = &self.world;
+        w.walls
+            .barriers
+            .iter()
+            .enumerate()
+            .map(|(b, bar)| {
+                let l = &self.stepper.step_loads[b];
+                BarrierSample {
+                    name: bar.name.clone(),
+                    force: (self.impulse[b].force * inv).into(),
+                    moment: (self.impulse[b].moment * inv).into(),
+                    peak_force: self.peak[b],
+                    last_force: l.force.into(),
+                    panels: if bar.panels.is_empty() {
+                        Vec::new()
+                    } else {
+                        (0..w.walls.panel_count(b))
+                            .map(|i| (self.panel_impulse[bar.slot0 + i].force * inv).into())
+                            .collect()
+                    },
+                }
+            })
+            .collect()
+    }
+
+    /// Each body's state, with its loads averaged over the sampling interval.
+    fn body_samples(&self, inv: Real) -> Vec<BodySample> {
+        self.world
+            .coarse
+            .bodies
+            .iter()
+            .zip(&self.body_impulse)
+            .map(|(b, imp)| {
+                let q = b.orientation.quaternion();
+                BodySample {
+                    name: b.name.clone(),
+                    position: b.com.into(),
+                    orientation: [q.w, q.i, q.j, q.k],
+                    velocity: b.vel.into(),
+                    angular_velocity: b.omega.into(),
+                    force: b.force.into(),
+                    torque: b.torque.into(),
+                    fine_force: b.fine_force.into(),
+                    mean_force: (imp.force * inv).into(),
+                    mean_torque: (imp.moment * inv).into(),
+                    contacts: b.contacts,
+                }
+            })
+            .collect()
     }
 
     /// The loads the barriers carry in the current state, without advancing it: the
@@ -380,5 +383,17 @@ impl<const D: usize> Simulation<D> {
             coarse_body: self.world.coarse.particles.body.clone(),
             coarse_fine_force: self.world.coarse.particles.f_fine.iter().map(arr).collect(),
         }
+    }
+}
+
+impl<const D: usize> Stepping for Simulation<D> {
+    fn now(&self) -> Real {
+        self.world.time
+    }
+    fn set_now(&mut self, t: Real) {
+        self.world.time = t;
+    }
+    fn step_at_most(&mut self, max_dt: Real) -> Result<StepStats, Blowup> {
+        self.step(max_dt)
     }
 }

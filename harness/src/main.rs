@@ -123,7 +123,7 @@ fn main() -> ExitCode {
 /// Stack of the pool's threads, which run the whole command (the main thread's size).
 const WORKER_STACK: usize = 8 << 20;
 
-fn parse_size(text: &str) -> Result<f64, String> {
+fn parse_size(text: &str) -> Result<f64, granmix_core::budget::SizeError> {
     granmix_core::budget::parse_bytes(text)
 }
 

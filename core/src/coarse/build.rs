@@ -6,8 +6,9 @@ use super::material::SolidMaterial;
 use super::particles::CoarseParticles;
 use crate::build_error::BuildError;
 use crate::geometry::Shape;
-use crate::math::{from3, to3, Real};
-use crate::scene::{spec_rotation, BodyModel, Scene};
+use crate::math::{from3, to3, Real, Vect};
+use crate::resolution::Resolution;
+use crate::scene::{spec_rotation, BodyModel, BodySpec, Scene};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 /// Coarse grains of a scene.
@@ -23,16 +24,15 @@ impl<const D: usize> Coarse<D> {
         self.bodies.is_empty()
     }
 
-    /// Build all bodies of `scene`. `trim_depth`: rigid-body particles deeper than
-    /// this below the surface are dropped after the mass properties are taken (they
-    /// never meet a fine particle or a contact).
-    pub fn build(scene: &Scene, trim_depth: Real) -> Result<Self, BuildError> {
-        let dp = scene.simulation.dp;
+    /// Build all bodies of `scene` at resolution `res`. Rigid-body particles deeper than
+    /// `res.trim` below the surface are dropped after the mass properties are taken
+    /// (they never meet a fine particle or a contact).
+    pub fn build(scene: &Scene, res: &Resolution) -> Result<Self, BuildError> {
+        let (dp, vol, trim_depth) = (res.dp, res.volume, res.trim);
         let solids: Vec<SolidMaterial> =
             scene.solids.iter().map(SolidMaterial::from_spec).collect();
         let mut particles = CoarseParticles::<D>::default();
         let mut bodies = Vec::new();
-        let vol = dp.powi(D as i32);
         for (bi, b) in scene.bodies.iter().enumerate() {
             let mi = scene
                 .solids
@@ -62,29 +62,9 @@ impl<const D: usize> Coarse<D> {
                 .map(|v| m.rho0 * v)
                 .unwrap_or(m.rho0 * vol * pts.len() as Real);
             let pm = mass / pts.len() as Real;
-            // centre of mass and inertia in the body frame (the unrotated shape about
-            // its centre of mass), each particle a cube/square of side dp
-            let com_local = pts
-                .iter()
-                .fold(Vector3::zeros(), |a, p| a + to3(p) - centre)
-                / pts.len() as Real;
-            let mut inertia = Matrix3::<Real>::zeros();
-            for p in &pts {
-                let r = to3(p) - centre - com_local;
-                inertia += (Matrix3::identity() * r.norm_squared() - r * r.transpose()) * pm;
-            }
-            inertia += Matrix3::identity() * (pm * dp * dp / 6.0);
+            let (com_local, inertia) = mass_properties(&pts, &centre, pm, dp);
             let com = centre + rot * com_local;
-            let mut vel = b.velocity.as_deref().map(v3).unwrap_or_else(Vector3::zeros);
-            let mut omega = match b.angular_velocity.as_deref() {
-                Some([w]) => Vector3::new(0.0, 0.0, *w),
-                Some(w) => v3(w),
-                None => Vector3::zeros(),
-            };
-            if b.fixed {
-                vel = Vector3::zeros();
-                omega = Vector3::zeros();
-            }
+            let (vel, omega) = initial_motion(b);
             let start = particles.len();
             for p in &pts {
                 let depth = -shape.sdf(p);
@@ -167,4 +147,41 @@ fn v3(x: &[f64]) -> Vector3<Real> {
         o[k] = *v;
     }
     o
+}
+
+/// Centre of mass (relative to the shape's centre) and inertia tensor about it, in the
+/// body frame (the unrotated shape), of particles of mass `pm`, each a cube (square) of
+/// side `dp`.
+fn mass_properties<const D: usize>(
+    pts: &[Vect<D>],
+    centre: &Vector3<Real>,
+    pm: Real,
+    dp: Real,
+) -> (Vector3<Real>, Matrix3<Real>) {
+    let com_local = pts
+        .iter()
+        .fold(Vector3::zeros(), |a, p| a + to3(p) - centre)
+        / pts.len() as Real;
+    let mut inertia = Matrix3::<Real>::zeros();
+    for p in pts {
+        let r = to3(p) - centre - com_local;
+        inertia += (Matrix3::identity() * r.norm_squared() - r * r.transpose()) * pm;
+    }
+    inertia += Matrix3::identity() * (pm * dp * dp / 6.0);
+    (com_local, inertia)
+}
+
+/// Initial velocity and angular velocity of body `b` (zero when it is fixed; a 2D
+/// angular velocity is about z).
+fn initial_motion(b: &BodySpec) -> (Vector3<Real>, Vector3<Real>) {
+    if b.fixed {
+        return (Vector3::zeros(), Vector3::zeros());
+    }
+    let vel = b.velocity.as_deref().map(v3).unwrap_or_else(Vector3::zeros);
+    let omega = match b.angular_velocity.as_deref() {
+        Some([w]) => Vector3::new(0.0, 0.0, *w),
+        Some(w) => v3(w),
+        None => Vector3::zeros(),
+    };
+    (vel, omega)
 }

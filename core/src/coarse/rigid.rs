@@ -103,7 +103,11 @@ shape = { type = "box", min = [0.0, 0.0, 0.0], max = [0.2, 0.1, 0.05] }
 angular_velocity = [1.0, 0.2, 3.0]
 "#;
         let scene = load_scene_str(text, "t.toml", &[]).unwrap().scene;
-        let mut c = Coarse::<3>::build(&scene, 1.0).unwrap();
+        let res = crate::resolution::Resolution {
+            trim: 1.0,
+            ..crate::resolution::Resolution::of::<3>(&scene)
+        };
+        let mut c = Coarse::<3>::build(&scene, &res).unwrap();
         let b = &mut c.bodies[0];
         let l0 = b.ang_mom;
         let e0 = b.rigid_kinetic_energy();

@@ -6,7 +6,7 @@ mod placement;
 mod rocks;
 
 use crate::assets::Assets;
-use crate::scene::{apply_overrides, at, parse, validate, Scene, SceneError, ShapeSpec};
+use crate::scene::{apply_overrides, at, parse, validate, KeyError, Scene, SceneError, ShapeSpec};
 use std::path::Path;
 
 /// A parsed, validated scene together with the text it came from.
@@ -82,7 +82,7 @@ fn shapes(scene: &Scene) -> Vec<(String, &ShapeSpec)> {
 
 /// Read the files named by the scene's shapes, relative to `dir`; an error names the
 /// key of the shape that names the file.
-fn read_assets(scene: &Scene, dir: &Path) -> Result<Assets, (String, String)> {
+fn read_assets(scene: &Scene, dir: &Path) -> Result<Assets, KeyError> {
     let mut a = Assets::default();
     for (path, s) in shapes(scene) {
         let read = match s {
@@ -90,7 +90,7 @@ fn read_assets(scene: &Scene, dir: &Path) -> Result<Assets, (String, String)> {
             ShapeSpec::Heightmap { file, .. } => a.read_grid(file, dir),
             _ => Ok(()),
         };
-        read.map_err(|e| (format!("{path}.file"), e))?;
+        read.map_err(|e| KeyError::new(format!("{path}.file"), e.to_string()))?;
     }
     Ok(a)
 }

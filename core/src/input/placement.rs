@@ -1,21 +1,21 @@
 //! Where regions lie: a region that no container can hold is refused at load.
 
 use crate::geometry::Shape;
-use crate::scene::{ContainerSpec, Scene};
+use crate::scene::{ContainerSpec, KeyError, Scene};
 
 const AXES: [&str; 3] = ["x", "y", "z"];
 
 /// Refuse a region lying entirely beyond a closed face of every container (its grains
 /// could never reach any container's inside). A region above an open face (poured in)
 /// or straddling a wall is accepted. Scenes without containers are not checked.
-pub fn check_regions(scene: &Scene) -> Result<(), (String, String)> {
+pub fn check_regions(scene: &Scene) -> Result<(), KeyError> {
     match scene.simulation.dimension {
         2 => check_in::<2>(scene),
         _ => check_in::<3>(scene),
     }
 }
 
-fn check_in<const D: usize>(scene: &Scene) -> Result<(), (String, String)> {
+fn check_in<const D: usize>(scene: &Scene) -> Result<(), KeyError> {
     if scene.containers.is_empty() {
         return Ok(());
     }
@@ -27,7 +27,7 @@ fn check_in<const D: usize>(scene: &Scene) -> Result<(), (String, String)> {
             .filter_map(|c| closed_face_beyond(c, lo.as_slice(), hi.as_slice(), D))
             .collect();
         if beyond.len() == scene.containers.len() {
-            return Err((
+            return Err(KeyError::new(
                 format!("regions[{i}].shape"),
                 format!(
                     "region `{}` lies entirely outside {}; move it inside or open that face",

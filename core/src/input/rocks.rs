@@ -4,12 +4,14 @@
 //! everything downstream sees plain bodies.
 
 use crate::geometry::Shape;
-use crate::scene::{validate_shape, BodySpec, RockFillReport, RockFillSpec, Scene, ShapeSpec};
+use crate::scene::{
+    validate_shape, BodySpec, KeyError, RockFillReport, RockFillSpec, Scene, ShapeSpec,
+};
 use std::f64::consts::PI;
 
 use crate::rng::Rng;
 
-type Fail = (String, String);
+type Fail = KeyError;
 
 /// Largest placement attempts per rock before the fill gives up.
 const ATTEMPTS: usize = 20_000;
@@ -129,7 +131,7 @@ pub fn expand(scene: &mut Scene) -> Result<(), Fail> {
 }
 
 fn check(scene: &Scene, p: &str, f: &RockFillSpec) -> Result<(), Fail> {
-    let bad = |k: &str, m: String| Err((format!("{p}.{k}"), m));
+    let bad = |k: &str, m: String| Err(KeyError::new(format!("{p}.{k}"), m));
     if scene.simulation.dimension != 2 {
         return bad(
             "region",
@@ -248,7 +250,7 @@ fn fill(
                 placed.push(r);
             }
             None => {
-                return Err((
+                return Err(KeyError::new(
                     format!("{p}.content"),
                     format!(
                         "could not place rock {} after {ATTEMPTS} tries: {} rocks make {:.1} % of the region, short of {:.1} %; lower content or size, or reduce clearance ({clearance} m)",

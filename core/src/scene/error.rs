@@ -1,9 +1,8 @@
 //! Scene errors: every one names the file, the key path and, when known, the line.
 
-use std::fmt;
-
 /// An error in a scene file or in a `--set` override.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{}", self.located())]
 pub struct SceneError {
     /// File the scene came from (or `<string>`).
     pub file: String,
@@ -14,18 +13,36 @@ pub struct SceneError {
     pub message: String,
 }
 
-impl fmt::Display for SceneError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.line {
-            Some(l) => write!(f, "{}:{}: ", self.file, l)?,
-            None => write!(f, "{}: ", self.file)?,
-        }
+impl SceneError {
+    /// `file:line: `key`: message`, leaving out what is not known.
+    fn located(&self) -> String {
+        let at = match self.line {
+            Some(l) => format!("{}:{}: ", self.file, l),
+            None => format!("{}: ", self.file),
+        };
         if self.path.is_empty() {
-            write!(f, "{}", self.message)
+            format!("{at}{}", self.message)
         } else {
-            write!(f, "`{}`: {}", self.path, self.message)
+            format!("{at}`{}`: {}", self.path, self.message)
         }
     }
 }
 
-impl std::error::Error for SceneError {}
+/// An error at a scene key, found before it is located in the file's text
+/// ([`at`](super::at) locates it into a [`SceneError`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("`{path}`: {message}")]
+pub struct KeyError {
+    /// Dotted key path, e.g. `regions[0].shape`.
+    pub path: String,
+    pub message: String,
+}
+
+impl KeyError {
+    pub fn new(path: impl Into<String>, message: impl Into<String>) -> Self {
+        KeyError {
+            path: path.into(),
+            message: message.into(),
+        }
+    }
+}

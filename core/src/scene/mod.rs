@@ -6,7 +6,7 @@ mod text;
 mod types;
 mod validate;
 
-pub use error::SceneError;
+pub use error::{KeyError, SceneError};
 pub use text::{apply_overrides, at, locate, parse};
 pub use types::*;
 pub use validate::{unknown_solid, validate, validate_shape};

@@ -1,6 +1,6 @@
 //! Scene text: `--set` overrides, strict deserialisation, and locating keys by line.
 
-use super::error::SceneError;
+use super::error::{KeyError, SceneError};
 use super::types::Scene;
 
 /// Deserialise scene text (strictly: unknown keys are errors) without validating it.
@@ -13,7 +13,7 @@ pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
 }
 
 /// The error `(key path, message)` found in scene text, located by line.
-pub fn at(text: &str, file: &str, (path, message): (String, String)) -> SceneError {
+pub fn at(text: &str, file: &str, KeyError { path, message }: KeyError) -> SceneError {
     SceneError {
         file: file.to_string(),
         line: locate(text, &path),

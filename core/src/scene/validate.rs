@@ -1,12 +1,13 @@
 //! Semantic checks on a deserialised scene. Errors carry the key path.
 
+use super::error::KeyError;
 use super::types::*;
 use std::collections::HashSet;
 
-type Check = Result<(), (String, String)>;
+type Check = Result<(), KeyError>;
 
-fn fail<T>(path: impl Into<String>, msg: impl Into<String>) -> Result<T, (String, String)> {
-    Err((path.into(), msg.into()))
+fn fail<T>(path: impl Into<String>, msg: impl Into<String>) -> Result<T, KeyError> {
+    Err(KeyError::new(path, msg))
 }
 
 fn vec_len(path: &str, v: &[f64], d: usize) -> Check {
@@ -80,28 +81,7 @@ pub fn validate_shape(path: &str, s: &ShapeSpec, d: usize) -> Check {
             vec_len(&format!("{path}.center"), center, d)?;
             positive(&format!("{path}.radius"), *radius)?;
         }
-        ShapeSpec::Polygon { vertices } => {
-            if d != 2 {
-                return fail(format!("{path}.type"), "a polygon needs a 2D scene");
-            }
-            if vertices.len() < 3 {
-                return fail(
-                    format!("{path}.vertices"),
-                    "a polygon needs at least 3 vertices",
-                );
-            }
-            for (i, v) in vertices.iter().enumerate() {
-                vec_len(&format!("{path}.vertices[{i}]"), v, 2)?;
-            }
-            let mut area = 0.0;
-            for i in 0..vertices.len() {
-                let (a, b) = (&vertices[i], &vertices[(i + 1) % vertices.len()]);
-                area += a[0] * b[1] - b[0] * a[1];
-            }
-            if area.abs() < 1e-300 {
-                return fail(format!("{path}.vertices"), "polygon has zero area");
-            }
-        }
+        ShapeSpec::Polygon { vertices } => validate_polygon(path, vertices, d)?,
         ShapeSpec::Polyhedron { vertices } => {
             if d != 3 {
                 return fail(
@@ -153,26 +133,61 @@ pub fn validate_shape(path: &str, s: &ShapeSpec, d: usize) -> Check {
             point,
             normal,
             half_extent,
-        } => {
-            vec_len(&format!("{path}.point"), point, d)?;
-            vec_len(&format!("{path}.normal"), normal, d)?;
-            if normal.iter().map(|x| x * x).sum::<f64>() < 1e-24 {
-                return fail(format!("{path}.normal"), "normal must be non-zero");
-            }
-            if half_extent.len() != d - 1 {
-                return fail(
-                    format!("{path}.half_extent"),
-                    format!(
-                        "expected {} value(s) for a {d}D plane patch, found {:?}",
-                        d - 1,
-                        half_extent.len()
-                    ),
-                );
-            }
-            for (k, h) in half_extent.iter().enumerate() {
-                positive(&format!("{path}.half_extent[{k}]"), *h)?;
-            }
-        }
+        } => validate_plane(path, point, normal, half_extent, d)?,
+    }
+    Ok(())
+}
+
+/// A polygon: a 2D scene, three vertices or more, non-zero area.
+fn validate_polygon(path: &str, vertices: &[Vec<f64>], d: usize) -> Check {
+    if d != 2 {
+        return fail(format!("{path}.type"), "a polygon needs a 2D scene");
+    }
+    if vertices.len() < 3 {
+        return fail(
+            format!("{path}.vertices"),
+            "a polygon needs at least 3 vertices",
+        );
+    }
+    for (i, v) in vertices.iter().enumerate() {
+        vec_len(&format!("{path}.vertices[{i}]"), v, 2)?;
+    }
+    let mut area = 0.0;
+    for i in 0..vertices.len() {
+        let (a, b) = (&vertices[i], &vertices[(i + 1) % vertices.len()]);
+        area += a[0] * b[1] - b[0] * a[1];
+    }
+    if area.abs() < 1e-300 {
+        return fail(format!("{path}.vertices"), "polygon has zero area");
+    }
+    Ok(())
+}
+
+/// A plane patch: point, non-zero normal and D − 1 positive half extents.
+fn validate_plane(
+    path: &str,
+    point: &[f64],
+    normal: &[f64],
+    half_extent: &[f64],
+    d: usize,
+) -> Check {
+    vec_len(&format!("{path}.point"), point, d)?;
+    vec_len(&format!("{path}.normal"), normal, d)?;
+    if normal.iter().map(|x| x * x).sum::<f64>() < 1e-24 {
+        return fail(format!("{path}.normal"), "normal must be non-zero");
+    }
+    if half_extent.len() != d - 1 {
+        return fail(
+            format!("{path}.half_extent"),
+            format!(
+                "expected {} value(s) for a {d}D plane patch, found {:?}",
+                d - 1,
+                half_extent.len()
+            ),
+        );
+    }
+    for (k, h) in half_extent.iter().enumerate() {
+        positive(&format!("{path}.half_extent[{k}]"), *h)?;
     }
     Ok(())
 }
@@ -208,6 +223,32 @@ const FACES: [&str; 6] = ["-x", "+x", "-y", "+y", "-z", "+z"];
 
 /// Validate the whole scene.
 pub fn validate(s: &Scene) -> Check {
+    validate_simulation(s)?;
+    validate_numerics(s)?;
+    validate_contents(s)?;
+    let names = validate_materials_and_regions(s)?;
+    validate_walls(s)?;
+    let d = s.simulation.dimension;
+    validate_coarse(s, &names)?;
+    for (i, pr) in s.probes.iter().enumerate() {
+        vec_len(&format!("probes[{i}].position"), &pr.position, d)?;
+    }
+    if let Some(o) = &s.observe.runout_origin {
+        vec_len("observe.runout_origin", o, d - 1)?;
+    }
+    if let Some(dir) = s.observe.runout_direction {
+        if d != 2 || (dir != 1.0 && dir != -1.0) {
+            return fail(
+                "observe.runout_direction",
+                "only for 2D scenes, and must be 1 or -1",
+            );
+        }
+    }
+    Ok(())
+}
+
+/// `[simulation]`: dimension, spacing, times and ratios.
+fn validate_simulation(s: &Scene) -> Check {
     let sim = &s.simulation;
     let d = sim.dimension;
     if d != 2 && d != 3 {
@@ -257,7 +298,11 @@ pub fn validate(s: &Scene) -> Check {
     if !(sim.gravity_ramp >= 0.0 && sim.gravity_ramp.is_finite()) {
         return fail("simulation.gravity_ramp", "must be ≥ 0 (seconds)");
     }
+    Ok(())
+}
 
+/// `[numerics]`.
+fn validate_numerics(s: &Scene) -> Check {
     let n = &s.numerics;
     if let Some(eta) = n.eta {
         if !(eta >= 0.0 && eta.is_finite()) {
@@ -309,7 +354,12 @@ pub fn validate(s: &Scene) -> Check {
             ),
         );
     }
+    Ok(())
+}
 
+/// Something to simulate, with what it needs.
+fn validate_contents(s: &Scene) -> Check {
+    let sim = &s.simulation;
     if s.regions.is_empty() && s.bodies.is_empty() {
         return fail(
             "regions",
@@ -325,6 +375,12 @@ pub fn validate(s: &Scene) -> Check {
             format!("must lie in (0, 1], found {:?}", sim.cfl_coarse),
         );
     }
+    Ok(())
+}
+
+/// `[[materials]]` and `[[regions]]`; the material names.
+fn validate_materials_and_regions(s: &Scene) -> Result<HashSet<&str>, KeyError> {
+    let d = s.simulation.dimension;
     let mut names = HashSet::new();
     for (i, m) in s.materials.iter().enumerate() {
         let p = format!("materials[{i}]");
@@ -385,7 +441,12 @@ pub fn validate(s: &Scene) -> Check {
             vec_len(&format!("{p}.velocity"), v, d)?;
         }
     }
+    Ok(names)
+}
 
+/// `[[walls]]`, `[[barriers]]` and `[[containers]]`.
+fn validate_walls(s: &Scene) -> Check {
+    let d = s.simulation.dimension;
     let mut wall_names = HashSet::new();
     for (list, key) in [(&s.walls, "walls"), (&s.barriers, "barriers")] {
         for (i, w) in list.iter().enumerate() {
@@ -475,21 +536,6 @@ pub fn validate(s: &Scene) -> Check {
                     );
                 }
             }
-        }
-    }
-    validate_coarse(s, &names)?;
-    for (i, pr) in s.probes.iter().enumerate() {
-        vec_len(&format!("probes[{i}].position"), &pr.position, d)?;
-    }
-    if let Some(o) = &s.observe.runout_origin {
-        vec_len("observe.runout_origin", o, d - 1)?;
-    }
-    if let Some(dir) = s.observe.runout_direction {
-        if d != 2 || (dir != 1.0 && dir != -1.0) {
-            return fail(
-                "observe.runout_direction",
-                "only for 2D scenes, and must be 1 or -1",
-            );
         }
     }
     Ok(())

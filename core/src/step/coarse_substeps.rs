@@ -3,6 +3,7 @@
 //! held over the fine step, then the time-averaged velocity of Eq. (60).
 //! Δt_c follows Eq. (52), tightened by the contact stiffness of nearby contacts.
 
+use super::StepParams;
 use crate::coarse::build::Coarse;
 use crate::coarse::rigid;
 use crate::coarse::tlsph::Tlsph;
@@ -11,7 +12,6 @@ use crate::guard::Blowup;
 use crate::interactions::contact::{ContactLaw, Contacts};
 use crate::load::Load;
 use crate::math::{from3, to3, Real, Vect};
-use crate::scene::Scene;
 use crate::walls::Walls;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
@@ -52,13 +52,13 @@ impl<const D: usize> CoarseStepper<D> {
         self.gravity = to3(gravity);
     }
 
-    pub fn new(coarse: &Coarse<D>, scene: &Scene, gravity: &Vect<D>) -> Self {
-        let dp = scene.simulation.dp;
+    /// The sub-stepper of `coarse` at spacing `dp`.
+    pub fn new(coarse: &Coarse<D>, params: &StepParams, dp: Real, gravity: &Vect<D>) -> Self {
         CoarseStepper {
-            law: ContactLaw::from_spec(&scene.contact, dp, D),
+            law: params.contact.clone(),
             contacts: Contacts::default(),
             tlsph: Tlsph::new(&coarse.particles, &coarse.bodies, dp),
-            cfl: scene.simulation.cfl_coarse,
+            cfl: params.cfl_coarse,
             h: 1.15 * dp,
             dp,
             vmax: coarse
@@ -74,7 +74,7 @@ impl<const D: usize> CoarseStepper<D> {
             wall_loads: Vec::new(),
             contact_secs: 0.0,
             gravity: to3(gravity),
-            max_speed: scene.simulation.max_speed,
+            max_speed: params.max_speed,
         }
     }
 

@@ -41,7 +41,7 @@ impl<const D: usize> Stepper<D> {
         );
         Some(ArtificialStress {
             exponent,
-            w_dp: self.kernel.w(world.dp),
+            w_dp: self.kernel.w(world.resolution.dp),
         })
     }
 
@@ -119,7 +119,7 @@ impl<const D: usize> Stepper<D> {
                 riemann: mprm.riemann,
                 mu_cf: self.params.mu_cf,
                 dt,
-                dp: world.dp,
+                dp: world.resolution.dp,
             },
             tension: &self.tension,
             reactions: &mut self.reactions,

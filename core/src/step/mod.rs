@@ -12,7 +12,6 @@ use crate::kernel::WendlandC2;
 use crate::load::Load;
 use crate::math::{Real, Sym, Vect};
 use crate::neighbors::{CellGrid, NeighborLists};
-use crate::scene::Scene;
 use crate::timers::{Stage, StageTimers};
 use crate::world::{geostatic_tensor, World};
 use coarse_substeps::CoarseStepper;
@@ -21,9 +20,11 @@ mod coarse_stage;
 pub mod coarse_substeps;
 mod finalize;
 mod fine_sweeps;
+pub mod landing;
 mod neighbours;
 mod params;
 
+pub use landing::{land_on, Stepping};
 pub use params::{choose_step, gravity_ramp, StepParams, StepStats};
 
 /// Scratch memory and stage assembly for the fine step.
@@ -103,7 +104,7 @@ pub struct Stepper<const D: usize> {
 }
 
 impl<const D: usize> Stepper<D> {
-    pub fn new(world: &World<D>, scene: &Scene, params: StepParams) -> Self {
+    pub fn new(world: &World<D>, params: StepParams) -> Self {
         let kernel = WendlandC2::new(params.h, D);
         let g = world.gravity.norm();
         let up = if g > 0.0 {
@@ -145,8 +146,9 @@ impl<const D: usize> Stepper<D> {
         } else if world.walls.barriers.is_empty() {
             skipped.push(("barrier_loads".into(), "scene has no barriers".into()));
         }
-        let coarse = (!world.coarse.is_empty())
-            .then(|| CoarseStepper::new(&world.coarse, scene, &world.gravity));
+        let coarse = (!world.coarse.is_empty()).then(|| {
+            CoarseStepper::new(&world.coarse, &params, world.resolution.dp, &world.gravity)
+        });
         if coarse.is_none() {
             skipped.push((
                 "coarse_substeps".into(),
@@ -202,7 +204,7 @@ impl<const D: usize> Stepper<D> {
             coarse_grid: CellGrid::new(&world.domain.0, &world.domain.1, cell),
             coarse_at_build: Vec::new(),
             reactions: Vec::new(),
-            coarse_vol: world.dp.powi(D as i32),
+            coarse_vol: world.resolution.volume,
         }
     }
 

@@ -1,7 +1,9 @@
 //! The method parameters of a run (defaults from seed 000), the Δt/κ choice of
 //! Eqs. (51)–(53) and the gravity ramp.
 
+use crate::interactions::contact::ContactLaw;
 use crate::math::Real;
+use crate::resolution::Resolution;
 use crate::scene::{ContinuityJump, Scene, TimeStepping, WallStress};
 
 /// Method parameters of one run (one struct per subsystem; defaults from seed 000).
@@ -37,22 +39,27 @@ pub struct StepParams {
     pub continuity_jump: ContinuityJump,
     /// Deviatoric stress of the dummy wall particles.
     pub wall_stress: WallStress,
+    /// The contact law of coarse grains (seeds 001, 004).
+    pub contact: ContactLaw,
+    /// CFL^c of Eq. (52).
+    pub cfl_coarse: Real,
 }
 
 impl StepParams {
-    pub fn from_scene(s: &Scene) -> Self {
+    /// The parameters of `s` at resolution `res`.
+    pub fn from_scene(s: &Scene, res: &Resolution) -> Self {
         let d = s.simulation.dimension as Real;
         let n = &s.numerics;
         let cohesive = s.materials.iter().any(|m| m.cohesion > 0.0);
         StepParams {
-            h: n.smoothing_ratio * s.simulation.dp,
+            h: res.h,
             cfl: s.simulation.cfl,
             eta: n.eta.unwrap_or(20.0 * d),
             zeta: n.stress_diffusion,
             hourglass: n.hourglass,
             hourglass_memory: n.hourglass_memory,
             gravity_ramp: s.simulation.gravity_ramp,
-            skin: n.neighbor_skin * s.simulation.dp,
+            skin: res.skin,
             max_speed: s.simulation.max_speed,
             artificial: cohesive
                 .then_some((n.artificial_stress_exponent, n.artificial_stress_epsilon)),
@@ -61,6 +68,8 @@ impl StepParams {
             scheme: s.simulation.time_stepping,
             continuity_jump: n.continuity_jump,
             wall_stress: n.wall_stress,
+            contact: ContactLaw::from_spec(&s.contact, res.dp, s.simulation.dimension),
+            cfl_coarse: s.simulation.cfl_coarse,
         }
     }
 }

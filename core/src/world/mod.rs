@@ -7,6 +7,7 @@ use crate::coarse::build::Coarse;
 use crate::fine::material::FineMaterial;
 use crate::fine::state::FineParticles;
 use crate::math::{Real, Sym, Vect};
+use crate::resolution::Resolution;
 use crate::scene::Scene;
 use crate::walls::Walls;
 use nalgebra::{Rotation3, Vector3};
@@ -33,7 +34,8 @@ pub struct World<const D: usize> {
     /// Coarse grains (boulders): bodies, their particles and solids.
     pub coarse: Coarse<D>,
     pub gravity: Vect<D>,
-    pub dp: Real,
+    /// dp, particle volume, h and skin, derived once from the scene.
+    pub resolution: Resolution,
     pub time: Real,
     pub steps: u64,
     /// Fixed neighbour-search box (particles outside are clamped into border cells).
@@ -48,16 +50,16 @@ fn v<const D: usize>(x: &[f64]) -> Vect<D> {
 }
 
 impl<const D: usize> World<D> {
-    /// Build from a validated scene.
-    pub fn build(scene: &Scene) -> Result<Self, BuildError> {
+    /// Build from a validated scene at resolution `resolution` (derived once from it,
+    /// [`Resolution::of`]).
+    pub fn build(scene: &Scene, resolution: Resolution) -> Result<Self, BuildError> {
         // refuse a scene too large for memory before allocating anything
-        crate::budget::enforce(scene).map_err(|message| BuildError {
+        crate::budget::enforce(scene).map_err(|e| BuildError {
             path: "simulation.dp".into(),
-            message,
+            message: e.to_string(),
         })?;
-        let sim = &scene.simulation;
-        let dp = sim.dp;
-        let gravity = v::<D>(&sim.gravity);
+        let (dp, vol) = (resolution.dp, resolution.volume);
+        let gravity = v::<D>(&scene.simulation.gravity);
         let gnorm = gravity.norm();
         let up = if gnorm > 0.0 {
             -gravity / gnorm
@@ -69,12 +71,9 @@ impl<const D: usize> World<D> {
             .iter()
             .map(FineMaterial::from_spec)
             .collect();
-        let vol = dp.powi(D as i32);
         let (mut fine, region_counts) = regions::fill(scene, &materials, &up, dp, vol)?;
         let walls = boundaries::build(scene, dp, vol)?;
-        let n = &scene.numerics;
-        let trim = (2.0 * n.smoothing_ratio + n.neighbor_skin + 1.0) * dp;
-        let coarse = Coarse::<D>::build(scene, trim)?;
+        let coarse = Coarse::<D>::build(scene, &resolution)?;
 
         // Domain: everything, plus a margin for the flow to spread into.
         let mut lo = Vect::<D>::repeat(Real::INFINITY);
@@ -107,7 +106,7 @@ impl<const D: usize> World<D> {
             walls,
             coarse,
             gravity,
-            dp,
+            resolution,
             time: 0.0,
             steps: 0,
             domain,

@@ -8,7 +8,8 @@
 
 use crate::error::GranularError;
 use crate::variables::{Causality, Kind, Variable};
-use granmix_core::scene::{BarrierInput, LoadedScene, MaterialSpec, SimulationSpec, SolidSpec};
+use granmix_core::input::LoadedScene;
+use granmix_core::scene::{BarrierInput, MaterialSpec, SimulationSpec, SolidSpec};
 use granmix_core::AnySimulation;
 
 const AXES: [&str; 3] = ["x", "y", "z"];
