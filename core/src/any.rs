@@ -4,7 +4,7 @@ use crate::guard::Blowup;
 use crate::input::LoadedScene;
 use crate::math::Real;
 use crate::scene::SceneError;
-use crate::simulation::{BarrierSample, Frame, ParticleState, Sample, Simulation};
+use crate::simulation::{BarrierSample, Frame, ParticleRecord, Sample, Simulation};
 use crate::step::{StepStats, Stepping};
 use crate::timers::StageTimers;
 
@@ -102,14 +102,10 @@ impl AnySimulation {
     pub fn particle_counts(&self) -> (usize, usize) {
         dispatch!(self, s => s.particle_counts())
     }
-    /// Fill `out` with `make` of every particle, fine first then coarse (see
+    /// Fill `out` with every particle's record, fine first then coarse (see
     /// [`Simulation::fill_particles`]).
-    pub fn fill_particles<T: Send>(
-        &self,
-        out: &mut [T],
-        make: impl Fn(&ParticleState) -> T + Sync + Send,
-    ) {
-        dispatch!(self, s => s.fill_particles(out, make))
+    pub fn fill_particles(&self, out: &mut [ParticleRecord]) {
+        dispatch!(self, s => s.fill_particles(out))
     }
     pub fn timers(&self) -> &StageTimers {
         dispatch!(self, s => &s.stepper.timers)

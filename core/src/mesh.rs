@@ -159,6 +159,19 @@ fn point_triangle_distance2(p: &V3, t: &[V3; 3]) -> Real {
     (p - (a + ab * v + ac * w)).norm_squared()
 }
 
+/// The three coordinates that follow a vertex keyword on line index `ln`.
+fn vertex<'a>(it: impl Iterator<Item = &'a str>, ln: usize) -> Result<V3, FormatError> {
+    let c: Vec<Real> = it
+        .take(3)
+        .map(|s| s.parse::<Real>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| FormatError::at(ln, format!("bad vertex: {e}")))?;
+    if c.len() != 3 {
+        return Err(FormatError::at(ln, "a vertex needs 3 coordinates"));
+    }
+    Ok(V3::new(c[0], c[1], c[2]))
+}
+
 /// Wavefront OBJ: `v x y z` and `f i j k …` (polygons fanned into triangles; `i/t/n`
 /// and negative indices accepted).
 pub fn parse_obj(text: &str) -> Result<TriMesh, FormatError> {
@@ -167,17 +180,7 @@ pub fn parse_obj(text: &str) -> Result<TriMesh, FormatError> {
     for (ln, line) in text.lines().enumerate() {
         let mut it = line.split_whitespace();
         match it.next() {
-            Some("v") => {
-                let c: Vec<Real> = it
-                    .take(3)
-                    .map(|s| s.parse::<Real>())
-                    .collect::<Result<_, _>>()
-                    .map_err(|e| FormatError::at(ln, format!("bad vertex: {e}")))?;
-                if c.len() != 3 {
-                    return Err(FormatError::at(ln, "a vertex needs 3 coordinates"));
-                }
-                verts.push(V3::new(c[0], c[1], c[2]));
-            }
+            Some("v") => verts.push(vertex(it, ln)?),
             Some("f") => {
                 let mut idx = Vec::new();
                 for tok in it {
@@ -231,15 +234,7 @@ pub fn parse_stl(bytes: &[u8]) -> Result<TriMesh, FormatError> {
     for (ln, line) in text.lines().enumerate() {
         let mut it = line.split_whitespace();
         if it.next() == Some("vertex") {
-            let c: Vec<Real> = it
-                .take(3)
-                .map(|s| s.parse::<Real>())
-                .collect::<Result<_, _>>()
-                .map_err(|e| FormatError::at(ln, format!("bad vertex: {e}")))?;
-            if c.len() != 3 {
-                return Err(FormatError::at(ln, "a vertex needs 3 coordinates"));
-            }
-            cur.push(V3::new(c[0], c[1], c[2]));
+            cur.push(vertex(it, ln)?);
             if cur.len() == 3 {
                 tris.push([cur[0], cur[1], cur[2]]);
                 cur.clear();

@@ -1,8 +1,10 @@
 //! The records a simulation hands out: observations at a sampling time ([`Sample`]
 //! with its barrier, body and probe parts) and particle snapshots for writers
-//! ([`Frame`], [`ParticleState`]).
+//! ([`Frame`], [`ParticleRecord`]).
 
 use crate::math::{Real, Sym};
+#[cfg(feature = "zero-copy")]
+use iceoryx2_bb_elementary_traits::zero_copy_send::ZeroCopySend;
 
 /// Kernel-weighted (Shepard) average of stress and velocity at a point.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
@@ -87,41 +89,47 @@ pub struct Sample {
     pub bodies: Vec<BodySample>,
 }
 
-/// A particle snapshot in 3D layout (z = 0 in 2D), for writers.
+/// A snapshot of every particle for writers (VTK): the fine and coarse particles as
+/// [`ParticleRecord`]s, with what only a full snapshot carries beside them.
 #[derive(Clone, Debug, Default)]
 pub struct Frame {
     pub time: Real,
-    pub pos: Vec<[f32; 3]>,
-    pub vel: Vec<[f32; 3]>,
-    pub pressure: Vec<f32>,
+    /// Fine particles.
+    pub fine: Vec<ParticleRecord>,
+    /// Density of each fine particle (kg/m³).
     pub density: Vec<f32>,
-    pub plastic_strain: Vec<f32>,
+    /// Stress of each fine particle, xx yy zz xy xz yz (Pa, tension positive).
     pub stress: Vec<[f32; 6]>,
-    pub id: Vec<u32>,
-    pub material: Vec<u16>,
-    pub wall_pos: Vec<[f32; 3]>,
-    pub wall_object: Vec<u16>,
     /// Coarse-grain particles.
-    pub coarse_pos: Vec<[f32; 3]>,
-    pub coarse_vel: Vec<[f32; 3]>,
-    pub coarse_body: Vec<u32>,
+    pub coarse: Vec<ParticleRecord>,
     /// Force from the fine grains on each coarse particle (Eq. 50).
     pub coarse_fine_force: Vec<[f32; 3]>,
+    pub wall_pos: Vec<[f32; 3]>,
+    pub wall_object: Vec<u16>,
 }
 
-/// One particle as handed to bulk sinks (the particle channel, recordings): 3D layout
-/// (z = 0 in 2D), single precision. Fine particles carry their material index in
-/// `group`, coarse-grain particles their body index; coarse particles have no pressure
-/// or plastic strain (0).
+/// One particle as every bulk sink sees it (the particle channel, recordings, VTK
+/// snapshots): 40 bytes, 3D layout (z = 0 in 2D), single precision. Fine particles
+/// carry their material index in `group`, coarse-grain particles their body index;
+/// coarse particles have no pressure or plastic strain (0). `#[repr(C)]` with an
+/// explicit type name: the particle channel sends it as it is (feature `zero-copy`,
+/// which `granmix-ipc` turns on), and subscribers in other languages declare the same
+/// layout (`docs/ipc.md`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ParticleState {
+#[cfg_attr(
+    feature = "zero-copy",
+    derive(iceoryx2_bb_derive_macros::ZeroCopySend),
+    type_name("granmix::ParticleRecord")
+)]
+#[repr(C)]
+pub struct ParticleRecord {
     /// Position (m).
     pub position: [f32; 3],
     /// Velocity (m/s).
     pub velocity: [f32; 3],
-    /// Pressure −tr(σ)/3 (Pa).
+    /// Pressure −tr(σ)/3 (Pa); 0 for coarse grains.
     pub pressure: f32,
-    /// Accumulated plastic strain (Eq. 10).
+    /// Accumulated plastic strain (Eq. 10); 0 for coarse grains.
     pub plastic_strain: f32,
     /// Particle id (fine: the stable id; coarse: the index among coarse particles).
     pub id: u32,

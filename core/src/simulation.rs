@@ -7,7 +7,7 @@ use crate::load::Load;
 use crate::math::{to3, Real, Vect};
 use crate::observe::{self, RunoutSpec};
 use crate::resolution::Resolution;
-pub use crate::sample::{BarrierSample, BodySample, Frame, ParticleState, ProbeValue, Sample};
+pub use crate::sample::{BarrierSample, BodySample, Frame, ParticleRecord, ProbeValue, Sample};
 use crate::scene::Scene;
 use crate::step::{choose_step, land_on, StepParams, StepStats, Stepper, Stepping};
 use crate::world::World;
@@ -315,47 +315,50 @@ impl<const D: usize> Simulation<D> {
             .collect())
     }
 
-    /// Fill `out` (length [`Self::particle_count`]: fine particles first, then coarse)
-    /// with `make` of every particle's [`ParticleState`], in parallel. Reads only: the
+    /// Fill `out` (fine particles first, then coarse; [`Self::particle_counts`]) with
+    /// every particle's [`ParticleRecord`], in parallel. Reads only: the
     /// solver state is untouched, so publishing cannot change results.
-    pub fn fill_particles<T: Send>(
-        &self,
-        out: &mut [T],
-        make: impl Fn(&ParticleState) -> T + Sync + Send,
-    ) {
+    pub fn fill_particles(&self, out: &mut [ParticleRecord]) {
         use rayon::prelude::*;
-        let f = &self.world.fine;
-        let c = &self.world.coarse.particles;
-        let (fine_out, coarse_out) = out.split_at_mut(f.len().min(out.len()));
+        let (nf, nc) = self.particle_counts();
+        let (fine_out, coarse_out) = out.split_at_mut(nf.min(out.len()));
         fine_out
             .par_iter_mut()
             .with_min_len(4096)
             .enumerate()
-            .for_each(|(i, o)| {
-                *o = make(&ParticleState {
-                    position: arr(&f.pos[i]),
-                    velocity: arr(&f.vel[i]),
-                    pressure: (-f.stress[i].trace() / 3.0) as f32,
-                    plastic_strain: f.plastic_strain[i] as f32,
-                    id: f.id[i],
-                    group: f.material[i] as u32,
-                })
-            });
+            .for_each(|(i, o)| *o = self.fine_record(i));
         coarse_out
             .par_iter_mut()
             .with_min_len(4096)
-            .take(c.len())
+            .take(nc)
             .enumerate()
-            .for_each(|(i, o)| {
-                *o = make(&ParticleState {
-                    position: arr(&c.pos[i]),
-                    velocity: arr(&c.vel[i]),
-                    pressure: 0.0,
-                    plastic_strain: 0.0,
-                    id: i as u32,
-                    group: c.body[i],
-                })
-            });
+            .for_each(|(i, o)| *o = self.coarse_record(i));
+    }
+
+    /// The record of fine particle `i`.
+    fn fine_record(&self, i: usize) -> ParticleRecord {
+        let f = &self.world.fine;
+        ParticleRecord {
+            position: arr(&f.pos[i]),
+            velocity: arr(&f.vel[i]),
+            pressure: (-f.stress[i].trace() / 3.0) as f32,
+            plastic_strain: f.plastic_strain[i] as f32,
+            id: f.id[i],
+            group: f.material[i] as u32,
+        }
+    }
+
+    /// The record of coarse particle `i`.
+    fn coarse_record(&self, i: usize) -> ParticleRecord {
+        let c = &self.world.coarse.particles;
+        ParticleRecord {
+            position: arr(&c.pos[i]),
+            velocity: arr(&c.vel[i]),
+            pressure: 0.0,
+            plastic_strain: 0.0,
+            id: i as u32,
+            group: c.body[i],
+        }
     }
 
     /// Fine and coarse particle counts.
@@ -365,23 +368,17 @@ impl<const D: usize> Simulation<D> {
 
     /// Particle snapshot for writers.
     pub fn frame(&self) -> Frame {
-        let f = &self.world.fine;
+        let (f, w) = (&self.world.fine, &self.world);
+        let (nf, nc) = self.particle_counts();
         Frame {
-            time: self.world.time,
-            pos: f.pos.iter().map(arr).collect(),
-            vel: f.vel.iter().map(arr).collect(),
-            pressure: f.stress.iter().map(|s| (-s.trace() / 3.0) as f32).collect(),
+            time: w.time,
+            fine: (0..nf).map(|i| self.fine_record(i)).collect(),
             density: f.rho.iter().map(|&r| r as f32).collect(),
-            plastic_strain: f.plastic_strain.iter().map(|&e| e as f32).collect(),
             stress: f.stress.iter().map(|s| s.0.map(|x| x as f32)).collect(),
-            id: f.id.clone(),
-            material: f.material.clone(),
-            wall_pos: self.world.walls.pos.iter().map(arr).collect(),
-            wall_object: self.world.walls.object.clone(),
-            coarse_pos: self.world.coarse.particles.pos.iter().map(arr).collect(),
-            coarse_vel: self.world.coarse.particles.vel.iter().map(arr).collect(),
-            coarse_body: self.world.coarse.particles.body.clone(),
-            coarse_fine_force: self.world.coarse.particles.f_fine.iter().map(arr).collect(),
+            coarse: (0..nc).map(|i| self.coarse_record(i)).collect(),
+            coarse_fine_force: w.coarse.particles.f_fine.iter().map(arr).collect(),
+            wall_pos: w.walls.pos.iter().map(arr).collect(),
+            wall_object: w.walls.object.clone(),
         }
     }
 }

@@ -16,7 +16,11 @@ use crate::envelope::EnvelopeError;
 use crate::state::State;
 use crate::variables::LookupError;
 use fmi_sys::fmi2::fmi2StatusKind;
-use granmix_ipc::IpcError;
+use granmix_core::cosim::DriveError;
+use granmix_core::guard::Blowup;
+use granmix_core::scene::SceneError;
+use granmix_core::{SetupError, StateMismatch};
+use granmix_ipc::{IpcError, SinkError};
 use std::path::PathBuf;
 use thiserror::Error;
 
@@ -213,9 +217,9 @@ pub enum StateError {
     /// A structure state with a list of another length than the model's.
     #[error("serialised state: list of {found} values, expected {expected}")]
     ListLength { found: usize, expected: usize },
-    /// The saved simulation does not fit the scene (granmix-core's message).
+    /// The saved simulation does not fit the scene.
     #[error("serialised state: {0}")]
-    Scene(String),
+    Scene(StateMismatch),
 }
 
 /// A file that cannot be read.
@@ -238,13 +242,13 @@ impl ReadError {
 pub enum GranularError {
     #[error(transparent)]
     Read(#[from] ReadError),
-    /// The scene, with the parameter values as overrides, does not load (granmix-core's
-    /// message names the file and key).
+    /// The scene, with the parameter values as overrides, does not load (the error
+    /// names the file and key).
     #[error("{0}")]
-    Scene(String),
-    /// The simulation cannot be built from the scene (granmix-core's message).
+    Scene(Box<SceneError>),
+    /// The simulation cannot be built from the scene.
     #[error("{0}")]
-    Setup(String),
+    Setup(Box<SetupError>),
     /// Barrier `barrier` is input-driven in the scene but not in the built world, or the
     /// other way round.
     #[error("barrier `{barrier}`: input flag and world disagree")]
@@ -252,27 +256,30 @@ pub enum GranularError {
     /// Barrier `barrier` has `panels` counts of another number than `counts`.
     #[error("barrier `{barrier}`: panels must have {counts} counts")]
     PanelCounts { barrier: String, counts: usize },
-    /// The force pass on the initial state failed (granmix-core's message).
+    /// The force pass on the initial state failed.
     #[error("loads of the initial state: {0}")]
-    InitialLoads(String),
+    InitialLoads(Box<Blowup>),
     /// The particle service of parameter `ipc.service` cannot be opened.
     #[error("ipc.service: {0}")]
     Publisher(IpcError),
-    /// The recording of parameter `record.path` cannot be created or written.
+    /// The recording of parameter `record.path` cannot be created.
     #[error("record.path: {0}")]
     Record(IpcError),
-    /// The recording cannot be closed.
-    #[error("{0}")]
-    Finish(IpcError),
+    /// An output (the recording of `record.path`) cannot be written.
+    #[error("record.path: {}", .0.source)]
+    Write(SinkError),
+    /// The outputs cannot be closed.
+    #[error("{}", .0.source)]
+    Finish(SinkError),
     /// A thread panicked while holding the outputs.
     #[error("output sinks poisoned")]
     SinksPoisoned,
-    /// An input-driven barrier cannot be driven (granmix-core's message).
+    /// An input-driven barrier cannot be driven.
     #[error("{0}")]
-    Drive(String),
-    /// The solver failed within the step (granmix-core's diagnostic).
+    Drive(DriveError),
+    /// The solver failed within the step (the stability guard's diagnostic).
     #[error("{0}")]
-    Solver(String),
+    Solver(Box<Blowup>),
 }
 
 /// Errors of the structural partner models ([`crate::structure`]).

@@ -16,7 +16,7 @@ use granmix_core::input::{load_scene_in, LoadedScene};
 use granmix_core::scene::BarrierInput;
 use granmix_core::simulation::Sample;
 use granmix_core::AnySimulation;
-use granmix_ipc::{FramePublisher, Recorder, SceneInfo};
+use granmix_ipc::{ChannelSink, FramePublisher, Recorder, SceneInfo, Sinks};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 use table::{build_table, BodyQ, Slot, Table};
@@ -57,30 +57,6 @@ struct Saved {
     sim: AnySimulation,
 }
 
-/// Where the bulk outputs go, opened when initialisation ends. Shared by the copies
-/// a master keeps for rollback, so a repeated step is published and recorded again.
-#[derive(Default)]
-struct Sinks {
-    publisher: Option<FramePublisher>,
-    recorder: Option<Recorder>,
-}
-
-impl Sinks {
-    /// Close the recording (writes its summary).
-    fn finish(&mut self) -> Result<(), GranularError> {
-        match self.recorder.take() {
-            Some(r) => r.finish().map(|_| ()).map_err(GranularError::Finish),
-            None => Ok(()),
-        }
-    }
-}
-
-impl Drop for Sinks {
-    fn drop(&mut self) {
-        let _ = self.finish();
-    }
-}
-
 /// The granular FMU model.
 #[derive(Clone)]
 pub struct Granular {
@@ -110,7 +86,7 @@ pub struct Granular {
 }
 
 fn build_sim(loaded: &LoadedScene) -> Result<AnySimulation, GranularError> {
-    AnySimulation::new(loaded).map_err(|e| GranularError::Setup(e.to_string()))
+    AnySimulation::new(loaded).map_err(|e| GranularError::Setup(Box::new(e)))
 }
 
 /// The outputs before any step: the state's observations, with the loads the
@@ -119,7 +95,7 @@ fn initial_sample(sim: &mut AnySimulation) -> Result<Sample, GranularError> {
     let mut s = sim.sample();
     s.barriers = sim
         .state_loads()
-        .map_err(|e| GranularError::InitialLoads(e.to_string()))?;
+        .map_err(|e| GranularError::InitialLoads(Box::new(e)))?;
     Ok(s)
 }
 
@@ -129,8 +105,8 @@ impl Granular {
         let path = dir.join("scene.toml");
         let file = path.display().to_string();
         let text = ReadError::read_to_string(path)?;
-        let loaded = load_scene_in(&text, &file, &[], dir)
-            .map_err(|e| GranularError::Scene(e.to_string()))?;
+        let loaded =
+            load_scene_in(&text, &file, &[], dir).map_err(|e| GranularError::Scene(Box::new(e)))?;
         Self::new(loaded, dir)
     }
 
@@ -210,6 +186,8 @@ impl Granular {
             .iter()
             .position(|s| *s == Slot::IpcEnabled)
             .is_some_and(|i| self.values[i] != 0.0);
+        // where the bulk outputs go, shared by the copies a master keeps for rollback,
+        // so that a repeated step is published and recorded again
         let mut sinks = Sinks::default();
         if enabled {
             let spec = match self.text_of(Slot::IpcService) {
@@ -217,8 +195,8 @@ impl Granular {
                 s => s.to_string(),
             };
             let (f, c) = self.sim.particle_counts();
-            sinks.publisher =
-                Some(FramePublisher::open(&spec, f + c).map_err(GranularError::Publisher)?);
+            let p = FramePublisher::open(&spec, f + c).map_err(GranularError::Publisher)?;
+            sinks.push(ChannelSink::new(p, None));
         }
         let path = self.text_of(Slot::RecordPath).to_string();
         if !path.is_empty() {
@@ -229,11 +207,9 @@ impl Granular {
                 name: l.scene.simulation.name.clone(),
                 dimension: self.sim.dimension(),
             };
-            sinks.recorder =
-                Some(Recorder::create(Path::new(&path), &info).map_err(GranularError::Record)?);
+            sinks.push(Recorder::create(Path::new(&path), &info).map_err(GranularError::Record)?);
         }
-        self.sinks = (sinks.publisher.is_some() || sinks.recorder.is_some())
-            .then(|| Arc::new(Mutex::new(sinks)));
+        self.sinks = (!sinks.is_empty()).then(|| Arc::new(Mutex::new(sinks)));
         Ok(())
     }
 
@@ -245,18 +221,11 @@ impl Granular {
         };
         let mut s = sinks.lock().map_err(|_| GranularError::SinksPoisoned)?;
         // stamped with the communication point (the experiment's start included)
-        let sim = &self.sim;
-        if let Some(p) = s.publisher.as_mut() {
-            p.publish_at(sim, self.now);
-        }
-        if let Some(r) = s.recorder.as_mut() {
-            let sample = Sample {
-                time: self.now,
-                ..self.last.clone()
-            };
-            r.record(sim, &sample).map_err(GranularError::Record)?;
-        }
-        Ok(())
+        let sample = Sample {
+            time: self.now,
+            ..self.last.clone()
+        };
+        s.sample(&self.sim, &sample).map_err(GranularError::Write)
     }
 
     /// Rebuild the simulation when parameters changed since it was built.
@@ -282,7 +251,7 @@ impl Granular {
         }
         let l = &self.loaded;
         let loaded = load_scene_in(&l.text, &l.file, &sets, &self.dir)
-            .map_err(|e| GranularError::Scene(e.to_string()))?;
+            .map_err(|e| GranularError::Scene(Box::new(e)))?;
         self.sim = build_sim(&loaded)?;
         self.last = initial_sample(&mut self.sim)?;
         self.built_with = self.values.clone();
@@ -292,15 +261,13 @@ impl Granular {
     /// Run one communication step with the given barrier velocities.
     fn advance(&mut self, rec: StepRecord) -> Result<(), GranularError> {
         for &(b, v) in &rec.drives {
-            self.sim
-                .drive_barrier(b, v)
-                .map_err(|e| GranularError::Drive(e.to_string()))?;
+            self.sim.drive_barrier(b, v).map_err(GranularError::Drive)?;
         }
         let start = std::time::Instant::now();
         let r = self.sim.advance_to(rec.end);
         self.solver_seconds += start.elapsed().as_secs_f64();
         self.last = self.sim.sample();
-        r.map_err(|e| GranularError::Solver(e.to_string()))
+        r.map_err(|e| GranularError::Solver(Box::new(e)))
     }
 }
 
@@ -385,7 +352,8 @@ impl Model for Granular {
             Some(s) => Ok(s
                 .lock()
                 .map_err(|_| GranularError::SinksPoisoned)?
-                .finish()?),
+                .finish()
+                .map_err(GranularError::Finish)?),
             None => Ok(()),
         }
     }
@@ -401,10 +369,8 @@ impl Model for Granular {
         Ok(())
     }
 
-    fn set(&mut self, vr: u32, value: f64) -> Result<(), ModelError> {
-        self.check(vr, value)?;
-        self.values[vr as usize] = value;
-        Ok(())
+    fn values_mut(&mut self) -> &mut [f64] {
+        &mut self.values
     }
 
     fn exit_initialization(&mut self) -> Result<(), ModelError> {
@@ -521,8 +487,7 @@ impl Model for Granular {
             .into());
         }
         let mut sim = saved.sim;
-        sim.take_static_from(&self.sim)
-            .map_err(|e| StateError::Scene(e.to_string()))?;
+        sim.take_static_from(&self.sim).map_err(StateError::Scene)?;
         Ok(Box::new(Granular {
             loaded: self.loaded.clone(),
             dir: self.dir.clone(),

@@ -36,7 +36,13 @@ pub trait Model: Send {
     /// before any is applied.
     fn check(&self, vr: u32, value: f64) -> Result<(), ModelError>;
     /// Set parameter or input `vr` to a value [`Model::check`] accepted.
-    fn set(&mut self, vr: u32, value: f64) -> Result<(), ModelError>;
+    fn set(&mut self, vr: u32, value: f64) -> Result<(), ModelError> {
+        self.check(vr, value)?;
+        self.values_mut()[vr as usize] = value;
+        Ok(())
+    }
+    /// The Real values, indexed by value reference.
+    fn values_mut(&mut self) -> &mut [f64];
     /// Current value of String variable `vr`.
     fn get_string(&mut self, vr: u32) -> Result<String, ModelError> {
         Err(ModelError::NoStrings { vr })

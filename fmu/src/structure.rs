@@ -370,10 +370,8 @@ impl Model for Structure {
         Ok(())
     }
 
-    fn set(&mut self, vr: u32, value: f64) -> Result<(), ModelError> {
-        self.check(vr, value)?;
-        self.values[vr as usize] = value;
-        Ok(())
+    fn values_mut(&mut self) -> &mut [f64] {
+        &mut self.values
     }
 
     fn exit_initialization(&mut self) -> Result<(), ModelError> {

@@ -63,11 +63,7 @@ impl Variable {
         description: impl Into<String>,
         start: f64,
     ) -> Self {
-        Variable {
-            causality: Causality::Input,
-            start: Some(start),
-            ..Variable::output(name, unit, description)
-        }
+        Variable::output(name, unit, description).settable(Causality::Input, start)
     }
     /// A Real parameter with start value `start`.
     pub fn parameter(
@@ -76,10 +72,14 @@ impl Variable {
         description: impl Into<String>,
         start: f64,
     ) -> Self {
+        Variable::output(name, unit, description).settable(Causality::Parameter, start)
+    }
+    /// The same variable as one the master sets (`causality`), starting at `start`.
+    fn settable(self, causality: Causality, start: f64) -> Self {
         Variable {
-            causality: Causality::Parameter,
+            causality,
             start: Some(start),
-            ..Variable::output(name, unit, description)
+            ..self
         }
     }
     /// A String parameter with start value `start`.
@@ -99,13 +99,6 @@ impl Variable {
     pub fn of_kind(self, kind: Kind) -> Self {
         Variable { kind, ..self }
     }
-}
-
-/// What the master may do with a variable in the current instance state.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Access {
-    Read,
-    Write,
 }
 
 /// A value reference the table does not have, or has with another base type.

@@ -9,9 +9,10 @@ use granmix_core::runner::{self, RunEnd};
 use granmix_core::simulation::Sample;
 use granmix_core::timers::Stage;
 use granmix_core::AnySimulation;
-use granmix_ipc::{FramePublisher, Recorder, SceneInfo};
+use granmix_ipc::{ChannelSink, FramePublisher, Recorder, SceneInfo, Sinks};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{json, Map, Value};
+use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -83,16 +84,20 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         .and_then(|s| s.to_str())
         .unwrap_or("scene")
         .to_string();
-    let mut vtk = opts.vtk.then(|| VtkSeries::new(&opts.out, &stem));
-    let mut csv = CsvSeries::create(
+    let mut sinks = Sinks::default();
+    sinks.push(CsvSeries::create(
         &opts.out.join("series.csv"),
+        dim,
         series::header(
             dim,
             &sim.barrier_names(),
             &sim.probe_names(),
             &sim.body_names(),
         ),
-    )?;
+    )?);
+    if opts.vtk {
+        sinks.push(VtkSeries::new(&opts.out, &stem));
+    }
 
     let bar = if opts.interactive {
         let b = ProgressBar::new((end * 1e6).round() as u64);
@@ -111,23 +116,20 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
     if opts.publish_every == 0 {
         bail!("--publish-every must be at least 1");
     }
-    let mut publisher = match &opts.publish {
-        Some(spec) => {
-            let (f, c) = sim.particle_counts();
-            let p = FramePublisher::open(spec, f + c)?;
-            if opts.interactive {
-                eprintln!(
-                    "publishing particle frames every {} steps on `{}`",
-                    opts.publish_every,
-                    p.name()
-                );
-            }
-            Some(p)
+    if let Some(spec) = &opts.publish {
+        let (f, c) = sim.particle_counts();
+        let p = FramePublisher::open(spec, f + c)?;
+        if opts.interactive {
+            eprintln!(
+                "publishing particle frames every {} steps on `{}`",
+                opts.publish_every,
+                p.name()
+            );
         }
-        None => None,
-    };
-    let mut recorder = match &opts.record {
-        Some(path) => Some(Recorder::create(
+        sinks.push(ChannelSink::new(p, Some(opts.publish_every)));
+    }
+    if let Some(path) = &opts.record {
+        sinks.push(Recorder::create(
             path,
             &SceneInfo {
                 text: loaded.text.clone(),
@@ -135,13 +137,13 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
                 name: sim_spec.name.clone(),
                 dimension: dim,
             },
-        )?),
-        None => None,
-    };
-    let mut publish_secs = 0.0;
+        )?);
+    }
 
     let mut samples: Vec<Sample> = Vec::new();
-    let mut io_error: Option<anyhow::Error> = None;
+    // both callbacks feed the sinks, one at a time
+    let sinks = RefCell::new(sinks);
+    let io_error: RefCell<Option<anyhow::Error>> = RefCell::new(None);
     let start = Instant::now();
     let mut last_ui = Instant::now();
     let mut ke_peak: f64 = 0.0;
@@ -149,37 +151,19 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         &mut sim,
         sim_spec,
         |sim, s| {
-            let t = Instant::now();
             ke_peak = ke_peak.max(s.kinetic_energy);
-            let res = csv
-                .write(&series::row(dim, s))
-                .map_err(anyhow::Error::from)
-                .and_then(|_| match vtk.as_mut() {
-                    Some(v) => v.write(&sim.frame()).context("writing VTK snapshot"),
-                    None => Ok(()),
-                })
-                .and_then(|_| match recorder.as_mut() {
-                    Some(r) => r.record(sim, s).map_err(anyhow::Error::from),
-                    None => Ok(()),
-                });
-            sim.timers_mut()
-                .add(Stage::Observe, t.elapsed().as_secs_f64());
             samples.push(s.clone());
-            match res {
+            match sinks.borrow_mut().sample(sim, s) {
                 Ok(()) => true,
                 Err(e) => {
-                    io_error = Some(e);
+                    *io_error.borrow_mut() = Some(e.into());
                     false
                 }
             }
         },
         |sim| {
-            if let Some(p) = publisher.as_mut() {
-                if sim.steps() % opts.publish_every == 0 {
-                    let t = Instant::now();
-                    p.publish(sim);
-                    publish_secs += t.elapsed().as_secs_f64();
-                }
+            if let Err(e) = sinks.borrow_mut().step(sim) {
+                io_error.borrow_mut().get_or_insert(e.into());
             }
             if last_ui.elapsed().as_millis() > 200 {
                 last_ui = Instant::now();
@@ -193,23 +177,19 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
             }
         },
     );
-    if let Some(e) = io_error {
+    if let Some(e) = io_error.into_inner() {
         return Err(e);
     }
-    let record_counts = match recorder {
-        Some(r) => Some(r.finish()?),
-        None => None,
-    };
+    let mut sinks = sinks.into_inner();
     let blowup = match &ended {
         RunEnd::Blowup(b) => Some(b.clone()),
         _ => None,
     };
-    // the state the guard stopped on (finite: it stops before NaNs), as the last
-    // snapshot, so the blow-up can be looked at in ParaView
-    if let (Some(_), Some(v)) = (&blowup, vtk.as_mut()) {
-        v.write(&sim.frame())
-            .context("writing the VTK snapshot of the blow-up")?;
+    if blowup.is_some() {
+        sinks.blowup(&sim)?;
     }
+    let (publish, record) = (sinks.report("publish"), sinks.report("record"));
+    sinks.finish()?;
     bar.finish_and_clear();
     let wall = start.elapsed().as_secs_f64();
     let n = sim.fine_count();
@@ -217,16 +197,19 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
     let fine_pss = n as f64 * sim.steps() as f64 / wall.max(1e-12);
     let pss = fine_pss + sim.coarse_count() as f64 * sim.coarse_steps() as f64 / wall.max(1e-12);
 
+    // the sinks count as observation: rows, snapshots and records written, frames built
+    sim.timers_mut().add(Stage::Observe, sinks.seconds);
     let mut stages = Map::new();
     for (name, secs) in sim.timers().entries() {
         stages.insert(name.to_string(), json!(secs));
     }
-    // the sinks count as observation: frames built and records written
-    sim.timers_mut().add(Stage::Observe, publish_secs);
     let mut skipped_list = sim.skipped();
-    match &publisher {
+    let sent = |p: &Value| {
+        p["frames_sent"].as_u64().unwrap_or(0) + p["frames_dropped"].as_u64().unwrap_or(0)
+    };
+    match &publish {
         None => skipped_list.push(("publish".into(), "no --publish".into())),
-        Some(p) if p.stats().sent + p.stats().dropped == 0 => {
+        Some(p) if sent(p) == 0 => {
             skipped_list.push(("publish".into(), "no subscriber: no frame was built".into()))
         }
         Some(_) => {}
@@ -294,22 +277,8 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         "fine_particle_steps_per_s": fine_pss,
         "stages": stages,
         "skipped": skipped,
-        "publish": publisher.as_ref().map(|p| {
-            let st = p.stats();
-            json!({
-                "service": p.name(),
-                "every": opts.publish_every,
-                "frames_sent": st.sent,
-                "frames_dropped": st.dropped,
-                "first_drop": st.first_drop,
-                "no_subscriber": st.no_subscriber,
-                "seconds": publish_secs,
-            })
-        }),
-        "record": opts.record.as_ref().map(|p| json!({
-            "path": p.display().to_string(),
-            "messages": record_counts,
-        })),
+        "publish": publish,
+        "record": record,
         "observables": obs,
     });
     std::fs::write(

@@ -1,6 +1,8 @@
 //! The CSV time series: energies, run-out, speed, barrier loads and probes.
 
 use granmix_core::simulation::Sample;
+use granmix_core::AnySimulation;
+use granmix_ipc::{Sink, SinkError};
 use std::io::Write;
 
 const AX: [&str; 3] = ["x", "y", "z"];
@@ -154,17 +156,34 @@ pub fn row(dim: usize, s: &Sample) -> Vec<f64> {
 /// A CSV file written row by row.
 pub struct CsvSeries {
     out: std::io::BufWriter<std::fs::File>,
+    /// The scene's dimension (columns per vector).
+    dim: usize,
 }
 
 impl CsvSeries {
-    pub fn create(path: &std::path::Path, header: Vec<String>) -> std::io::Result<Self> {
+    /// A series of `dim`-dimensional samples with columns `header`.
+    pub fn create(
+        path: &std::path::Path,
+        dim: usize,
+        header: Vec<String>,
+    ) -> std::io::Result<Self> {
         let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
         writeln!(out, "{}", header.join(","))?;
-        Ok(CsvSeries { out })
+        Ok(CsvSeries { out, dim })
     }
     pub fn write(&mut self, values: &[f64]) -> std::io::Result<()> {
         let line: Vec<String> = values.iter().map(|v| format!("{v:.9e}")).collect();
         writeln!(self.out, "{}", line.join(","))?;
         self.out.flush()
+    }
+}
+
+impl Sink for CsvSeries {
+    fn name(&self) -> &str {
+        "series.csv"
+    }
+    fn sample(&mut self, _sim: &AnySimulation, s: &Sample) -> Result<(), SinkError> {
+        self.write(&row(self.dim, s))
+            .map_err(|e| SinkError::new("series.csv", e))
     }
 }

@@ -268,7 +268,7 @@ fn escaped(sim: &AnySimulation) -> Option<String> {
             hi[k] = hi[k].max(w[k]);
         }
     }
-    for (p, id) in f.pos.iter().zip(&f.id) {
+    for (p, id) in f.fine.iter().map(|r| (&r.position, &r.id)) {
         for k in 0..d {
             if p[k] < lo[k] || (k != up && p[k] > hi[k]) {
                 return Some(format!(

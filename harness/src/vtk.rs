@@ -1,7 +1,9 @@
 //! ParaView output: `.vtu` unstructured-grid snapshots (raw appended binary) and a
 //! `.pvd` collection indexing them by time.
 
-use granmix_core::simulation::Frame;
+use granmix_core::simulation::{Frame, Sample};
+use granmix_core::AnySimulation;
+use granmix_ipc::{Sink, SinkError};
 use std::fmt::Write as _;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -111,31 +113,31 @@ impl VtkSeries {
     pub fn write(&mut self, frame: &Frame) -> std::io::Result<()> {
         let k = self.entries.len();
         let name = format!("{}_{k:05}.vtu", self.stem);
+        let fine = &frame.fine;
         let mut a = Arrays::new();
-        a.push("velocity", "Float32", 3, &bytes_f32_3(&frame.vel));
-        a.push("pressure", "Float32", 1, &bytes_f32(&frame.pressure));
+        let vel: Vec<[f32; 3]> = fine.iter().map(|p| p.velocity).collect();
+        a.push("velocity", "Float32", 3, &bytes_f32_3(&vel));
+        let pressure: Vec<f32> = fine.iter().map(|p| p.pressure).collect();
+        a.push("pressure", "Float32", 1, &bytes_f32(&pressure));
         a.push("density", "Float32", 1, &bytes_f32(&frame.density));
-        a.push(
-            "plastic_strain",
-            "Float32",
-            1,
-            &bytes_f32(&frame.plastic_strain),
-        );
+        let eps: Vec<f32> = fine.iter().map(|p| p.plastic_strain).collect();
+        a.push("plastic_strain", "Float32", 1, &bytes_f32(&eps));
         let stress: Vec<u8> = frame
             .stress
             .iter()
             .flat_map(|s| s.iter().flat_map(|c| c.to_le_bytes()))
             .collect();
         a.push("stress_xx_yy_zz_xy_xz_yz", "Float32", 6, &stress);
-        let ids: Vec<u8> = frame.id.iter().flat_map(|i| i.to_le_bytes()).collect();
+        let ids: Vec<u8> = fine.iter().flat_map(|p| p.id.to_le_bytes()).collect();
         a.push("id", "UInt32", 1, &ids);
-        let mats: Vec<u8> = frame
-            .material
+        // materials are u16 in the solver
+        let mats: Vec<u8> = fine
             .iter()
-            .flat_map(|i| i.to_le_bytes())
+            .flat_map(|p| (p.group as u16).to_le_bytes())
             .collect();
         a.push("material", "UInt16", 1, &mats);
-        write_vtu(&self.dir.join(&name), &frame.pos, a)?;
+        let pos: Vec<[f32; 3]> = fine.iter().map(|p| p.position).collect();
+        write_vtu(&self.dir.join(&name), &pos, a)?;
         if k == 0 && !frame.wall_pos.is_empty() {
             let mut w = Arrays::new();
             let obj: Vec<u8> = frame
@@ -150,25 +152,24 @@ impl VtkSeries {
                 w,
             )?;
         }
-        let bodies = if frame.coarse_pos.is_empty() {
+        let bodies = if frame.coarse.is_empty() {
             None
         } else {
+            let coarse = &frame.coarse;
             let bname = format!("{}_bodies_{k:05}.vtu", self.stem);
             let mut b = Arrays::new();
-            b.push("velocity", "Float32", 3, &bytes_f32_3(&frame.coarse_vel));
+            let vel: Vec<[f32; 3]> = coarse.iter().map(|p| p.velocity).collect();
+            b.push("velocity", "Float32", 3, &bytes_f32_3(&vel));
             b.push(
                 "fine_force",
                 "Float32",
                 3,
                 &bytes_f32_3(&frame.coarse_fine_force),
             );
-            let ids: Vec<u8> = frame
-                .coarse_body
-                .iter()
-                .flat_map(|i| i.to_le_bytes())
-                .collect();
+            let ids: Vec<u8> = coarse.iter().flat_map(|p| p.group.to_le_bytes()).collect();
             b.push("body", "UInt32", 1, &ids);
-            write_vtu(&self.dir.join(&bname), &frame.coarse_pos, b)?;
+            let pos: Vec<[f32; 3]> = coarse.iter().map(|p| p.position).collect();
+            write_vtu(&self.dir.join(&bname), &pos, b)?;
             Some(bname)
         };
         self.entries.push((frame.time, name, bodies));
@@ -193,5 +194,21 @@ impl VtkSeries {
         }
         s.push_str("  </Collection>\n</VTKFile>\n");
         std::fs::write(self.dir.join(format!("{}.pvd", self.stem)), s)
+    }
+}
+
+impl Sink for VtkSeries {
+    fn name(&self) -> &str {
+        "vtk"
+    }
+    fn sample(&mut self, sim: &AnySimulation, _s: &Sample) -> Result<(), SinkError> {
+        self.write(&sim.frame())
+            .map_err(|e| SinkError::new("writing VTK snapshot", e))
+    }
+    /// The state the guard stopped on, as the last snapshot, so that the blow-up can
+    /// be looked at in ParaView.
+    fn blowup(&mut self, sim: &AnySimulation) -> Result<(), SinkError> {
+        self.write(&sim.frame())
+            .map_err(|e| SinkError::new("writing the VTK snapshot of the blow-up", e))
     }
 }

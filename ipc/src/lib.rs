@@ -7,8 +7,9 @@
 //!   `foxglove.PointCloud`, bodies as `foxglove.FrameTransforms`, loads and energies as
 //!   JSON with JSON Schema, the scene as an attachment).
 //!
-//! The CLI (`granmix run --publish/--record`, `granmix watch`) and the FMU
-//! (`ipc.enabled`, `ipc.service`, `record.path`) share these types.
+//! - [`sink`]: the one interface of bulk outputs ([`Sink`], [`Sinks`]) that the CLI
+//!   (`granmix run --publish/--record`, CSV and VTK) and the FMU (`ipc.enabled`,
+//!   `ipc.service`, `record.path`) feed alike.
 
 pub mod error;
 pub mod pattern;
@@ -16,6 +17,7 @@ pub mod payload;
 pub mod publisher;
 pub mod recorder;
 pub mod service;
+pub mod sink;
 pub mod subscriber;
 
 pub use error::IpcError;
@@ -24,4 +26,5 @@ pub use foxglove;
 pub use payload::{FrameHeader, ParticleRecord, SCHEMA_VERSION};
 pub use publisher::{FrameInfo, FramePublisher, Outcome, PublishStats};
 pub use recorder::{RecordCounts, Recorder, SceneInfo};
+pub use sink::{ChannelSink, Sink, SinkError, Sinks};
 pub use subscriber::{Frame, FrameSubscriber};

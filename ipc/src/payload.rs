@@ -3,44 +3,14 @@
 //! subscribers in other languages (Python `ctypes`, C) declare the same layout; see
 //! `docs/ipc.md`. Change either layout only together with [`SCHEMA_VERSION`].
 
-use granmix_core::simulation::ParticleState;
 use iceoryx2::prelude::ZeroCopySend;
 
 /// Layout version of [`FrameHeader`] and [`ParticleRecord`], also a service attribute.
 pub const SCHEMA_VERSION: u32 = 1;
 
-/// One particle: 40 bytes, fine particles first, then coarse-grain particles.
-#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
-#[type_name("granmix::ParticleRecord")]
-#[repr(C)]
-pub struct ParticleRecord {
-    /// Position (m), 3D layout (z = 0 in 2D).
-    pub position: [f32; 3],
-    /// Velocity (m/s).
-    pub velocity: [f32; 3],
-    /// Pressure −tr(σ)/3 (Pa); 0 for coarse grains.
-    pub pressure: f32,
-    /// Accumulated plastic strain; 0 for coarse grains.
-    pub plastic_strain: f32,
-    /// Particle id (fine: stable id; coarse: index among coarse particles).
-    pub id: u32,
-    /// Material index (fine) or body index (coarse).
-    pub group: u32,
-}
-
-impl From<&ParticleState> for ParticleRecord {
-    #[inline(always)]
-    fn from(p: &ParticleState) -> Self {
-        ParticleRecord {
-            position: p.position,
-            velocity: p.velocity,
-            pressure: p.pressure,
-            plastic_strain: p.plastic_strain,
-            id: p.id,
-            group: p.group,
-        }
-    }
-}
+/// One particle: 40 bytes, fine particles first, then coarse-grain particles; the one
+/// particle record of granmix ([`granmix_core::sample::ParticleRecord`]).
+pub use granmix_core::sample::ParticleRecord;
 
 /// Per-frame header: 48 bytes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]

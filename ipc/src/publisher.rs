@@ -169,9 +169,7 @@ impl FramePublisher {
             coarse_count: coarse,
             dimension: sim.dimension() as u32,
         };
-        self.publish_with(&info, |out| {
-            sim.fill_particles(out, |p| ParticleRecord::from(p))
-        })
+        self.publish_with(&info, |out| sim.fill_particles(out))
     }
 
     /// Publish a copy of `records` (one memcpy into shared memory), if anybody listens.

@@ -311,7 +311,7 @@ impl Recorder {
         let (f, c) = sim.particle_counts();
         let mut records = std::mem::take(&mut self.records);
         records.resize(f + c, ParticleRecord::default());
-        sim.fill_particles(&mut records, |p| ParticleRecord::from(p));
+        sim.fill_particles(&mut records);
         let r = self.write_particles(sim.time(), &records);
         self.records = records;
         r
@@ -384,6 +384,12 @@ impl Recorder {
 
     /// Write the summary and close the file.
     pub fn finish(mut self) -> Result<RecordCounts, IpcError> {
+        self.close()
+    }
+
+    /// Write the summary and close the file, leaving the recorder in place (a second
+    /// call writes nothing more).
+    pub fn close(&mut self) -> Result<RecordCounts, IpcError> {
         self.writer.finish().map_err(|e| rec_err(&self.path, e))?;
         Ok(self.counts)
     }

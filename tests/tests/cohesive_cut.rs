@@ -42,20 +42,19 @@ fn face_displacement(height: f64) -> f64 {
     let (loaded, mut sim) = build_text(&scene(height), "cut.toml");
     let f0 = sim.frame();
     let face: Vec<u32> = f0
-        .id
+        .fine
         .iter()
-        .zip(&f0.pos)
-        .filter(|(_, p)| p[0] > 1.9)
-        .map(|(i, _)| *i)
+        .filter(|p| p.position[0] > 1.9)
+        .map(|p| p.id)
         .collect();
     let x0: std::collections::HashMap<u32, f32> =
-        f0.id.iter().zip(&f0.pos).map(|(i, p)| (*i, p[0])).collect();
+        f0.fine.iter().map(|p| (p.id, p.position[0])).collect();
     run_built(&loaded, &mut sim, |_| {});
     let f = sim.frame();
-    f.id.iter()
-        .zip(&f.pos)
-        .filter(|(i, _)| face.contains(i))
-        .map(|(i, p)| (p[0] - x0[i]) as f64)
+    f.fine
+        .iter()
+        .filter(|p| face.contains(&p.id))
+        .map(|p| (p.position[0] - x0[&p.id]) as f64)
         .fold(0.0, f64::max)
 }
 

@@ -17,20 +17,20 @@ fn run_with_threads(threads: usize, scene: &str, set: &[&str], steps: usize) -> 
         let f = sim.frame();
         let s = sim.sample();
         let mut bits: Vec<u64> = f
-            .pos
+            .fine
             .iter()
-            .flat_map(|p| p.iter().map(|x| x.to_bits() as u64))
+            .flat_map(|p| p.position.iter().map(|x| x.to_bits() as u64))
             .collect();
         bits.extend(
             f.stress
                 .iter()
                 .flat_map(|p| p.iter().map(|x| x.to_bits() as u64)),
         );
-        bits.extend(f.id.iter().map(|&i| i as u64));
+        bits.extend(f.fine.iter().map(|p| p.id as u64));
         bits.extend(
-            f.coarse_pos
+            f.coarse
                 .iter()
-                .flat_map(|p| p.iter().map(|x| x.to_bits() as u64)),
+                .flat_map(|p| p.position.iter().map(|x| x.to_bits() as u64)),
         );
         bits.extend(
             s.bodies

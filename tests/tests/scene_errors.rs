@@ -158,26 +158,7 @@ fn body_errors_name_the_key() {
 
 #[test]
 fn missing_mesh_and_terrain_files_name_the_key() {
-    let text = r#"
-[simulation]
-dimension = 3
-gravity = [0.0, 0.0, -9.81]
-end_time = 0.1
-dp = 0.01
-output_interval = 0.01
-
-[[solids]]
-name = "rock"
-density = 2500.0
-youngs_modulus = 1e9
-poisson_ratio = 0.2
-
-[[bodies]]
-name = "boulder"
-material = "rock"
-model = "rigid"
-shape = { type = "mesh", file = "no_such_rock.obj" }
-"#;
+    let text = &mesh_boulder("no_such_rock.obj");
     let e = err(text, &[]);
     assert_eq!(e.path, "bodies[0].shape.file", "{e}");
     assert!(e.to_string().contains("no_such_rock.obj"), "{e}");
@@ -234,26 +215,7 @@ fn a_mesh_error_names_the_file_once() {
     let dir = std::env::temp_dir().join(format!("granmix_mesh_err_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("rock.ply"), "ply\n").unwrap();
-    let text = r#"
-[simulation]
-dimension = 3
-gravity = [0.0, 0.0, -9.81]
-end_time = 0.1
-dp = 0.01
-output_interval = 0.01
-
-[[solids]]
-name = "rock"
-density = 2500.0
-youngs_modulus = 1e9
-poisson_ratio = 0.2
-
-[[bodies]]
-name = "boulder"
-material = "rock"
-model = "rigid"
-shape = { type = "mesh", file = "rock.ply" }
-"#;
+    let text = &mesh_boulder("rock.ply");
     let e = granmix_core::input::load_scene_in(text, "bad.toml", &[], &dir)
         .expect_err("an unknown mesh format is refused");
     let msg = e.to_string();
@@ -299,4 +261,30 @@ fn a_region_outside_every_container_is_refused() {
         "max = [0.5, 0.5]\nopen = [\"+y\", \"+x\"]\n",
     );
     load_scene_str(&open, "open.toml", &[]).unwrap();
+}
+
+/// A 3D scene of one rigid boulder whose shape is the mesh `file`.
+fn mesh_boulder(file: &str) -> String {
+    format!(
+        r#"
+[simulation]
+dimension = 3
+gravity = [0.0, 0.0, -9.81]
+end_time = 0.1
+dp = 0.01
+output_interval = 0.01
+
+[[solids]]
+name = "rock"
+density = 2500.0
+youngs_modulus = 1e9
+poisson_ratio = 0.2
+
+[[bodies]]
+name = "boulder"
+material = "rock"
+model = "rigid"
+shape = {{ type = "mesh", file = "{file}" }}
+"#
+    )
 }

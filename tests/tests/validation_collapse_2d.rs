@@ -27,8 +27,9 @@ fn collapse_2d_runout_height_and_energy() {
     // Deposit height at the wall stays H0 (a < 0.65), within one particle spacing.
     let frame = sim.frame();
     let top = frame
-        .pos
+        .fine
         .iter()
+        .map(|p| p.position)
         .filter(|p| p[0] < 0.02)
         .map(|p| p[1] as f64)
         .fold(0.0, f64::max)

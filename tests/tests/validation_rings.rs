@@ -56,11 +56,10 @@ fn rubber_rings_conserve_momentum_and_never_gain_energy() {
     let dp = 0.001;
     for b in 0..2u32 {
         let pts: Vec<[f32; 3]> = f
-            .coarse_pos
+            .coarse
             .iter()
-            .zip(&f.coarse_body)
-            .filter(|(_, &pb)| pb == b)
-            .map(|(p, _)| *p)
+            .filter(|p| p.group == b)
+            .map(|p| p.position)
             .collect();
         for (i, p) in pts.iter().enumerate() {
             let nn = pts

@@ -229,6 +229,7 @@ impl<'a, const D: usize> JumpDiffusion<'a, D> {
 /// both of its particles: the velocity part of 2 (U* − U_L) in Eq. (15),
 /// 2 Z_j (U_R − U_L)/(Z_i + Z_j) with U_R − U_L = v_ij·e_ij (Z_i for j), and
 /// −v_ij ⊗ e_ij of Eq. (24), the same for j (v_ji ⊗ e_ji = v_ij ⊗ e_ij).
+#[inline]
 pub fn pair_pass<const D: usize>(
     p: &FineParticles<D>,
     src: &[Source],

@@ -98,6 +98,7 @@ pub fn integrate<const D: usize>(
 
 /// The fine–fine terms of the sweep, each pair evaluated once and added to both of its
 /// particles, and the continuity sweep's terms without velocity.
+#[inline]
 pub fn pair_pass<const D: usize>(
     p: &FineParticles<D>,
     src: &[Source],

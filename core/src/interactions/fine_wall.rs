@@ -76,6 +76,9 @@ pub struct FineAtWall<'a, const D: usize> {
     pub strength: WallStrength,
     /// Tensile strength of the interface ([`wall_contact::tensile_strength`]).
     pub tensile: Real,
+    /// 2/ρ_i and the squared kernel cut-off, taken once per particle.
+    inv_rho2: Real,
+    cut2: Real,
 }
 
 impl<'a, const D: usize> FineAtWall<'a, D> {
@@ -107,6 +110,8 @@ impl<'a, const D: usize> FineAtWall<'a, D> {
                 WallStress::Mirrored => WallStrength::MIRROR,
             },
             tensile: wall_contact::tensile_strength(m),
+            inv_rho2: 2.0 / rho,
+            cut2: law.kernel.cutoff * law.kernel.cutoff,
         }
     }
 
@@ -115,11 +120,10 @@ impl<'a, const D: usize> FineAtWall<'a, D> {
     /// tensile strength, and Coulomb friction.
     #[inline(always)]
     pub fn acceleration(&self, law: &WallLaw<D>, walls: &Walls<D>, w: usize) -> Option<Vect<D>> {
-        let cut2 = law.kernel.cutoff * law.kernel.cutoff;
         let si = self.src;
         let rij = self.pos - walls.pos[w];
         let r2 = rij.norm_squared();
-        if r2 >= cut2 || r2 == 0.0 {
+        if r2 >= self.cut2 || r2 == 0.0 {
             return None;
         }
         let r = r2.sqrt();
@@ -139,8 +143,7 @@ impl<'a, const D: usize> FineAtWall<'a, D> {
         sstar.0[2] -= pstar;
         // the contact opens beyond the soil's tensile strength
         let sstar = wall_contact::cut(sstar, &n, self.tensile);
-        let inv_rho2 = 2.0 / self.rho;
-        let mut a = sstar.dot_vec(&e) * (inv_rho2 * dw * walls.volume);
+        let mut a = sstar.dot_vec(&e) * (self.inv_rho2 * dw * walls.volume);
         if law.friction > 0.0 {
             let an = a.dot(&n);
             if an > 0.0 {

@@ -11,9 +11,9 @@ use crate::world::World;
 
 impl<const D: usize> Stepper<D> {
     /// Refresh the coarse normals and pack the coarse particles for a fine step of
-    /// `dt` (nothing without coarse or without fine grains).
+    /// `dt` (nothing without coarse grains).
     pub(super) fn pack_coarse(&mut self, world: &mut World<D>, dt: Real) {
-        let Some(c) = self.coarse.as_ref().filter(|_| !world.fine.is_empty()) else {
+        let Some(c) = self.coarse.as_ref() else {
             return;
         };
         c.update_normals(&mut world.coarse);

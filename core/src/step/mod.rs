@@ -261,12 +261,17 @@ impl<const D: usize> Stepper<D> {
         let half = 0.5 * dt;
         self.set_loads_of_time(world, half);
         // the coarse particles at the middle of the step, as the fine sweeps see them
-        self.timed(Stage::Coupling, |s| s.pack_coarse(world, dt));
+        if self.coarse.is_some() && !world.fine.is_empty() {
+            self.timed(Stage::Coupling, |s| s.pack_coarse(world, dt));
+        }
         // Eq. (54): x and ρ to the half step
         self.timed(Stage::Drift, |s| s.drift(world, half));
         let rebuilt = self.timed(Stage::Neighbors, |s| s.refresh_lists(world, dt));
         // Eq. (27), cohesive soils only
-        let artificial = self.timed(Stage::ArtificialStress, |s| s.artificial_stress(world));
+        let artificial = self
+            .params
+            .artificial
+            .and_then(|_| self.timed(Stage::ArtificialStress, |s| s.artificial_stress(world)));
         // Eqs. (16), (55) then (15), (24)–(26), (7)–(12), with walls and coarse grains
         self.fine_sweeps(world, dt, artificial);
         // Eq. (56) and the per-chunk stability checks
