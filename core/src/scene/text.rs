@@ -139,16 +139,27 @@ pub fn apply_overrides(text: &str, file: &str, overrides: &[String]) -> Result<S
         if segs.is_empty() {
             return Err(err("empty key path".to_string()));
         }
-        set_path(doc.as_item_mut(), &segs, value).map_err(err)?;
+        set_path(doc.as_item_mut(), &segs, value).map_err(|e| err(e.to_string()))?;
     }
     Ok(doc.to_string())
+}
+
+/// Why an override's key path cannot be set.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+enum SetError {
+    #[error("index {index} out of range (array has {len} entries)")]
+    OutOfRange { index: usize, len: usize },
+    #[error("`{0}` indexes something that is not an array")]
+    NotAnArray(String),
+    #[error("cannot set `{0}`: parent is not a table")]
+    NotATable(String),
 }
 
 fn set_in_table(
     t: &mut toml_edit::Table,
     rest: &[String],
     value: toml_edit::Value,
-) -> Result<(), String> {
+) -> Result<(), SetError> {
     let mut item = toml_edit::Item::Table(std::mem::take(t));
     let r = set_path(&mut item, rest, value);
     if let toml_edit::Item::Table(back) = item {
@@ -161,17 +172,17 @@ fn set_path(
     item: &mut toml_edit::Item,
     segs: &[String],
     value: toml_edit::Value,
-) -> Result<(), String> {
+) -> Result<(), SetError> {
     let seg = &segs[0];
     let last = segs.len() == 1;
     if let Ok(i) = seg.parse::<usize>() {
         match item {
             toml_edit::Item::Value(toml_edit::Value::Array(a)) if last => {
                 if i >= a.len() {
-                    return Err(format!(
-                        "index {i} out of range (array has {} entries)",
-                        a.len()
-                    ));
+                    return Err(SetError::OutOfRange {
+                        index: i,
+                        len: a.len(),
+                    });
                 }
                 a.replace(i, value);
                 Ok(())
@@ -180,15 +191,15 @@ fn set_path(
                 let n = a.len();
                 let t = a
                     .get_mut(i)
-                    .ok_or(format!("index {i} out of range (array has {n} entries)"))?;
+                    .ok_or(SetError::OutOfRange { index: i, len: n })?;
                 set_in_table(t, &segs[1..], value)
             }
-            _ => Err(format!("`{seg}` indexes something that is not an array")),
+            _ => Err(SetError::NotAnArray(seg.clone())),
         }
     } else {
         let t = item
             .as_table_like_mut()
-            .ok_or(format!("cannot set `{seg}`: parent is not a table"))?;
+            .ok_or_else(|| SetError::NotATable(seg.clone()))?;
         if last {
             t.insert(seg, toml_edit::Item::Value(value));
             return Ok(());
