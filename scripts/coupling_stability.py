@@ -35,7 +35,7 @@ import numpy as np
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests" / "python"))
-from conftest import Slave, granmix_bin  # noqa: E402
+from conftest import Slave, granmix_bin
 
 K_POST = 4.0e4  # models/structures/post.toml
 H0 = 1e-4  # identification step (one solver step)
@@ -62,7 +62,7 @@ def step_response(barrier_fmu, duration=0.2):
     settled (active) state."""
     g = Slave(barrier_fmu, "soil")
     t_ramp, t_hold = 0.05, 0.08
-    for i in range(int(round(t_hold / H0))):
+    for i in range(round(t_hold / H0)):
         s = min((i + 1) * H0 / t_ramp, 1.0)
         g.set("barrier.displacement.x", X_SETTLED * (0.5 - 0.5 * np.cos(np.pi * s)))
         g.step(H0)
@@ -72,7 +72,7 @@ def step_response(barrier_fmu, duration=0.2):
         g.fmu.setFMUstate(state)
         g.t = t0
         out = []
-        for _ in range(int(round(duration / H0))):
+        for _ in range(round(duration / H0)):
             g.set("barrier.displacement.x", X_SETTLED + dx)
             g.step(H0)
             out.append(g.get("barrier.force.x"))
@@ -158,8 +158,8 @@ def run_loop(fmus, h, m, zeta, duration=0.3, kick=0.0, t_kick=0.1):
     g = Slave(fmus["barrier"], "soil")
     p = Slave(fmus["post"], "post", start={"m": m, "c": 2 * zeta * np.sqrt(K_POST * m)})
     f, forces = g.get("barrier.force.x"), []
-    n_kick = int(round(t_kick / h))
-    for n in range(int(round(duration / h))):
+    n_kick = round(t_kick / h)
+    for n in range(round(duration / h)):
         p.set("force", f + (kick / h if kick and n == n_kick else 0.0))
         p.step(h)
         g.set("barrier.displacement.x", p.get("displacement"))
@@ -169,7 +169,7 @@ def run_loop(fmus, h, m, zeta, duration=0.3, kick=0.0, t_kick=0.1):
     g.free()
     p.free()
     forces = np.array(forces)
-    w = int(round(0.025 / h))
+    w = round(0.025 / h)
     env = np.array(
         [np.ptp(forces[i : i + w]) / 2 for i in range(0, len(forces) - w + 1, w)]
     )
@@ -200,8 +200,8 @@ def write_svg(path, soil, m, runs):
         return y1 - (np.log10(z) - zy[0]) / (zy[1] - zy[0]) * (y1 - y0)
 
     out = [
-        f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{ht}" '
-        'font-family="sans-serif" font-size="12">',
+        (f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{ht}" '
+        'font-family="sans-serif" font-size="12">'),
         f'<rect x="{x0}" y="{y0}" width="{x1 - x0}" height="{y1 - y0}" fill="none" stroke="black"/>',
     ]
     for h in [0.1e-3, 0.2e-3, 0.5e-3, 1e-3, 2e-3]:

@@ -34,6 +34,5 @@ out = sys.argv[1] if len(sys.argv) > 1 else "models/terrain/channel.asc"
 with open(out, "w") as f:
     f.write(f"ncols {len(xs)}\nnrows {len(ys)}\nxllcenter 0\nyllcenter -4\n")
     f.write(f"cellsize {cell}\nNODATA_value -9999\n")
-    for y in reversed(ys):  # north (max y) first
-        f.write(" ".join(f"{ground(x, y):.4f}" for x in xs) + "\n")
+    f.writelines(" ".join(f"{ground(x, y):.4f}" for x in xs) + "\n" for y in reversed(ys))
 print("wrote", out)

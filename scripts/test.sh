@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
-# Run the whole test suite from a fresh checkout: formatting, lints, unit and
-# validation tests, then the FMU tests in Python (pytest + fmpy in .venv).
+# Run the whole test suite from a fresh checkout: formatting, lints (clippy, ruff), unit
+# and validation tests, then the FMU tests in Python (pytest + fmpy in .venv).
 # Installs what it needs first (scripts/setup.sh: libclang-dev and the Python venv).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export CARGO_TERM_COLOR=never
 bash scripts/setup.sh
 cargo fmt --all -- --check
+.venv/bin/ruff check tests/python scripts examples
 cargo clippy --release --all-targets -- -D warnings
 cargo test --release --workspace
 # the FMU tests pack FMUs with the granmix binary and the granmix-fmu library

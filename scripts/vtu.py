@@ -5,7 +5,8 @@ import sys
 
 
 def read_vtu(path):
-    data = open(path, "rb").read()
+    with open(path, "rb") as f:
+        data = f.read()
     head, _, rest = data.partition(b'<AppendedData encoding="raw">')
     blob = rest[rest.index(b"_") + 1:]
     arrays = {}
@@ -18,7 +19,7 @@ def read_vtu(path):
         off = int(attrs[b"offset"])
         (nbytes,) = struct.unpack_from("<Q", blob, off)
         n = nbytes // struct.calcsize(fmt[kind])
-        vals = struct.unpack_from("<%d%s" % (n, fmt[kind]), blob, off + 8)
+        vals = struct.unpack_from(f"<{n}{fmt[kind]}", blob, off + 8)
         arrays[name] = [vals[i:i + comps] for i in range(0, n, comps)] if comps > 1 else list(vals)
     return arrays
 

@@ -3,8 +3,8 @@
 the coarse-grain sub-stepper and contacts in the state."""
 
 import numpy as np
-from fmpy.validation import validate_fmu
 from conftest import ROOT, Slave, pack
+from fmpy.validation import validate_fmu
 
 
 def test_debris_flow_scene_as_fmu(tmp_path):

@@ -23,7 +23,7 @@ SETTLED = 0.5  # N/m: largest half range of the load over the last window when s
 
 def windows(forces, h):
     """(mean, half range) of the load over consecutive windows."""
-    w = int(round(WINDOW / h))
+    w = round(WINDOW / h)
     return [
         (forces[i : i + w].mean(), np.ptp(forces[i : i + w]) / 2)
         for i in range(0, len(forces) - w + 1, w)
@@ -36,8 +36,8 @@ def loop(fmus, h, duration, kick=0.0, **post):
     g = Slave(fmus["barrier"], "granular")
     p = Slave(fmus["post"], "post", start=post)
     f, forces = g.get("barrier.force.x"), []
-    for n in range(int(round(duration / h))):
-        p.set("force", f + (kick / h if n == int(round(T_KICK / h)) else 0.0))
+    for n in range(round(duration / h)):
+        p.set("force", f + (kick / h if n == round(T_KICK / h) else 0.0))
         p.step(h)
         g.set("barrier.displacement.x", p.get("displacement"))
         g.step(h)
@@ -53,7 +53,7 @@ def test_documented_loop_settles_at_the_fine_step_load(fmus):
     window by window with the fine-step loop's over the same times."""
     doc = windows(loop(fmus, H_DOC, T_SETTLE, KICK), H_DOC)
     fine = windows(loop(fmus, H_FINE, T_SETTLE, KICK), H_FINE)
-    kicked = int(round(T_KICK / WINDOW))
+    kicked = round(T_KICK / WINDOW)
     assert doc[kicked][1] > 20.0, f"the kick did not shake the loop: {doc[kicked]}"
     amp_doc, amp_fine = doc[-1][1], fine[-1][1]
     assert amp_doc < SETTLED, f"documented loop still oscillates: ±{amp_doc:.2f} N/m"

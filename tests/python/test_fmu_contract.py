@@ -4,10 +4,10 @@ than 0, the barrier load at t = 0 and numbers in messages (issue 26)."""
 
 import numpy as np
 import pytest
+from conftest import Slave
 from fmpy import simulate_fmu
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import fmi2LastSuccessfulTime
-from conftest import Slave
 
 H = 1e-3
 LOADS = ["barrier.force.x", "barrier.force.y", "barrier.moment", "barrier.peak_force",
@@ -248,8 +248,9 @@ def test_start_time_shifts_every_time_and_keeps_the_loads(fmus):
 
 
 def test_simulate_fmu_from_a_later_start(fmus, tmp_path):
-    from mcap.reader import make_reader
     import json
+
+    from mcap.reader import make_reader
     rec = tmp_path / "t0.mcap"
     out = ["barrier.force.x", "steps.fine"]
     a = simulate_fmu(str(fmus["barrier"]), start_time=0.1, stop_time=0.11,

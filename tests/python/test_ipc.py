@@ -3,7 +3,6 @@
 publishing at communication points, and `granmix run --record` read with `mcap`."""
 
 import json
-import pathlib
 import select
 import subprocess
 import sys
@@ -11,13 +10,13 @@ import tomllib
 import uuid
 
 import numpy as np
-from conftest import ROOT, SCENE, granmix_bin
+from conftest import ROOT, granmix_bin
 from fmpy import simulate_fmu
 from mcap.reader import make_reader
 
 SUBSCRIBER = ROOT / "examples" / "python" / "subscriber.py"
 sys.path.insert(0, str(SUBSCRIBER.parent))
-from subscriber import pattern_words  # noqa: E402
+from subscriber import pattern_words
 
 
 def unique(tag):
@@ -111,7 +110,7 @@ def test_python_and_rust_subscribers_read_the_same_frames(tmp_path):
 def test_fmu_publishes_at_every_communication_point(fmus, tmp_path):
     svc = unique("fmu")
     h, stop = 0.002, 0.02
-    points = [round(k * h, 12) for k in range(int(round(stop / h)) + 1)]
+    points = [round(k * h, 12) for k in range(round(stop / h) + 1)]
     out = tmp_path / "frames.json"
     # the subscriber creates the service with a queue deep enough for every frame
     sub = start(

@@ -2,10 +2,10 @@
 logged reason, never a crash."""
 
 import pytest
+from conftest import Slave
 from fmpy import extract, read_model_description
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave
-from conftest import Slave
 
 
 def fresh(path, name="sm"):
@@ -16,7 +16,7 @@ def fresh(path, name="sm"):
 
 
 def test_step_before_initialisation_is_an_error(fmus, capsys):
-    md, fmu = fresh(fmus["barrier"])
+    _md, fmu = fresh(fmus["barrier"])
     fmu.instantiate()
     with pytest.raises(FMICallException):
         fmu.doStep(currentCommunicationPoint=0.0, communicationStepSize=1e-3)
@@ -56,7 +56,7 @@ def test_bad_calls_in_step_mode(fmus, capsys):
 
 
 def test_messages_with_percent_signs_reach_the_logger_verbatim(fmus, capsys):
-    md, fmu = fresh(fmus["barrier"])
+    _md, fmu = fresh(fmus["barrier"])
     fmu.instantiate()
     with pytest.raises(FMICallException):
         fmu.setupExperiment(startTime=float("nan"))
