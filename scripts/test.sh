@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 export CARGO_TERM_COLOR=never
 bash scripts/setup.sh
 cargo fmt --all -- --check
-.venv/bin/ruff check tests/python scripts examples
+.venv/bin/ruff check python tests/python scripts examples
 cargo clippy --release --all-targets -- -D warnings
 cargo test --release --workspace
 # the FMU tests pack FMUs with the granmix binary and the granmix-fmu library

@@ -1,0 +1,13 @@
+"""granmix studies: many co-simulations of a granmix scene and partner FMUs.
+
+- :mod:`granmix.study` reads a study file (TOML): the scene, the partner FMUs, their
+  connections, the parameters to vary, the design and the outputs to collect. Errors
+  name the file, the key and the line.
+- :mod:`granmix.design` turns a study's design (full grid, explicit list, seeded random
+  or Latin hypercube) into cases, each keyed by a hash of its full specification.
+"""
+
+from granmix.design import Case, cases
+from granmix.study import Study, StudyError, load_study, parse_study
+
+__all__ = ["Case", "Study", "StudyError", "cases", "load_study", "parse_study"]

@@ -1,0 +1,98 @@
+"""Designs of experiments: the cases of a study.
+
+- ``grid``: every combination of the parameters' ``values``, the first parameter
+  varying slowest;
+- ``list``: the study's explicit ``design.cases``;
+- ``random``: ``samples`` draws, uniform over each parameter's ``range`` or over its
+  ``values``;
+- ``lhs``: a Latin hypercube of ``samples`` points over the ranges: each parameter's
+  range cut into ``samples`` equal strata, one point in each, the strata paired at random.
+
+Random designs draw from ``numpy.random.default_rng(seed)`` in a fixed order, so a study
+gives the same cases on every machine. Each case is keyed by a hash of its full
+specification (study settings, partner files and parameter values), which ``--resume``
+and the result table use to find it again.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from granmix.study import Study
+
+
+@dataclass(frozen=True)
+class Case:
+    """One co-simulation of a study: its index, parameter values and key."""
+
+    index: int
+    values: tuple[tuple[str, Any], ...]
+    key: str
+
+    def value(self, name: str) -> Any:
+        return dict(self.values)[name]
+
+
+def cases(study: Study) -> list[Case]:
+    """The cases of ``study``'s design, in design order."""
+    names = [p.name for p in study.parameters]
+    d = study.design
+    if d.kind == "grid":
+        rows = [tuple(r) for r in itertools.product(*(p.values for p in study.parameters))]
+    elif d.kind == "list":
+        rows = [tuple(v for _, v in row) for row in d.cases]
+    elif d.kind == "random":
+        rng = np.random.default_rng(d.seed)
+        rows = [
+            tuple(_draw(rng, p.values, p.range) for p in study.parameters)
+            for _ in range(d.samples)
+        ]
+    else:
+        rows = _latin_hypercube(study, np.random.default_rng(d.seed))
+    base = _fingerprint(study)
+    out = []
+    for i, row in enumerate(rows):
+        values = tuple(zip(names, row, strict=True))
+        spec = json.dumps({"study": base, "values": values}, sort_keys=True, default=str)
+        out.append(Case(i, values, hashlib.sha256(spec.encode()).hexdigest()[:16]))
+    return out
+
+
+def _draw(rng: np.random.Generator, values: tuple[Any, ...], rng_range: Any) -> Any:
+    if rng_range is not None:
+        lo, hi = rng_range
+        return float(lo + (hi - lo) * rng.random())
+    return values[int(rng.integers(len(values)))]
+
+
+def _latin_hypercube(study: Study, rng: np.random.Generator) -> list[tuple[float, ...]]:
+    n = study.design.samples
+    columns = []
+    for p in study.parameters:
+        lo, hi = p.range  # checked by the study reader
+        strata = rng.permutation(n)
+        u = (strata + rng.random(n)) / n
+        columns.append([float(lo + (hi - lo) * x) for x in u])
+    return [tuple(c[i] for c in columns) for i in range(n)]
+
+
+def _fingerprint(study: Study) -> dict[str, Any]:
+    """What, besides the parameter values, decides a case's result."""
+    return {
+        "scene": _digest(study.scene),
+        "step": study.step,
+        "end_time": study.end_time,
+        "partners": [(p.name, _digest(p.fmu)) for p in study.partners],
+        "connections": [(c.source, c.target) for c in study.connections],
+        "targets": [(p.name, p.target) for p in study.parameters],
+    }
+
+
+def _digest(path: Any) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
