@@ -24,7 +24,7 @@ if ! .venv/bin/python -c "import ziglang" >/dev/null 2>&1; then
     .venv/bin/pip install --quiet ziglang==0.17.1
 fi
 # the granmix study package (python/), editable: the tests import it from the checkout
-if ! .venv/bin/python -c "import granmix.study" >/dev/null 2>&1; then
+if ! .venv/bin/python -c "import granmix.sweep, distributed, matplotlib" >/dev/null 2>&1; then
     .venv/bin/pip install --quiet -e python
 fi
 # ruff, pinned: its default rule set changes between releases

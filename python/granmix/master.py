@@ -1,0 +1,229 @@
+"""One case of a study: the co-simulation master loop over the granmix FMU and its
+partners, and the case's result row.
+
+The loop is the Gauss–Seidel loop of ``docs/fmu.md``: at every communication step the
+partners step first, in the study's order, each fed the latest outputs of its sources,
+then the granmix FMU, fed the partners' new outputs. The collected outputs are read at
+t = 0 and after every step and reduced over time (``max``, ``min``, ``final``, ``mean``,
+``integral``, the last two by the trapezoidal rule). A case whose FMU fails (the
+stability guard, a refused input, any FMI error) becomes a ``failed`` row carrying the
+FMU's logged message; it never raises.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import shutil
+import socket
+import time
+from ctypes import byref
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from fmpy import calloc, extract, free, read_model_description
+from fmpy.fmi2 import (
+    FMU2Slave,
+    fmi2CallbackAllocateMemoryTYPE,
+    fmi2CallbackFreeMemoryTYPE,
+    fmi2CallbackFunctions,
+    fmi2CallbackLoggerTYPE,
+)
+
+from granmix.design import Case
+from granmix.pack import PackCache
+from granmix.study import GRANMIX, Study
+
+try:
+    from fmpy.logging import addLoggerProxy
+except (ImportError, OSError, AttributeError):  # fmpy ships the proxy for this platform
+    addLoggerProxy = None
+
+
+@dataclass
+class CaseResult:
+    """The result row of one case and its time series."""
+
+    key: str
+    index: int
+    values: dict[str, Any]
+    status: str
+    diagnostic: str = ""
+    outputs: dict[str, float] = field(default_factory=dict)
+    wall_time: float = 0.0
+    host: str = ""
+    #: ``time`` and every collected output, sampled at t = 0 and after every step.
+    series: dict[str, list[float]] = field(default_factory=dict)
+
+    def row(self) -> dict[str, Any]:
+        """One flat row: key, index, parameter values, reduced outputs, status,
+        diagnostic, wall time and host."""
+        out: dict[str, Any] = {"key": self.key, "case": self.index}
+        out.update(self.values)
+        out.update(self.outputs)
+        out.update(
+            status=self.status,
+            diagnostic=self.diagnostic,
+            wall_time=self.wall_time,
+            host=self.host,
+        )
+        return out
+
+
+class _Instance:
+    """An FMU instance with variables by name and its log messages kept."""
+
+    def __init__(self, name: str, path: Path, start: dict[str, float]) -> None:
+        self.name = name
+        md = read_model_description(str(path))
+        self.vr = {v.name: v.valueReference for v in md.modelVariables}
+        self.log: list[tuple[str, str]] = []
+        self.dir = extract(str(path))
+        self.callbacks = fmi2CallbackFunctions()
+        self.callbacks.logger = fmi2CallbackLoggerTYPE(self._logged)
+        self.callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        self.callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        if addLoggerProxy is not None:
+            addLoggerProxy(byref(self.callbacks))
+        self.fmu = FMU2Slave(
+            guid=md.guid,
+            unzipDirectory=self.dir,
+            modelIdentifier=md.coSimulation.modelIdentifier,
+            instanceName=name,
+        )
+        self.live = False
+        self.fmu.instantiate(callbacks=self.callbacks)
+        self.live = True
+        self.fmu.setupExperiment(startTime=0.0)
+        self.fmu.enterInitializationMode()
+        for k, v in start.items():
+            self.set(k, v)
+        self.fmu.exitInitializationMode()
+
+    def _logged(self, _env: Any, _name: Any, status: int, category: Any, message: Any) -> None:
+        cat = category.decode(errors="replace") if category else ""
+        self.log.append((cat, message.decode(errors="replace") if message else ""))
+
+    def ref(self, variable: str) -> int:
+        try:
+            return self.vr[variable]
+        except KeyError:
+            raise KeyError(f"FMU `{self.name}` has no variable `{variable}`") from None
+
+    def get(self, variable: str) -> float:
+        return self.fmu.getReal([self.ref(variable)])[0]
+
+    def set(self, variable: str, value: float) -> None:
+        self.fmu.setReal([self.ref(variable)], [float(value)])
+
+    def errors(self) -> str:
+        """The error and fatal messages it logged, newest last."""
+        bad = [m for c, m in self.log if c in ("logStatusError", "logStatusFatal")]
+        return "; ".join(bad)
+
+    def close(self) -> None:
+        if self.live:
+            # fmpy raises a bare Exception for any FMI status; a failed instance may
+            # refuse to terminate, and is freed all the same
+            with contextlib.suppress(Exception):
+                self.fmu.terminate()
+            with contextlib.suppress(Exception):
+                self.fmu.freeInstance()
+            self.live = False
+        shutil.rmtree(self.dir, ignore_errors=True)
+
+
+def reduce(times: list[float], values: list[float], how: str) -> float:
+    """``values`` at ``times`` reduced by ``how`` (trapezoidal integral and mean)."""
+    if how == "max":
+        return max(values)
+    if how == "min":
+        return min(values)
+    if how == "final":
+        return values[-1]
+    integral = sum(
+        0.5 * (values[k] + values[k + 1]) * (times[k + 1] - times[k])
+        for k in range(len(values) - 1)
+    )
+    if how == "integral":
+        return integral
+    span = times[-1] - times[0]
+    return integral / span if span > 0 else values[-1]
+
+
+def _split(variable: str) -> tuple[str, str]:
+    inst, var = variable.split(".", 1)
+    return inst, var
+
+
+def run_case(study: Study, case: Case, cache: PackCache, threads: int = 1) -> CaseResult:
+    """Run ``case`` of ``study`` to its end time; never raises for a failing FMU."""
+    os.environ["RAYON_NUM_THREADS"] = str(threads)
+    start = time.perf_counter()
+    result = CaseResult(
+        case.key, case.index, dict(case.values), "ok", host=socket.gethostname()
+    )
+    instances: dict[str, _Instance] = {}
+    try:
+        _loop(study, case, cache, instances, result)
+    except Exception as e:  # noqa: BLE001 - fmpy raises a bare Exception for every FMI error
+        result.status = "failed"
+        logged = "; ".join(i.errors() for i in instances.values() if i.errors())
+        result.diagnostic = logged or f"{type(e).__name__}: {e}"
+    finally:
+        for inst in instances.values():
+            inst.close()
+    result.wall_time = time.perf_counter() - start
+    return result
+
+
+def _loop(
+    study: Study,
+    case: Case,
+    cache: PackCache,
+    instances: dict[str, _Instance],
+    result: CaseResult,
+) -> None:
+    sets = tuple(
+        f"{p.scene_key}={case.value(p.name)}" for p in study.parameters if p.scene_key
+    )
+    starts: dict[str, dict[str, float]] = {GRANMIX: {}}
+    for p in study.partners:
+        starts[p.name] = {}
+    for p in study.parameters:
+        if not p.scene_key:
+            inst, var = _split(p.target)
+            starts[inst][var] = case.value(p.name)
+    # partners first, in the study's order, then granmix (docs/fmu.md)
+    order = [p.name for p in study.partners] + [GRANMIX]
+    sources = {p.name: cache.fmu(p.fmu) for p in study.partners}
+    sources[GRANMIX] = cache.fmu(study.scene, sets)
+    for name in order:
+        instances[name] = _Instance(name, sources[name], starts[name])
+    feeds = {name: [c for c in study.connections if _split(c.target)[0] == name] for name in order}
+    watched = sorted({c.source for c in study.connections} | {o.variable for o in study.outputs})
+    current = {v: instances[_split(v)[0]].get(_split(v)[1]) for v in watched}
+    collected = [o.variable for o in study.outputs]
+    series: dict[str, list[float]] = {"time": [0.0]}
+    for v in collected:
+        series[v] = [current[v]]
+    h = study.step
+    steps = round(study.end_time / h)
+    for k in range(steps):
+        t = k * h
+        for name in order:
+            inst = instances[name]
+            for c in feeds[name]:
+                inst.set(_split(c.target)[1], current[c.source])
+            inst.fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+            for v in watched:
+                if _split(v)[0] == name:
+                    current[v] = inst.get(_split(v)[1])
+        series["time"].append((k + 1) * h)
+        for v in collected:
+            series[v].append(current[v])
+    result.series = series
+    for o in study.outputs:
+        for how in o.reduce:
+            result.outputs[f"{o.variable}:{how}"] = reduce(series["time"], series[o.variable], how)

@@ -1,0 +1,123 @@
+"""Running studies: a LocalCluster gives the serial result table, a failing case is a row,
+and --resume runs only the missing cases."""
+
+import pathlib
+
+import pandas as pd
+import pytest
+from granmix.cli import main
+from granmix.sweep import RUN_COLUMNS
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+STUDY = f"""\
+[study]
+name = "small"
+scene = "{ROOT}/models/scenes/fmu_barrier_2d.toml"
+step = 0.001
+end_time = 0.02
+
+[[partners]]
+name = "post"
+fmu = "{ROOT}/models/structures/post.toml"
+
+[[connections]]
+from = "granmix.barrier.force.x"
+to = "post.force"
+
+[[connections]]
+from = "post.displacement"
+to = "granmix.barrier.displacement.x"
+
+[[parameters]]
+name = "friction"
+target = "scene:materials.0.friction_angle"
+values = [25.0, 35.0]
+
+[[parameters]]
+name = "k"
+target = "post.k"
+values = [2.0e4, 8.0e4]
+
+[[outputs]]
+variable = "granmix.barrier.force.x"
+reduce = ["max", "mean", "integral", "final"]
+
+[[outputs]]
+variable = "post.displacement"
+reduce = ["max"]
+"""
+
+
+def study(tmp_path, text=STUDY):
+    p = tmp_path / "study.toml"
+    p.write_text(text)
+    return p
+
+
+def results(out):
+    return pd.read_parquet(out / "results.parquet").drop(columns=list(RUN_COLUMNS))
+
+
+def run(*args):
+    assert main([str(a) for a in args] + ["--quiet"]) == 0
+
+
+@pytest.fixture(scope="module")
+def serial(tmp_path_factory):
+    d = tmp_path_factory.mktemp("serial")
+    run(study(d), "--out", d / "out", "--serial")
+    return d / "out"
+
+
+def test_a_local_cluster_gives_the_serial_table_bitwise(serial, tmp_path):
+    run(study(tmp_path), "--out", tmp_path / "out", "--workers", 2)
+    a, b = results(tmp_path / "out"), results(serial)
+    assert len(a) == 4 and (a["status"] == "ok").all()
+    pd.testing.assert_frame_equal(a, b, check_exact=True)
+    sa = pd.read_parquet(tmp_path / "out" / "series.parquet").sort_values(["key", "time"])
+    sb = pd.read_parquet(serial / "series.parquet").sort_values(["key", "time"])
+    pd.testing.assert_frame_equal(sa.reset_index(drop=True), sb.reset_index(drop=True))
+    # the reductions are those of the time series
+    s = sb[sb["key"] == a["key"][0]]
+    f = s["granmix.barrier.force.x"].to_numpy()
+    assert a["granmix.barrier.force.x:max"][0] == f.max()
+    assert a["granmix.barrier.force.x:final"][0] == f[-1]
+    trapz = float(((f[1:] + f[:-1]) * 0.5 * 0.001).sum())
+    assert abs(a["granmix.barrier.force.x:integral"][0] - trapz) <= 1e-12 * abs(trapz)
+    assert abs(a["granmix.barrier.force.x:mean"][0] - trapz / 0.02) <= 1e-12 * abs(trapz)
+    # the friction angle reaches the packed scene: a steeper soil pushes less
+    assert a["granmix.barrier.force.x:max"][2] < a["granmix.barrier.force.x:max"][0]
+
+
+def test_a_blown_up_case_is_a_failed_row_and_the_study_goes_on(tmp_path):
+    text = STUDY.replace("values = [25.0, 35.0]", "values = [25.0]") + (
+        '\n[[parameters]]\nname = "max_speed"\ntarget = "scene:simulation.max_speed"\n'
+        "values = [50.0, 0.001]\n"
+    )
+    run(study(tmp_path, text), "--out", tmp_path / "out", "--serial")
+    r = results(tmp_path / "out")
+    assert list(r["status"]) == ["ok", "failed", "ok", "failed"]
+    bad = r[r["status"] == "failed"]["diagnostic"]
+    assert bad.str.contains("numerical blow-up").all(), list(bad)
+    assert bad.str.contains("simulation.max_speed").all(), list(bad)
+
+
+def test_resume_runs_only_the_missing_cases(tmp_path, capsys):
+    out = tmp_path / "out"
+    run(study(tmp_path), "--out", out, "--serial")
+    full = results(out)
+    # an interrupted study: rows 1 and 3 never written
+    kept = pd.read_parquet(out / "results.parquet").iloc[[0, 2]]
+    kept.to_parquet(out / "results.parquet", index=False)
+    capsys.readouterr()
+    run(study(tmp_path), "--out", out, "--serial", "--resume")
+    assert "4 cases (2 run now)" in capsys.readouterr().out
+    pd.testing.assert_frame_equal(results(out), full, check_exact=True)
+
+
+def test_a_bad_study_file_is_one_clear_error(tmp_path, capsys):
+    code = main([str(study(tmp_path, STUDY.replace("step = 0.001", "stepp = 0.001")))])
+    assert code == 2
+    err = capsys.readouterr().err
+    assert "study.toml:4: `study.stepp`: unknown key" in err, err
