@@ -12,7 +12,8 @@ from pathlib import Path
 
 import pandas as pd
 
-from granmix.pack import PackError
+from granmix import preflight
+from granmix.pack import PackCache, PackError
 from granmix.study import Study, StudyError, load_study
 from granmix.sweep import Progress, pending, run_dask, run_serial, series_table, table, write
 
@@ -48,6 +49,11 @@ def main(argv: list[str] | None = None) -> int:
     todo, kept = pending(study, out, a.resume)
     progress = Progress(len(todo), enabled=not a.quiet)
     cache = out / "fmus"
+    try:
+        preflight.check(study, todo[0] if todo else None, PackCache(cache))
+    except (StudyError, PackError) as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
     try:
         if a.serial or not todo:
             results = run_serial(study, todo, cache, a.threads, progress.update)

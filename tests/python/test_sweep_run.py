@@ -121,3 +121,69 @@ def test_a_bad_study_file_is_one_clear_error(tmp_path, capsys):
     assert code == 2
     err = capsys.readouterr().err
     assert "study.toml:4: `study.stepp`: unknown key" in err, err
+
+
+@pytest.mark.parametrize(
+    ("change", "key", "says"),
+    [
+        (('to = "post.force"', 'to = "post.forse"'), "connections[0].to", "no variable `forse`"),
+        (('from = "post.displacement"', 'from = "post.force"'), "connections[1].from", "input"),
+        (('target = "post.k"', 'target = "post.stiffness"'), "parameters[1].target", "stiffness"),
+        (
+            ("scene:materials.0.friction_angle", "scene:materials.0.frictionn_angle"),
+            "parameters[0].target",
+            "granmix refuses it",
+        ),
+    ],
+)
+def test_a_study_is_held_against_its_fmus_before_any_case_runs(tmp_path, capsys, change, key, says):
+    text = STUDY.replace(*change)
+    code = main([str(study(tmp_path, text)), "--out", str(tmp_path / "out"), "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 2, err
+    line = next(i + 1 for i, s in enumerate(text.splitlines()) if change[1] in s)
+    assert f"study.toml:{line}: `{key}`" in err, err
+    assert says in err, err
+    assert not (tmp_path / "out" / "results.parquet").exists()
+
+
+def test_a_worker_killed_mid_case_loses_no_row(tmp_path):
+    """A worker process is killed while it runs a case: Dask runs that case again on
+    another worker, and the study returns every row exactly once, each equal to the
+    serial result."""
+    import os
+    import signal
+    import threading
+    import time
+
+    from distributed import Client, LocalCluster
+    from granmix import cases, load_study
+    from granmix.sweep import run_dask, run_serial, table
+
+    s = load_study(study(tmp_path, STUDY.replace("end_time = 0.02", "end_time = 1.0")))
+    todo = cases(s)
+    fmus = tmp_path / "fmus"
+    serial = table(run_serial(s, todo, fmus)).drop(columns=list(RUN_COLUMNS))
+    with (
+        LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+        ) as cluster,
+        Client(cluster) as client,
+    ):
+        box = {}
+        runner = threading.Thread(target=lambda: box.update(r=run_dask(s, todo, fmus, client)))
+        runner.start()
+        busy = {}
+        deadline = time.monotonic() + 60
+        while not busy and time.monotonic() < deadline:
+            busy = {w: tasks for w, tasks in client.processing().items() if tasks}
+            time.sleep(0.02)
+        assert busy, "no case started"
+        victim = next(iter(busy))
+        pid = client.run(os.getpid, workers=[victim])[victim]
+        os.kill(pid, signal.SIGKILL)
+        runner.join(timeout=300)
+        assert "r" in box, "the study did not finish"
+    rows = table(box["r"]).drop(columns=list(RUN_COLUMNS))
+    assert rows["key"].is_unique and len(rows) == len(todo)
+    pd.testing.assert_frame_equal(rows, serial, check_exact=True)
