@@ -89,7 +89,8 @@ def _on_dask(study: Study, todo: list, cache: Path, a: argparse.Namespace, progr
 
 
 def plot(study: Study, rows: pd.DataFrame, directory: Path) -> list[Path]:
-    """One PNG per collected output against each varied parameter (finished cases)."""
+    """One PNG per collected output against each parameter that takes more than one
+    value (finished cases)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -101,6 +102,8 @@ def plot(study: Study, rows: pd.DataFrame, directory: Path) -> list[Path]:
     written = []
     for col in outputs:
         for p in study.parameters:
+            if rows[p.name].nunique() < 2:
+                continue
             fig, ax = plt.subplots(figsize=(5, 3.5))
             ax.plot(ok[p.name], ok[col], "o")
             ax.set_xlabel(f"{p.name} ({p.target})")

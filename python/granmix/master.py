@@ -52,6 +52,11 @@ class CaseResult:
     diagnostic: str = ""
     outputs: dict[str, float] = field(default_factory=dict)
     wall_time: float = 0.0
+    #: Seconds spent finding or packing the FMUs and instantiating them, in the
+    #: master loop (the solvers and the FMI calls), and terminating.
+    setup_time: float = 0.0
+    loop_time: float = 0.0
+    close_time: float = 0.0
     host: str = ""
     #: ``time`` and every collected output, sampled at t = 0 and after every step.
     series: dict[str, list[float]] = field(default_factory=dict)
@@ -66,6 +71,9 @@ class CaseResult:
             status=self.status,
             diagnostic=self.diagnostic,
             wall_time=self.wall_time,
+            setup_time=self.setup_time,
+            loop_time=self.loop_time,
+            close_time=self.close_time,
             host=self.host,
         )
         return out
@@ -172,8 +180,10 @@ def run_case(study: Study, case: Case, cache: PackCache, threads: int = 1) -> Ca
         logged = "; ".join(i.errors() for i in instances.values() if i.errors())
         result.diagnostic = logged or f"{type(e).__name__}: {e}"
     finally:
+        closing = time.perf_counter()
         for inst in instances.values():
             inst.close()
+        result.close_time = time.perf_counter() - closing
     result.wall_time = time.perf_counter() - start
     return result
 
@@ -197,6 +207,7 @@ def _loop(
             starts[inst][var] = case.value(p.name)
     # partners first, in the study's order, then granmix (docs/fmu.md)
     order = [p.name for p in study.partners] + [GRANMIX]
+    began = time.perf_counter()
     sources = {p.name: cache.fmu(p.fmu) for p in study.partners}
     sources[GRANMIX] = cache.fmu(study.scene, sets)
     for name in order:
@@ -210,6 +221,8 @@ def _loop(
         series[v] = [current[v]]
     h = study.step
     steps = round(study.end_time / h)
+    looping = time.perf_counter()
+    result.setup_time = looping - began
     for k in range(steps):
         t = k * h
         for name in order:
@@ -223,6 +236,7 @@ def _loop(
         series["time"].append((k + 1) * h)
         for v in collected:
             series[v].append(current[v])
+    result.loop_time = time.perf_counter() - looping
     result.series = series
     for o in study.outputs:
         for how in o.reduce:

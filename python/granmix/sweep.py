@@ -28,7 +28,7 @@ from granmix.pack import PackCache
 from granmix.study import Study
 
 #: Columns that differ between runs of the same case (left out of comparisons).
-RUN_COLUMNS = ("wall_time", "host")
+RUN_COLUMNS = ("wall_time", "setup_time", "loop_time", "close_time", "host")
 
 
 def _task(study: Study, case: Case, cache_dir: str, threads: int) -> CaseResult:
