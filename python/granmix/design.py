@@ -86,6 +86,7 @@ def _fingerprint(study: Study) -> dict[str, Any]:
     """What, besides the parameter values, decides a case's result."""
     return {
         "scene": _digest(study.scene),
+        "sets": list(study.sets),
         "step": study.step,
         "end_time": study.end_time,
         "partners": [(p.name, _digest(p.fmu)) for p in study.partners],

@@ -195,7 +195,7 @@ def _loop(
     instances: dict[str, _Instance],
     result: CaseResult,
 ) -> None:
-    sets = tuple(
+    sets = study.sets + tuple(
         f"{p.scene_key}={case.value(p.name)}" for p in study.parameters if p.scene_key
     )
     starts: dict[str, dict[str, float]] = {GRANMIX: {}}

@@ -22,7 +22,7 @@ def check(study: Study, first: Case | None, cache: PackCache) -> None:
     def fail(key: str, message: str) -> StudyError:
         return StudyError(study.file, key, message, locate(text, key))
 
-    sets = tuple(
+    sets = study.sets + tuple(
         f"{p.scene_key}={first.value(p.name)}"
         for p in study.parameters
         if p.scene_key and first is not None
@@ -33,7 +33,8 @@ def check(study: Study, first: Case | None, cache: PackCache) -> None:
         for i, p in enumerate(study.parameters):
             if p.scene_key and p.scene_key.split(".")[0] in str(e):
                 raise fail(f"parameters[{i}].target", f"granmix refuses it: {e}") from e
-        raise fail("study.scene", f"granmix cannot pack the scene: {e}") from e
+        key = "study.set" if study.sets and "--set" in str(e) else "study.scene"
+        raise fail(key, f"granmix cannot pack the scene: {e}") from e
     for i, p in enumerate(study.partners):
         try:
             paths[p.name] = cache.fmu(p.fmu)

@@ -6,6 +6,7 @@ A study file is TOML::
     [study]
     name = "barrier_sweep"
     scene = "../scenes/fmu_barrier_2d.toml"   # relative to the study file
+    set = ["regions.0.velocity=[2.0, 0.0]"]   # scene overrides of every case (optional)
     step = 0.001                               # communication step (s)
     end_time = 0.2
 
@@ -123,6 +124,8 @@ class Study:
     scene: Path
     step: float
     end_time: float
+    #: Scene overrides (``key.path=value``) of every case.
+    sets: tuple[str, ...] = ()
     partners: tuple[Partner, ...] = ()
     connections: tuple[Connection, ...] = ()
     parameters: tuple[Parameter, ...] = ()
@@ -203,8 +206,16 @@ class _Reader:
         if "study" not in doc:
             raise self.fail("study", "missing table [study]")
         s = self.table(
-            doc["study"], "study", {"name", "scene", "step", "end_time"}, {"scene", "step", "end_time"}
+            doc["study"],
+            "study",
+            {"name", "scene", "set", "step", "end_time"},
+            {"scene", "step", "end_time"},
         )
+        sets = s.get("set", [])
+        if not isinstance(sets, list) or not all(
+            isinstance(x, str) and re.fullmatch(r"[A-Za-z_][\w.]*=.+", x) for x in sets
+        ):
+            raise self.fail("study.set", 'expected a list of "key.path=value" overrides')
         scene = self.path(s["scene"], "study.scene", must_exist=True)
         step = self.number(s["step"], "study.step")
         end = self.number(s["end_time"], "study.end_time")
@@ -222,6 +233,7 @@ class _Reader:
             scene=scene,
             step=step,
             end_time=end,
+            sets=tuple(sets),
             partners=partners,
             connections=connections,
             parameters=parameters,

@@ -149,3 +149,13 @@ def test_a_design_with_zero_cases_is_refused():
 def test_invalid_toml_names_the_line():
     e = error(STUDY.replace('name = "sweep"', 'name = "sweep'))
     assert e.line == 2 and "not valid TOML" in str(e)
+
+
+def test_scene_overrides_of_every_case_enter_the_case_key():
+    base = cases(study())
+    text = STUDY.replace("step = 0.001", 'set = ["regions.0.velocity=[2.0, 0.0]"]\nstep = 0.001')
+    s = study(text)
+    assert s.sets == ("regions.0.velocity=[2.0, 0.0]",)
+    assert not {c.key for c in cases(s)} & {c.key for c in base}
+    e = error(STUDY.replace("step = 0.001", 'set = ["velocity"]\nstep = 0.001'))
+    assert e.key == "study.set" and "key.path=value" in str(e), str(e)
