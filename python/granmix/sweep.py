@@ -37,7 +37,7 @@ def _task(study: Study, case: Case, cache_dir: str, threads: int) -> CaseResult:
 
 
 class Progress:
-    """A one-line progress report on stderr: cases done, failed, ETA."""
+    """A live progress bar on stderr: cases done, failed, elapsed time and ETA."""
 
     def __init__(self, total: int, enabled: bool = True) -> None:
         self.total, self.enabled = total, enabled
@@ -51,9 +51,10 @@ class Progress:
             return
         el = time.perf_counter() - self.start
         eta = el / self.done * (self.total - self.done)
+        filled = round(30 * self.done / self.total)
         sys.stderr.write(
-            f"\r{self.done}/{self.total} cases, {self.failed} failed, "
-            f"{el:.0f} s elapsed, ETA {eta:.0f} s "
+            f"\r[{'#' * filled}{'.' * (30 - filled)}] {self.done}/{self.total} cases, "
+            f"{self.failed} failed, {el:.0f} s elapsed, ETA {eta:.0f} s "
         )
         if self.done == self.total:
             sys.stderr.write("\n")
