@@ -79,3 +79,21 @@ class Slave:
     def free(self):
         self.fmu.terminate()
         self.fmu.freeInstance()
+
+
+def post_coupling(root: str = "") -> str:
+    """The study tables that couple the granmix FMU to the bundled post (files under
+    `root`, a path prefix ending in `/`, or relative to the repository)."""
+    return f"""
+[[partners]]
+name = "post"
+fmu = "{root}models/structures/post.toml"
+
+[[connections]]
+from = "granmix.barrier.force.x"
+to = "post.force"
+
+[[connections]]
+from = "post.displacement"
+to = "granmix.barrier.displacement.x"
+"""

@@ -5,6 +5,7 @@ import pathlib
 
 import pandas as pd
 import pytest
+from conftest import post_coupling
 from granmix.cli import main
 from granmix.sweep import RUN_COLUMNS
 
@@ -16,19 +17,7 @@ name = "small"
 scene = "{ROOT}/models/scenes/fmu_barrier_2d.toml"
 step = 0.001
 end_time = 0.02
-
-[[partners]]
-name = "post"
-fmu = "{ROOT}/models/structures/post.toml"
-
-[[connections]]
-from = "granmix.barrier.force.x"
-to = "post.force"
-
-[[connections]]
-from = "post.displacement"
-to = "granmix.barrier.displacement.x"
-
+{post_coupling(f"{ROOT}/")}
 [[parameters]]
 name = "friction"
 target = "scene:materials.0.friction_angle"

@@ -3,29 +3,21 @@
 import pathlib
 
 import pytest
+from conftest import post_coupling
 from granmix import StudyError, cases, parse_study
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
-STUDY = """\
+STUDY = (
+    """\
 [study]
 name = "sweep"
 scene = "models/scenes/fmu_barrier_2d.toml"
 step = 0.001
 end_time = 0.05
-
-[[partners]]
-name = "post"
-fmu = "models/structures/post.toml"
-
-[[connections]]
-from = "granmix.barrier.force.x"
-to = "post.force"
-
-[[connections]]
-from = "post.displacement"
-to = "granmix.barrier.displacement.x"
-
+"""
+    + post_coupling()
+    + """
 [[parameters]]
 name = "friction"
 target = "scene:materials.0.friction_angle"
@@ -40,6 +32,7 @@ values = [2.0e4, 8.0e4]
 variable = "granmix.barrier.force.x"
 reduce = ["max", "final"]
 """
+)
 
 
 def study(text: str = STUDY):
