@@ -38,6 +38,13 @@ class Case:
     def value(self, name: str) -> Any:
         return dict(self.values)[name]
 
+    def scene_sets(self, study: Study) -> tuple[str, ...]:
+        """The ``--set`` overrides of this case's granmix FMU: the study's fixed ones,
+        then each scene parameter's value."""
+        return study.sets + tuple(
+            f"{p.scene_key}={self.value(p.name)}" for p in study.parameters if p.scene_key
+        )
+
 
 def cases(study: Study) -> list[Case]:
     """The cases of ``study``'s design, in design order."""

@@ -195,9 +195,7 @@ def _loop(
     instances: dict[str, _Instance],
     result: CaseResult,
 ) -> None:
-    sets = study.sets + tuple(
-        f"{p.scene_key}={case.value(p.name)}" for p in study.parameters if p.scene_key
-    )
+    sets = case.scene_sets(study)
     starts: dict[str, dict[str, float]] = {GRANMIX: {}}
     for p in study.partners:
         starts[p.name] = {}
@@ -214,6 +212,8 @@ def _loop(
         instances[name] = _Instance(name, sources[name], starts[name])
     feeds = {name: [c for c in study.connections if _split(c.target)[0] == name] for name in order}
     watched = sorted({c.source for c in study.connections} | {o.variable for o in study.outputs})
+    # the variables each instance's step updates, split once
+    reads = {name: [(v, _split(v)[1]) for v in watched if _split(v)[0] == name] for name in order}
     current = {v: instances[_split(v)[0]].get(_split(v)[1]) for v in watched}
     collected = [o.variable for o in study.outputs]
     series: dict[str, list[float]] = {"time": [0.0]}
@@ -230,9 +230,8 @@ def _loop(
             for c in feeds[name]:
                 inst.set(_split(c.target)[1], current[c.source])
             inst.fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
-            for v in watched:
-                if _split(v)[0] == name:
-                    current[v] = inst.get(_split(v)[1])
+            for v, var in reads[name]:
+                current[v] = inst.get(var)
         series["time"].append((k + 1) * h)
         for v in collected:
             series[v].append(current[v])

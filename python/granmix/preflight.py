@@ -22,11 +22,7 @@ def check(study: Study, first: Case | None, cache: PackCache) -> None:
     def fail(key: str, message: str) -> StudyError:
         return StudyError(study.file, key, message, locate(text, key))
 
-    sets = study.sets + tuple(
-        f"{p.scene_key}={first.value(p.name)}"
-        for p in study.parameters
-        if p.scene_key and first is not None
-    )
+    sets = first.scene_sets(study) if first is not None else study.sets
     try:
         paths = {GRANMIX: cache.fmu(study.scene, sets)}
     except PackError as e:
