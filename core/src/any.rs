@@ -66,6 +66,9 @@ impl AnySimulation {
     pub fn fine_count(&self) -> usize {
         dispatch!(self, s => s.world.fine.len())
     }
+    pub fn water_count(&self) -> usize {
+        dispatch!(self, s => s.world.water.len())
+    }
     pub fn wall_count(&self) -> usize {
         dispatch!(self, s => s.world.walls.len())
     }

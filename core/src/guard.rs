@@ -12,6 +12,8 @@ pub struct Blowup {
     pub particle: u32,
     /// The coarse grain the particle belongs to, if any.
     pub body: Option<String>,
+    /// The particle's family.
+    pub family: Family,
     pub position: Vec<f64>,
     /// Quantity that failed, e.g. `velocity`, `stress`, `speed`.
     pub quantity: String,
@@ -29,7 +31,7 @@ impl fmt::Display for Blowup {
         )?;
         match &self.body {
             Some(b) => write!(f, "particle {} of body `{b}`", self.particle)?,
-            None => write!(f, "fine particle {}", self.particle)?,
+            None => write!(f, "{} particle {}", self.family.name(), self.particle)?,
         }
         write!(
             f,
@@ -52,6 +54,24 @@ impl fmt::Display for Blowup {
 }
 
 impl std::error::Error for Blowup {}
+
+/// The particle family of a [`Blowup`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Family {
+    Fine,
+    Coarse,
+    Water,
+}
+
+impl Family {
+    pub fn name(self) -> &'static str {
+        match self {
+            Family::Fine => "fine",
+            Family::Coarse => "coarse",
+            Family::Water => "water",
+        }
+    }
+}
 
 /// First failure found in a chunk: (particle index, quantity, value, is-speed).
 pub type ChunkFailure = Option<(usize, &'static str, f64, bool)>;

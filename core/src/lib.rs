@@ -25,7 +25,9 @@ pub mod math;
 pub mod mesh;
 pub mod neighbors;
 pub mod observe;
+pub mod pair_block;
 pub mod panels;
+pub mod permute;
 pub mod resolution;
 mod restore;
 pub mod riemann;
@@ -38,6 +40,7 @@ pub mod slabs;
 pub mod step;
 pub mod timers;
 pub mod walls;
+pub mod water;
 pub mod world;
 
 mod any;

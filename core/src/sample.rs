@@ -30,6 +30,24 @@ pub struct BarrierSample {
     /// Impulse-averaged force on each panel (scene key `panels`; empty without), in
     /// panel order (`crate::panels`). The panels' forces sum to `force`.
     pub panels: Vec<[Real; 3]>,
+    /// The water's part of `force` (pressure and viscous traction), impulse-averaged;
+    /// `force − force_water` is the grains' part. Zero without water.
+    pub force_water: [Real; 3],
+}
+
+/// The water family at a sampling time.
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct WaterSample {
+    pub particles: usize,
+    /// Σ ½ m v² (J, or J/m in 2D).
+    pub kinetic_energy: Real,
+    /// −Σ m g·x (J, or J/m in 2D).
+    pub potential_energy: Real,
+    /// The surge front: the largest x of any water particle (m).
+    pub front: Real,
+    pub max_speed: Real,
+    /// Σ m v.
+    pub momentum: [Real; 3],
 }
 
 /// State of one coarse grain (3D layout; z = 0 in 2D, rotation about z).
@@ -87,9 +105,11 @@ pub struct Sample {
     /// Total linear momentum of fine and coarse grains.
     pub momentum: [Real; 3],
     pub bodies: Vec<BodySample>,
+    /// The water (None without `[water]`).
+    pub water: Option<WaterSample>,
 }
 
-/// A snapshot of every particle for writers (VTK): the fine and coarse particles as
+/// A snapshot of every particle for writers (VTK): the fine, coarse and water particles as
 /// [`ParticleRecord`]s, with what only a full snapshot carries beside them.
 #[derive(Clone, Debug, Default)]
 pub struct Frame {
@@ -106,6 +126,10 @@ pub struct Frame {
     pub coarse_fine_force: Vec<[f32; 3]>,
     pub wall_pos: Vec<[f32; 3]>,
     pub wall_object: Vec<u16>,
+    /// Water particles (pressure from the equation of state; `group` 0).
+    pub water: Vec<ParticleRecord>,
+    /// Density of each water particle (kg/m³).
+    pub water_density: Vec<f32>,
 }
 
 /// One particle as every bulk sink sees it (the particle channel, recordings, VTK

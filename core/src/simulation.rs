@@ -7,7 +7,9 @@ use crate::load::Load;
 use crate::math::{to3, Real, Vect};
 use crate::observe::{self, RunoutSpec};
 use crate::resolution::Resolution;
-pub use crate::sample::{BarrierSample, BodySample, Frame, ParticleRecord, ProbeValue, Sample};
+pub use crate::sample::{
+    BarrierSample, BodySample, Frame, ParticleRecord, ProbeValue, Sample, WaterSample,
+};
 use crate::scene::Scene;
 use crate::step::{choose_step, land_on, StepParams, StepStats, Stepper, Stepping};
 use crate::world::World;
@@ -25,6 +27,9 @@ pub struct Simulation<const D: usize> {
     panel_impulse: Vec<Load>,
     /// Impulse (force, torque) on each body since the last sample.
     body_impulse: Vec<Load>,
+    /// The water's part of `impulse`.
+    #[serde(default)]
+    water_impulse: Vec<Load>,
     peak: Vec<Real>,
     interval_start: Real,
     last_dt: Real,
@@ -82,6 +87,7 @@ impl<const D: usize> Simulation<D> {
             impulse: vec![Load::default(); nb],
             panel_impulse: vec![Load::default(); slots],
             body_impulse: vec![Load::default(); bodies],
+            water_impulse: vec![Load::default(); nb],
             peak: vec![0.0; nb],
             interval_start: 0.0,
             last_dt: 0.0,
@@ -112,6 +118,12 @@ impl<const D: usize> Simulation<D> {
             self.impulse[b].force += l.force * dt;
             self.impulse[b].moment += l.moment * dt;
             self.peak[b] = self.peak[b].max(l.force.norm());
+        }
+        if let Some(w) = &self.stepper.water {
+            for (b, l) in self.water_impulse.iter_mut().zip(&w.step_loads) {
+                b.force += l.force * dt;
+                b.moment += l.moment * dt;
+            }
         }
         for (p, l) in self.panel_impulse.iter_mut().zip(&self.stepper.slot_loads) {
             p.force += l.force * dt;
@@ -206,6 +218,17 @@ impl<const D: usize> Simulation<D> {
             coarse_potential_energy: coarse_pe,
             momentum: momentum.into(),
             bodies,
+            water: w.water_material.map(|_| {
+                let wp = &w.water;
+                WaterSample {
+                    particles: wp.len(),
+                    kinetic_energy: wp.kinetic_energy(),
+                    potential_energy: wp.potential_energy(&w.gravity),
+                    front: wp.front(),
+                    max_speed: wp.max_speed(),
+                    momentum: to3(&wp.momentum()).into(),
+                }
+            }),
         };
         for l in &mut self.impulse {
             *l = Load::default();
@@ -213,7 +236,12 @@ impl<const D: usize> Simulation<D> {
         for p in &mut self.peak {
             *p = 0.0;
         }
-        for l in self.panel_impulse.iter_mut().chain(&mut self.body_impulse) {
+        for l in self
+            .panel_impulse
+            .iter_mut()
+            .chain(&mut self.body_impulse)
+            .chain(&mut self.water_impulse)
+        {
             *l = Load::default();
         }
         self.interval_start = w.time;
@@ -242,6 +270,10 @@ impl<const D: usize> Simulation<D> {
                             .map(|i| (self.panel_impulse[bar.slot0 + i].force * inv).into())
                             .collect()
                     },
+                    force_water: self
+                        .water_impulse
+                        .get(b)
+                        .map_or([0.0; 3], |l| (l.force * inv).into()),
                 }
             })
             .collect()
@@ -310,6 +342,10 @@ impl<const D: usize> Simulation<D> {
                             .map(|i| stepper.slot_loads[bar.slot0 + i].force.into())
                             .collect()
                     },
+                    force_water: stepper
+                        .water
+                        .as_ref()
+                        .map_or([0.0; 3], |w| w.step_loads[b].force.into()),
                 }
             })
             .collect())
@@ -361,6 +397,23 @@ impl<const D: usize> Simulation<D> {
         }
     }
 
+    /// The record of water particle `i`.
+    fn water_record(&self, i: usize) -> ParticleRecord {
+        let w = &self.world.water;
+        let p = self
+            .world
+            .water_material
+            .map_or(0.0, |m| m.pressure(w.rho[i]));
+        ParticleRecord {
+            position: arr(&w.pos[i]),
+            velocity: arr(&w.vel[i]),
+            pressure: p as f32,
+            plastic_strain: 0.0,
+            id: w.id[i],
+            group: 0,
+        }
+    }
+
     /// Fine and coarse particle counts.
     pub fn particle_counts(&self) -> (usize, usize) {
         (self.world.fine.len(), self.world.coarse.particles.len())
@@ -379,6 +432,8 @@ impl<const D: usize> Simulation<D> {
             coarse_fine_force: w.coarse.particles.f_fine.iter().map(arr).collect(),
             wall_pos: w.walls.pos.iter().map(arr).collect(),
             wall_object: w.walls.object.clone(),
+            water: (0..w.water.len()).map(|i| self.water_record(i)).collect(),
+            water_density: w.water.rho.iter().map(|&r| r as f32).collect(),
         }
     }
 }

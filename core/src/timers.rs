@@ -14,11 +14,15 @@ pub enum Stage {
     Coupling,
     Contact,
     CoarseSubsteps,
+    WaterDriftFinalize,
+    WaterNeighbors,
+    WaterMomentum,
+    WaterContinuity,
     Observe,
 }
 
 impl Stage {
-    pub const ALL: [Stage; 10] = [
+    pub const ALL: [Stage; 14] = [
         Stage::Drift,
         Stage::Neighbors,
         Stage::ArtificialStress,
@@ -28,6 +32,10 @@ impl Stage {
         Stage::Coupling,
         Stage::Contact,
         Stage::CoarseSubsteps,
+        Stage::WaterDriftFinalize,
+        Stage::WaterNeighbors,
+        Stage::WaterMomentum,
+        Stage::WaterContinuity,
         Stage::Observe,
     ];
     pub fn name(self) -> &'static str {
@@ -41,6 +49,10 @@ impl Stage {
             Stage::Coupling => "coupling",
             Stage::Contact => "contact",
             Stage::CoarseSubsteps => "coarse_substeps",
+            Stage::WaterDriftFinalize => "water_drift_finalize",
+            Stage::WaterNeighbors => "water_neighbors",
+            Stage::WaterMomentum => "water_momentum",
+            Stage::WaterContinuity => "water_continuity",
             Stage::Observe => "observe",
         }
     }
@@ -49,7 +61,7 @@ impl Stage {
 /// Accumulated seconds per stage.
 #[derive(Clone, Debug, Default)]
 pub struct StageTimers {
-    secs: [f64; 10],
+    secs: [f64; 14],
 }
 
 impl StageTimers {

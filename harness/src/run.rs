@@ -93,6 +93,7 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
             &sim.barrier_names(),
             &sim.probe_names(),
             &sim.body_names(),
+            sim.water_count() > 0,
         ),
     )?);
     if opts.vtk {
@@ -195,7 +196,9 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
     let n = sim.fine_count();
     // fine particle-steps plus coarse particle-sub-steps, and the fine ones alone
     let fine_pss = n as f64 * sim.steps() as f64 / wall.max(1e-12);
-    let pss = fine_pss + sim.coarse_count() as f64 * sim.coarse_steps() as f64 / wall.max(1e-12);
+    let pss = fine_pss
+        + sim.coarse_count() as f64 * sim.coarse_steps() as f64 / wall.max(1e-12)
+        + sim.water_count() as f64 * sim.steps() as f64 / wall.max(1e-12);
 
     // the sinks count as observation: rows, snapshots and records written, frames built
     sim.timers_mut().add(Stage::Observe, sinks.seconds);
@@ -233,6 +236,18 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         for (a, v) in ax.iter().zip(b.force.iter()).take(dim) {
             obs.insert(format!("{}.force.{a}", b.name), json!(v));
         }
+        if last.water.is_some() {
+            for (k, a) in ax.iter().enumerate().take(dim) {
+                let (fw, f) = (b.force_water[k], b.force[k]);
+                obs.insert(format!("{}.force_water.{a}", b.name), json!(fw));
+                obs.insert(format!("{}.force_grains.{a}", b.name), json!(f - fw));
+            }
+        }
+    }
+    if let Some(w) = &last.water {
+        obs.insert("water.kinetic_energy".into(), json!(w.kinetic_energy));
+        obs.insert("water.front".into(), json!(w.front));
+        obs.insert("water.max_speed".into(), json!(w.max_speed));
     }
     let mut bodies = Map::new();
     for b in &last.bodies {
@@ -267,6 +282,7 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         "dt_fine": last.dt_fine,
         "dt_coarse": last.dt_coarse,
         "particles_coarse": sim.coarse_count(),
+        "particles_water": sim.water_count(),
         "bodies": bodies,
         "neighbor_builds": sim.neighbor_builds(),
         "memory_bytes_fine": sim.fine_bytes(),
@@ -344,6 +360,15 @@ fn print_table(
             pss / 1e6,
             sim.coarse_count(),
             sim.coarse_steps()
+        );
+    } else if sim.water_count() > 0 {
+        println!(
+            "\n{} fine and {} water particles, {} steps in {:.2} s: {:.3} M particle-steps/s",
+            n,
+            sim.water_count(),
+            sim.steps(),
+            wall,
+            pss / 1e6
         );
     } else {
         println!(

@@ -14,6 +14,7 @@ pub fn header(
     barriers: &[String],
     probes: &[String],
     bodies: &[String],
+    water: bool,
 ) -> Vec<String> {
     let mut h: Vec<String> = [
         "time",
@@ -42,9 +43,26 @@ pub fn header(
             h.push(format!("momentum.{a}"));
         }
     }
+    if water {
+        for c in [
+            "water.kinetic_energy",
+            "water.potential_energy",
+            "water.front",
+            "water.max_speed",
+        ] {
+            h.push(c.to_string());
+        }
+    }
     for b in barriers {
         for a in AX.iter().take(dim) {
             h.push(format!("{b}.force.{a}"));
+        }
+        if water {
+            for q in ["force_water", "force_grains"] {
+                for a in AX.iter().take(dim) {
+                    h.push(format!("{b}.{q}.{a}"));
+                }
+            }
         }
         if dim == 2 {
             h.push(format!("{b}.moment.z"));
@@ -126,8 +144,17 @@ pub fn row(dim: usize, s: &Sample) -> Vec<f64> {
         ]);
         r.extend_from_slice(&s.momentum[..dim]);
     }
+    if let Some(w) = &s.water {
+        r.extend_from_slice(&[w.kinetic_energy, w.potential_energy, w.front, w.max_speed]);
+    }
     for b in &s.barriers {
         r.extend_from_slice(&b.force[..dim]);
+        if s.water.is_some() {
+            r.extend_from_slice(&b.force_water[..dim]);
+            for a in 0..dim {
+                r.push(b.force[a] - b.force_water[a]);
+            }
+        }
         if dim == 2 {
             r.push(b.moment[2]);
         } else {

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 pub struct VtkSeries {
     dir: PathBuf,
     stem: String,
-    entries: Vec<(f64, String, Option<String>)>,
+    entries: Vec<(f64, String, Option<String>, Option<String>)>,
 }
 
 struct Arrays {
@@ -172,7 +172,24 @@ impl VtkSeries {
             write_vtu(&self.dir.join(&bname), &pos, b)?;
             Some(bname)
         };
-        self.entries.push((frame.time, name, bodies));
+        let water = if frame.water.is_empty() {
+            None
+        } else {
+            let water = &frame.water;
+            let wname = format!("{}_water_{k:05}.vtu", self.stem);
+            let mut a = Arrays::new();
+            let vel: Vec<[f32; 3]> = water.iter().map(|p| p.velocity).collect();
+            a.push("velocity", "Float32", 3, &bytes_f32_3(&vel));
+            let pressure: Vec<f32> = water.iter().map(|p| p.pressure).collect();
+            a.push("pressure", "Float32", 1, &bytes_f32(&pressure));
+            a.push("density", "Float32", 1, &bytes_f32(&frame.water_density));
+            let ids: Vec<u8> = water.iter().flat_map(|p| p.id.to_le_bytes()).collect();
+            a.push("id", "UInt32", 1, &ids);
+            let pos: Vec<[f32; 3]> = water.iter().map(|p| p.position).collect();
+            write_vtu(&self.dir.join(&wname), &pos, a)?;
+            Some(wname)
+        };
+        self.entries.push((frame.time, name, bodies, water));
         self.write_pvd()
     }
 
@@ -180,7 +197,7 @@ impl VtkSeries {
         let mut s = String::from(
             "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n",
         );
-        for (t, f, b) in &self.entries {
+        for (t, f, b, w) in &self.entries {
             let _ = writeln!(
                 s,
                 "    <DataSet timestep=\"{t:.9e}\" group=\"\" part=\"0\" file=\"{f}\"/>"
@@ -189,6 +206,12 @@ impl VtkSeries {
                 let _ = writeln!(
                     s,
                     "    <DataSet timestep=\"{t:.9e}\" group=\"\" part=\"1\" file=\"{b}\"/>"
+                );
+            }
+            if let Some(w) = w {
+                let _ = writeln!(
+                    s,
+                    "    <DataSet timestep=\"{t:.9e}\" group=\"\" part=\"2\" file=\"{w}\"/>"
                 );
             }
         }

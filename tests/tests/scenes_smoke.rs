@@ -15,7 +15,7 @@ fn all_bundled_scenes_step() {
         let loaded = load_scene_file(&path, &[]).unwrap_or_else(|e| panic!("{e}"));
         let mut sim =
             AnySimulation::new(&loaded).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        assert!(sim.fine_count() + sim.coarse_count() > 0);
+        assert!(sim.fine_count() + sim.coarse_count() + sim.water_count() > 0);
         for _ in 0..5 {
             sim.step(f64::INFINITY)
                 .unwrap_or_else(|e| panic!("{}: {e}", path.display()));

@@ -20,7 +20,6 @@
 
 use super::hourglass::penalty_kept;
 use super::material::FineMaterial;
-use super::pair_block::{Pair, PairBlock, BLOCK};
 use super::pair_sums::{ContinuitySums, PairSums};
 use super::plasticity::update_stress;
 use super::source::Source;
@@ -28,6 +27,7 @@ use super::state::FineParticles;
 use crate::kernel::WendlandC2;
 use crate::math::{sub_outer, Real, Sym, Vect};
 use crate::neighbors::NeighborLists;
+use crate::pair_block::{Pair, PairBlock, BLOCK};
 use crate::riemann::pair_reciprocals;
 use crate::scene::ContinuityJump;
 use crate::slabs::two_phase;

@@ -5,7 +5,6 @@ pub mod continuity;
 pub mod hourglass;
 pub mod material;
 pub mod momentum;
-pub mod pair_block;
 pub mod pair_sums;
 pub mod plasticity;
 pub mod source;

@@ -18,13 +18,13 @@
 use super::continuity::JumpDiffusion;
 use super::hourglass::{non_affine, pair_weight};
 use super::material::FineMaterial;
-use super::pair_block::{Pair, PairBlock, BLOCK};
 use super::pair_sums::{MomentumSums, PairSums};
 use super::source::Source;
 use super::state::FineParticles;
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Sym, Vect};
 use crate::neighbors::NeighborLists;
+use crate::pair_block::{Pair, PairBlock, BLOCK};
 use crate::riemann::{pair_reciprocals, Riemann, Side};
 use crate::slabs::two_phase;
 use nalgebra::SVector;

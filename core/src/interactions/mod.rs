@@ -5,7 +5,9 @@
 //! - [`contact`]: coarse grains on each other and on walls (seeds 001, 004);
 //! - [`barrier_load`]: the reactions that add up to barrier loads;
 //! - [`momentum_pass`] and [`continuity_pass`]: the fine sweeps' particle passes, which
-//!   fuse the fine–fine sums with the interactions above, one formula per module.
+//!   fuse the fine–fine sums with the interactions above, one formula per module;
+//! - [`water_wall`]: water on walls, the fluid form of Eqs. (32)–(35);
+//! - [`water_pass`]: the water sweeps' particle passes.
 
 pub mod barrier_load;
 pub mod contact;
@@ -16,3 +18,5 @@ pub mod momentum_pass;
 #[cfg(test)]
 mod symmetric_tests;
 pub mod wall_contact;
+pub mod water_pass;
+pub mod water_wall;

@@ -5,8 +5,11 @@ mod error;
 mod text;
 mod types;
 mod validate;
+mod water;
+mod water_check;
 
 pub use error::{KeyError, SceneError};
 pub use text::{apply_overrides, at, locate, parse};
 pub use types::*;
 pub use validate::{unknown_solid, validate, validate_shape};
+pub use water::*;

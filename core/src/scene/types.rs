@@ -16,6 +16,9 @@ pub struct Scene {
     pub materials: Vec<MaterialSpec>,
     #[serde(default)]
     pub regions: Vec<RegionSpec>,
+    /// The water family (`[water]`, with its `[[water.regions]]`).
+    #[serde(default)]
+    pub water: Option<super::WaterSpec>,
     /// Coarse-grain (boulder) materials.
     #[serde(default)]
     pub solids: Vec<SolidSpec>,

@@ -4,13 +4,13 @@ use super::error::KeyError;
 use super::types::*;
 use std::collections::HashSet;
 
-type Check = Result<(), KeyError>;
+pub(super) type Check = Result<(), KeyError>;
 
-fn fail<T>(path: impl Into<String>, msg: impl Into<String>) -> Result<T, KeyError> {
+pub(super) fn fail<T>(path: impl Into<String>, msg: impl Into<String>) -> Result<T, KeyError> {
     Err(KeyError::new(path, msg))
 }
 
-fn vec_len(path: &str, v: &[f64], d: usize) -> Check {
+pub(super) fn vec_len(path: &str, v: &[f64], d: usize) -> Check {
     if v.len() != d {
         return fail(
             path,
@@ -26,7 +26,7 @@ fn vec_len(path: &str, v: &[f64], d: usize) -> Check {
     Ok(())
 }
 
-fn positive(path: &str, x: f64) -> Check {
+pub(super) fn positive(path: &str, x: f64) -> Check {
     if !(x.is_finite() && x > 0.0) {
         return fail(path, format!("must be a positive number, found {x:?}"));
     }
@@ -193,7 +193,7 @@ fn validate_plane(
 }
 
 /// A shape that must enclose particles (a region or a body): not a plane or terrain.
-fn validate_solid_shape(path: &str, s: &ShapeSpec, d: usize, role: &str) -> Check {
+pub(super) fn validate_solid_shape(path: &str, s: &ShapeSpec, d: usize, role: &str) -> Check {
     validate_shape(path, s, d)?;
     if matches!(s, ShapeSpec::Plane { .. } | ShapeSpec::Heightmap { .. }) {
         return fail(
@@ -230,6 +230,7 @@ pub fn validate(s: &Scene) -> Check {
     validate_walls(s)?;
     let d = s.simulation.dimension;
     validate_coarse(s, &names)?;
+    super::water_check::validate_water(s)?;
     for (i, pr) in s.probes.iter().enumerate() {
         vec_len(&format!("probes[{i}].position"), &pr.position, d)?;
     }
@@ -360,10 +361,11 @@ fn validate_numerics(s: &Scene) -> Check {
 /// Something to simulate, with what it needs.
 fn validate_contents(s: &Scene) -> Check {
     let sim = &s.simulation;
-    if s.regions.is_empty() && s.bodies.is_empty() {
+    let water = s.water.as_ref().is_some_and(|w| !w.regions.is_empty());
+    if s.regions.is_empty() && s.bodies.is_empty() && !water {
         return fail(
             "regions",
-            "the scene holds nothing to simulate: add [[regions]] (fine grains) or [[bodies]] (coarse grains)",
+            "the scene holds nothing to simulate: add [[regions]] (fine grains), [[bodies]] (coarse grains) or [[water.regions]] (water)",
         );
     }
     if !s.regions.is_empty() && s.materials.is_empty() {

@@ -250,6 +250,7 @@ impl<const D: usize> CoarseStepper<D> {
                     time,
                     particle: (i - b.start) as u32,
                     body: Some(b.name.clone()),
+                    family: crate::guard::Family::Coarse,
                     position: p.pos[i].iter().copied().collect(),
                     quantity: q.to_string(),
                     value: v,

@@ -70,6 +70,7 @@ impl<const D: usize> Stepper<D> {
                     time: world.time,
                     particle: f.id[*i],
                     body: None,
+                    family: crate::guard::Family::Fine,
                     position: f.pos[*i].iter().copied().collect(),
                     quantity: q.to_string(),
                     value: *val,

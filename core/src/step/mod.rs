@@ -5,13 +5,13 @@
 use crate::fine::material::uniform_acoustics;
 use crate::fine::pair_sums::PairSums;
 use crate::fine::source::Source;
-use crate::fine::state::PermuteScratch;
 use crate::guard::{Blowup, ChunkFailure};
 use crate::interactions::fine_coarse::CoarseSource;
 use crate::kernel::WendlandC2;
 use crate::load::Load;
 use crate::math::{Real, Sym, Vect};
 use crate::neighbors::{CellGrid, NeighborLists};
+use crate::permute::PermuteScratch;
 use crate::timers::{Stage, StageTimers};
 use crate::world::{geostatic_tensor, World};
 use coarse_substeps::CoarseStepper;
@@ -23,9 +23,11 @@ mod fine_sweeps;
 pub mod landing;
 mod neighbours;
 mod params;
+mod water_stage;
 
 pub use landing::{land_on, Stepping};
 pub use params::{choose_step, gravity_ramp, StepParams, StepStats};
+pub use water_stage::WaterStepper;
 
 /// Scratch memory and stage assembly for the fine step.
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
@@ -101,6 +103,9 @@ pub struct Stepper<const D: usize> {
     coarse_at_build: Vec<Vect<D>>,
     reactions: Vec<Vec<(u32, Vect<D>)>>,
     coarse_vol: Real,
+    /// Water: its stages' lists and scratch (None without water).
+    #[serde(default)]
+    pub water: Option<WaterStepper<D>>,
 }
 
 impl<const D: usize> Stepper<D> {
@@ -165,6 +170,13 @@ impl<const D: usize> Stepper<D> {
         if world.fine.is_empty() {
             skipped.push(("fine_grains".into(), "scene has no fine grains".into()));
         }
+        let water = world
+            .water_material
+            .is_some()
+            .then(|| WaterStepper::new(world, cell, params.skin));
+        if water.is_none() {
+            skipped.push(("water".into(), "scene has no water".into()));
+        }
         let nb = world.walls.barriers.len();
         Stepper {
             fine_grid: CellGrid::new(&world.domain.0, &world.domain.1, cell),
@@ -205,6 +217,7 @@ impl<const D: usize> Stepper<D> {
             coarse_at_build: Vec::new(),
             reactions: Vec::new(),
             coarse_vol: world.resolution.volume,
+            water,
         }
     }
 
@@ -222,12 +235,19 @@ impl<const D: usize> Stepper<D> {
         }
     }
 
-    /// Δt of Eq. (51) for the current state: CFL · h / (c0 + |v|max).
+    /// Δt of Eq. (51) for the current state: CFL · h / (c0 + |v|max), the smaller of
+    /// the fine grains' and the water's (whose viscous limit joins in).
     pub fn stable_dt(&self, world: &World<D>) -> Real {
-        if world.fine.is_empty() {
-            return Real::INFINITY;
-        }
-        self.params.cfl * self.params.h / (world.max_c0() + self.vmax)
+        let fine = if world.fine.is_empty() {
+            Real::INFINITY
+        } else {
+            self.params.cfl * self.params.h / (world.max_c0() + self.vmax)
+        };
+        let water = match (&self.water, &world.water_material) {
+            (Some(w), Some(m)) => w.stable_dt(m, self.params.h, self.params.cfl),
+            _ => Real::INFINITY,
+        };
+        fine.min(water)
     }
 
     /// Bytes of scratch memory held by the stepper (lists, buffers, grids).
@@ -242,11 +262,12 @@ impl<const D: usize> Stepper<D> {
             + self.pair_sums.capacity() * size_of::<PairSums<D>>()
             + self.fine_grid.bytes()
             + self.wall_grid.bytes()
+            + self.water.as_ref().map_or(0, |w| w.bytes())
     }
 
-    /// Largest particle speed at the end of the last step.
+    /// Largest particle speed (fine grains and water) at the end of the last step.
     pub fn vmax(&self) -> Real {
-        self.vmax
+        self.vmax.max(self.water.as_ref().map_or(0.0, |w| w.vmax()))
     }
 
     /// Advance the world by one fine step of size `dt` with `kappa` coarse sub-steps,
@@ -267,6 +288,11 @@ impl<const D: usize> Stepper<D> {
         // Eq. (54): x and ρ to the half step
         self.timed(Stage::Drift, |s| s.drift(world, half));
         let rebuilt = self.timed(Stage::Neighbors, |s| s.refresh_lists(world, dt));
+        let water = self.water.as_mut().zip(world.water_material);
+        if let Some((w, m)) = water {
+            w.drift(world, &m, half, &mut self.timers);
+            w.refresh_lists(world, &m, dt, &mut self.timers);
+        }
         // Eq. (27), cohesive soils only
         let artificial = self
             .params
@@ -274,13 +300,28 @@ impl<const D: usize> Stepper<D> {
             .and_then(|_| self.timed(Stage::ArtificialStress, |s| s.artificial_stress(world)));
         // Eqs. (16), (55) then (15), (24)–(26), (7)–(12), with walls and coarse grains
         self.fine_sweeps(world, dt, artificial);
+        if let Some((w, m)) = self.water.as_mut().zip(world.water_material) {
+            w.sweeps(world, &m, self.kernel, dt, &mut self.timers);
+            for (total, l) in self.step_loads.iter_mut().zip(&w.step_loads) {
+                total.add(l);
+            }
+            for (total, l) in self.slot_loads.iter_mut().zip(&w.slot_loads) {
+                total.add(l);
+            }
+        }
         // Eq. (56) and the per-chunk stability checks
         self.timed(Stage::Finalize, |s| s.finalize(world, half));
+        if let Some(w) = self.water.as_mut() {
+            w.finalize(world, half, self.params.max_speed, &mut self.timers);
+        }
         // Eqs. (57)–(60): κ coarse sub-steps
         self.coarse_substeps(world, dt, kappa)?;
         world.time += dt;
         world.steps += 1;
-        let vmax = self.guard(world)?;
+        let mut vmax = self.guard(world)?;
+        if let Some(w) = self.water.as_mut() {
+            vmax = vmax.max(w.guard(world, self.params.max_speed)?);
+        }
         Ok(StepStats {
             vmax,
             rebuilt,

@@ -10,10 +10,13 @@ use crate::math::{Real, Sym, Vect};
 use crate::resolution::Resolution;
 use crate::scene::Scene;
 use crate::walls::Walls;
+use crate::water::material::WaterMaterial;
+use crate::water::state::WaterParticles;
 use nalgebra::{Rotation3, Vector3};
 
 mod boundaries;
 mod regions;
+mod water_fill;
 
 /// A body's rotation about a centre.
 type Pose = (Vector3<Real>, Rotation3<Real>);
@@ -43,6 +46,15 @@ pub struct World<const D: usize> {
     pub probes: Vec<Probe<D>>,
     /// Per-region particle counts, in scene order.
     pub region_counts: Vec<(String, usize)>,
+    /// Water particles (empty without `[water]`).
+    #[serde(default)]
+    pub water: WaterParticles<D>,
+    /// The water's material (`None` without `[water]`).
+    #[serde(default)]
+    pub water_material: Option<WaterMaterial>,
+    /// Per water region particle counts, in scene order.
+    #[serde(default)]
+    pub water_counts: Vec<(String, usize)>,
 }
 
 fn v<const D: usize>(x: &[f64]) -> Vect<D> {
@@ -74,6 +86,10 @@ impl<const D: usize> World<D> {
         let (mut fine, region_counts) = regions::fill(scene, &materials, &up, dp, vol)?;
         let walls = boundaries::build(scene, dp, vol)?;
         let coarse = Coarse::<D>::build(scene, &resolution)?;
+        let (water, water_material, water_counts) = match water_fill::fill(scene, &up, dp, vol)? {
+            Some((w, m, c)) => (w, Some(m), c),
+            None => (WaterParticles::default(), None, Vec::new()),
+        };
 
         // Domain: everything, plus a margin for the flow to spread into.
         let mut lo = Vect::<D>::repeat(Real::INFINITY);
@@ -83,6 +99,7 @@ impl<const D: usize> World<D> {
             .iter()
             .chain(walls.pos.iter())
             .chain(coarse.particles.pos.iter())
+            .chain(water.pos.iter())
         {
             lo = lo.inf(p);
             hi = hi.sup(p);
@@ -112,6 +129,9 @@ impl<const D: usize> World<D> {
             domain,
             probes,
             region_counts,
+            water,
+            water_material,
+            water_counts,
         })
     }
 

@@ -19,29 +19,8 @@ pub(super) fn fill<const D: usize>(
     vol: Real,
 ) -> Result<(FineParticles<D>, Vec<(String, usize)>), BuildError> {
     let gnorm = v::<D>(&scene.simulation.gravity).norm();
-    // Solids that displace fine grains: walls and barriers (not planes, whose patch
-    // is not a solid) and bodies (buried boulders). Fine particles closer than dp/2
-    // to their surface (less than the lattice half-spacing) are not created.
-    let mut solids: Vec<(Shape<D>, Option<Pose>)> = Vec::new();
-    for w in scene.walls.iter().chain(&scene.barriers) {
-        if !matches!(w.shape, ShapeSpec::Plane { .. }) {
-            solids.push((Shape::<D>::from_spec(&w.shape, &scene.assets), None));
-        }
-    }
-    for b in &scene.bodies {
-        let shape = Shape::<D>::from_spec(&b.shape, &scene.assets);
-        let c = to3(&shape.center());
-        solids.push((shape, Some((c, spec_rotation(b, D)))));
-    }
-    let inside_solid = |p: &Vect<D>| {
-        solids.iter().any(|(shape, pose)| {
-            let q = match pose {
-                Some((c, r)) => from3::<D>(&(c + r.inverse() * (to3(p) - c))),
-                None => *p,
-            };
-            shape.sdf(&q) < 0.5 * dp * (1.0 - 1e-6)
-        })
-    };
+    let solids = Solids::<D>::of(scene);
+    let inside_solid = |p: &Vect<D>| solids.holds(p, dp);
     let mut fine = FineParticles::<D>::default();
     let mut region_counts = Vec::new();
     for (ri, r) in scene.regions.iter().enumerate() {
@@ -96,4 +75,41 @@ pub(super) fn fill<const D: usize>(
         region_counts.push((r.name.clone(), pts.len()));
     }
     Ok((fine, region_counts))
+}
+
+/// Solids that displace particles at start-up: walls and barriers (not planes, whose
+/// patch is not a solid) and bodies (buried boulders).
+pub(super) struct Solids<const D: usize>(Vec<(Shape<D>, Option<Pose>)>);
+
+impl<const D: usize> Solids<D> {
+    pub(super) fn of(scene: &Scene) -> Self {
+        let mut solids: Vec<(Shape<D>, Option<Pose>)> = Vec::new();
+        for w in scene.walls.iter().chain(&scene.barriers) {
+            if !matches!(w.shape, ShapeSpec::Plane { .. }) {
+                solids.push((Shape::<D>::from_spec(&w.shape, &scene.assets), None));
+            }
+        }
+        for b in &scene.bodies {
+            let shape = Shape::<D>::from_spec(&b.shape, &scene.assets);
+            let c = to3(&shape.center());
+            solids.push((shape, Some((c, spec_rotation(b, D)))));
+        }
+        Solids(solids)
+    }
+
+    pub(super) fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    /// A particle at `p` is not created: it lies closer than dp/2 (the lattice
+    /// half-spacing) to a solid's surface, or inside it.
+    pub(super) fn holds(&self, p: &Vect<D>, dp: Real) -> bool {
+        self.0.iter().any(|(shape, pose)| {
+            let q = match pose {
+                Some((c, r)) => from3::<D>(&(c + r.inverse() * (to3(p) - c))),
+                None => *p,
+            };
+            shape.sdf(&q) < 0.5 * dp * (1.0 - 1e-6)
+        })
+    }
 }

@@ -1,4 +1,4 @@
-//! The geometry of one particle's fine–fine pairs, taken a block at a time ahead of
+//! The geometry of one particle's same-family pairs (fine–fine, water–water), taken a block at a time ahead of
 //! the pair terms.
 //!
 //! A pair term waits on a square root and a division. Inside the long loop body of a

@@ -1,0 +1,136 @@
+//! The water sweeps: the water–water pair passes ([`water::momentum`],
+//! [`water::continuity`]), then one particle pass each that adds the walls
+//! ([`water_wall`](super::water_wall), with their barrier loads,
+//! [`barrier_load`](super::barrier_load)) to the pair sums and integrates.
+//!
+//! [`water::momentum`]: crate::water::momentum
+//! [`water::continuity`]: crate::water::continuity
+
+use super::barrier_load;
+use super::water_wall::{self, WaterAtWall};
+use crate::load::Load;
+use crate::math::{Real, Vect};
+use crate::neighbors::{NeighborLists, CHUNK};
+use crate::walls::Walls;
+use crate::water::correction::{self, Corr};
+use crate::water::momentum::{WaterParams, WaterSums};
+use crate::water::source::WaterSource;
+use crate::water::state::WaterParticles;
+use crate::water::{continuity, momentum};
+use rayon::prelude::*;
+
+/// The kernel gradient correction B of every particle into `corr`: M from the
+/// water–water pairs and the walls, then inverted ([`correction`]); the identity where
+/// `on` is false.
+pub fn correction_sweep<const D: usize>(
+    w: &WaterParticles<D>,
+    src: &[WaterSource],
+    walls: &Walls<D>,
+    lists: &NeighborLists,
+    prm: &WaterParams<D>,
+    on: bool,
+    corr: &mut [Corr<D>],
+) {
+    if !on {
+        corr.par_iter_mut().for_each(|b| *b = Corr::<D>::identity());
+        return;
+    }
+    corr.par_iter_mut().for_each(|b| *b = Corr::<D>::zeros());
+    correction::pair_pass(w, |i| src[i].vol, lists, &prm.kernel, corr);
+    lists
+        .chunks
+        .par_iter()
+        .zip(corr.par_chunks_mut(CHUNK))
+        .enumerate()
+        .for_each(|(c, (cl, out))| {
+            for (k, b) in out.iter_mut().enumerate() {
+                let xi = w.pos[c * CHUNK + k];
+                for &wp in &cl.wall[cl.woff[k] as usize..cl.woff[k + 1] as usize] {
+                    *b += water_wall::moment(prm, walls, &xi, wp as usize);
+                }
+                *b = correction::invert(b);
+            }
+        });
+}
+
+/// v_{n+1} = v_n + Δt (dv/dt + g) into `vel_new`, and the walls' reactions per chunk
+/// into `loads` (`max(1, load slots)` per chunk). `sums` is zero on entry and left
+/// with zero `acc`; `corr` holds B ([`correction_sweep`]).
+#[allow(clippy::too_many_arguments)]
+pub fn momentum_sweep<const D: usize>(
+    w: &WaterParticles<D>,
+    src: &[WaterSource],
+    corr: &[Corr<D>],
+    walls: &Walls<D>,
+    lists: &NeighborLists,
+    prm: &WaterParams<D>,
+    no_slip: bool,
+    vel_new: &mut [Vect<D>],
+    loads: &mut [Load],
+    sums: &mut [WaterSums<D>],
+) {
+    momentum::pair_pass(w, src, corr, lists, prm, sums);
+    let nbs = walls.load_slots().max(1);
+    lists
+        .chunks
+        .par_iter()
+        .zip(sums.par_chunks_mut(CHUNK))
+        .zip(vel_new.par_chunks_mut(CHUNK))
+        .zip(loads.par_chunks_mut(nbs))
+        .enumerate()
+        .for_each(|(c, (((cl, sums), vout), lout))| {
+            for l in lout.iter_mut() {
+                *l = Load::default();
+            }
+            for (k, vo) in vout.iter_mut().enumerate() {
+                let i = c * CHUNK + k;
+                let (xi, vi, rho) = (w.pos[i], w.vel[i], w.rho[i]);
+                let scale = 2.0 / rho;
+                let mut acc = std::mem::replace(&mut sums[k].acc, Vect::<D>::zeros()) * scale;
+                let (w0, w1) = (cl.woff[k] as usize, cl.woff[k + 1] as usize);
+                if w1 > w0 {
+                    let wl = &cl.wall[w0..w1];
+                    let at =
+                        WaterAtWall::new(prm, walls, (xi, vi, rho, src[i].p), wl, no_slip, corr[i]);
+                    for &wp in wl {
+                        if let Some(t) = at.momentum(prm, walls, wp as usize) {
+                            let a = t * scale;
+                            acc += a;
+                            barrier_load::add_reaction(walls, wp as usize, &a, w.mass[i], lout);
+                        }
+                    }
+                }
+                *vo = (vi + (acc + prm.gravity) * prm.dt) * prm.keep;
+            }
+        });
+}
+
+/// dρ/dt with v_{n+1} into `drho`; `sums` holds zero `drho` on entry and is left so.
+pub fn continuity_sweep<const D: usize>(
+    w: &WaterParticles<D>,
+    src: &[WaterSource],
+    walls: &Walls<D>,
+    lists: &NeighborLists,
+    prm: &WaterParams<D>,
+    drho: &mut [Real],
+    sums: &mut [WaterSums<D>],
+) {
+    continuity::pair_pass(w, src, lists, prm, sums);
+    lists
+        .chunks
+        .par_iter()
+        .zip(sums.par_chunks_mut(CHUNK))
+        .zip(drho.par_chunks_mut(CHUNK))
+        .enumerate()
+        .for_each(|(c, ((cl, sums), dout))| {
+            for (k, d) in dout.iter_mut().enumerate() {
+                let i = c * CHUNK + k;
+                let mut rate = std::mem::replace(&mut sums[k].drho, 0.0);
+                let (w0, w1) = (cl.woff[k] as usize, cl.woff[k + 1] as usize);
+                for &wp in &cl.wall[w0..w1] {
+                    rate += water_wall::continuity(prm, walls, &w.pos[i], &w.vel[i], wp as usize);
+                }
+                *d = w.rho[i] * rate;
+            }
+        });
+}

@@ -1,0 +1,95 @@
+//! The `[water]` table of the scene schema: the water family's fluid and its regions
+//! (seed 001 §1.2; the Riemann-solver WCSPH of Zhang, Hu & Adams 2017). Documented for
+//! users in `docs/scenes.md`.
+
+use super::ShapeSpec;
+use serde::Deserialize;
+
+/// `[water]`: one Newtonian fluid, weakly compressible, and where it starts.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WaterSpec {
+    /// Reference density ρ_w (kg/m³). Default 1000.
+    #[serde(default = "default_density")]
+    pub density: f64,
+    /// Dynamic viscosity μ (Pa·s), Morris et al. (1997) laminar form. Default 1e-3.
+    #[serde(default = "default_viscosity")]
+    pub viscosity: f64,
+    /// Artificial sound speed c0 (m/s). Default 10 × `speed_scale`, which keeps the
+    /// density within about 1 % of ρ_w.
+    #[serde(default)]
+    pub sound_speed: Option<f64>,
+    /// The largest flow speed expected (m/s). Default: √(2 |g| H) over the tallest
+    /// water region's height H, or the largest initial speed if that is higher.
+    #[serde(default)]
+    pub speed_scale: Option<f64>,
+    /// `"linear"`, p = c0² (ρ − ρ_w) (seed 001 Eq. 3), or `"tait"`,
+    /// p = ρ_w c0²/7 ((ρ/ρ_w)⁷ − 1). Default linear.
+    #[serde(default)]
+    pub equation_of_state: EquationOfState,
+    /// Water on walls and barriers: `"no-slip"` (default) or `"free-slip"`.
+    #[serde(default)]
+    pub wall: WallSlip,
+    /// Coefficient η of the Riemann solver's dissipation limiter,
+    /// β = min(η max(U_L − U_R, 0)/c0, 1). Default 3 (Zhang et al. 2017).
+    #[serde(default = "default_limiter")]
+    pub limiter: f64,
+    /// Kernel gradient correction of the pressure force (`water::correction`): exact
+    /// for linear pressure fields, which a resting tank needs. Default true.
+    #[serde(default = "yes")]
+    pub gradient_correction: bool,
+    /// A settling phase (s): over [0, settle_time) the water's velocities are damped
+    /// at the rate 10/settle_time, so that a state built at rest comes to rest in
+    /// its own discrete equilibrium. Default 0 (off).
+    #[serde(default)]
+    pub settle_time: f64,
+    /// Start from the hydrostatic pressure of each region (density from the equation
+    /// of state). Default true; false starts at ρ_w everywhere.
+    #[serde(default = "yes")]
+    pub hydrostatic_start: bool,
+    /// Where the water starts.
+    #[serde(default)]
+    pub regions: Vec<WaterRegionSpec>,
+}
+
+/// `[[water.regions]]`: a block of water particles.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WaterRegionSpec {
+    pub name: String,
+    pub shape: ShapeSpec,
+    /// Initial velocity (m/s). Default at rest.
+    #[serde(default)]
+    pub velocity: Option<Vec<f64>>,
+}
+
+/// Equation of state of the water.
+#[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum EquationOfState {
+    #[default]
+    Linear,
+    Tait,
+}
+
+/// Tangential condition of water on walls and barriers.
+#[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum WallSlip {
+    #[default]
+    NoSlip,
+    FreeSlip,
+}
+
+fn default_density() -> f64 {
+    1000.0
+}
+fn default_viscosity() -> f64 {
+    1.0e-3
+}
+fn default_limiter() -> f64 {
+    3.0
+}
+fn yes() -> bool {
+    true
+}

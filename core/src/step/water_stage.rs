@@ -1,0 +1,339 @@
+//! The water's stages of a step, on the fine step's Δt and with its position-Verlet
+//! scheme (seed 000 Eqs. 54–56 applied to the water): drift to the half step, its own
+//! neighbour lists (water–water and water–wall), the momentum sweep (v_{n+1}), the
+//! continuity sweep with v_{n+1}, and x, ρ to the end of the step with the guard.
+
+use crate::guard::{Blowup, ChunkFailure};
+use crate::interactions::water_pass::{continuity_sweep, correction_sweep, momentum_sweep};
+use crate::kernel::WendlandC2;
+use crate::load::Load;
+use crate::math::{Real, Vect};
+use crate::neighbors::{Binned, CellGrid, NeighborLists, CHUNK};
+use crate::permute::PermuteScratch;
+use crate::scene::WallSlip;
+use crate::timers::{Stage, StageTimers};
+use crate::water::correction::Corr;
+use crate::water::material::WaterMaterial;
+use crate::water::momentum::{WaterParams, WaterSums};
+use crate::water::source::{drift_and_pack, pack, WaterSource};
+use crate::world::World;
+use nalgebra::SVector;
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// Scratch memory and lists of the water stages.
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
+pub struct WaterStepper<const D: usize> {
+    #[serde(with = "crate::neighbors::geometry_only")]
+    grid: CellGrid<D>,
+    wall_grid: CellGrid<D>,
+    walls_binned: bool,
+    wall_disp_at_build: Vec<Vect<D>>,
+    pub lists: NeighborLists,
+    pos_at_build: Vec<SVector<f32, D>>,
+    round_off: Real,
+    max_disp: Real,
+    vmax: Real,
+    skin: Real,
+    /// List radius: kernel cut-off plus skin.
+    radius: Real,
+    /// Load of the water on each barrier during the last step.
+    pub step_loads: Vec<Load>,
+    /// The same per barrier panel (`Walls::load_slot`).
+    pub slot_loads: Vec<Load>,
+    #[serde(skip)]
+    src: Vec<WaterSource>,
+    #[serde(skip)]
+    vel_new: Vec<Vect<D>>,
+    #[serde(skip)]
+    sums: Vec<WaterSums<D>>,
+    #[serde(skip)]
+    corr: Vec<Corr<D>>,
+
+    #[serde(skip)]
+    chunk_loads: Vec<Load>,
+    #[serde(skip)]
+    permute: PermuteScratch,
+    #[serde(skip)]
+    order: Vec<u32>,
+    #[serde(skip)]
+    failures: Vec<(Real, Real, ChunkFailure)>,
+}
+
+impl<const D: usize> WaterStepper<D> {
+    /// Lists with cells of `cell` over the world's domain and Verlet skin `skin`.
+    pub fn new(world: &World<D>, cell: Real, skin: Real) -> Self {
+        let (lo, hi) = &world.domain;
+        WaterStepper {
+            grid: CellGrid::new(lo, hi, cell),
+            wall_grid: CellGrid::new(lo, hi, cell),
+            walls_binned: false,
+            wall_disp_at_build: Vec::new(),
+            lists: NeighborLists::default(),
+            pos_at_build: Vec::new(),
+            round_off: 0.0,
+            max_disp: Real::INFINITY,
+            vmax: 0.0,
+            skin,
+            radius: cell,
+            step_loads: vec![Load::default(); world.walls.barriers.len()],
+            slot_loads: vec![Load::default(); world.walls.load_slots()],
+            src: Vec::new(),
+            vel_new: Vec::new(),
+            sums: Vec::new(),
+            corr: Vec::new(),
+            chunk_loads: Vec::new(),
+            permute: PermuteScratch::default(),
+            order: Vec::new(),
+            failures: Vec::new(),
+        }
+    }
+
+    /// Largest water speed at the end of the last step.
+    pub fn vmax(&self) -> Real {
+        self.vmax
+    }
+
+    /// Largest stable Δt of the water (acoustic and viscous limits).
+    pub fn stable_dt(&self, mat: &WaterMaterial, h: Real, cfl: Real) -> Real {
+        mat.stable_dt(h, cfl, self.vmax)
+    }
+
+    /// Bytes of scratch memory held (lists, buffers, grids).
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.lists.bytes()
+            + self.pos_at_build.capacity() * size_of::<SVector<f32, D>>()
+            + self.vel_new.capacity() * size_of::<Vect<D>>()
+            + self.src.capacity() * size_of::<WaterSource>()
+            + self.sums.capacity() * size_of::<WaterSums<D>>()
+            + self.grid.bytes()
+            + self.wall_grid.bytes()
+    }
+
+    /// x and ρ to the half step, and the sources at the half step.
+    pub fn drift(
+        &mut self,
+        world: &mut World<D>,
+        mat: &WaterMaterial,
+        half: Real,
+        t: &mut StageTimers,
+    ) {
+        t.time(Stage::WaterDriftFinalize, || {
+            drift_and_pack(&mut world.water, mat, half, &mut self.src)
+        });
+    }
+
+    /// Rebuild the lists (particles re-sorted by cell) once the motion since the last
+    /// build may have used up the skin over a step of `dt`.
+    pub fn refresh_lists(
+        &mut self,
+        world: &mut World<D>,
+        mat: &WaterMaterial,
+        dt: Real,
+        t: &mut StageTimers,
+    ) {
+        let start = Instant::now();
+        let moved = self.max_disp + 0.5 * dt * self.vmax;
+        let wall = world.walls.max_displacement_since(&self.wall_disp_at_build);
+        if self.lists.chunks.is_empty() || 2.0 * moved > self.skin || moved + wall > self.skin {
+            self.rebuild(world);
+            pack(&world.water, mat, &mut self.src);
+        }
+        t.add(Stage::WaterNeighbors, start.elapsed().as_secs_f64());
+    }
+
+    fn rebuild(&mut self, world: &mut World<D>) {
+        let w = &mut world.water;
+        self.grid.bin(&w.pos);
+        self.order.clear();
+        self.order.extend_from_slice(self.grid.order());
+        w.permute(&self.order, &mut self.permute);
+        self.grid.bin(&w.pos);
+        self.pos_at_build.clear();
+        self.pos_at_build
+            .par_extend(w.pos.par_iter().map(|x| x.cast::<f32>()));
+        let reach = w.pos.par_iter().map(|x| x.amax()).reduce(|| 0.0, Real::max);
+        self.round_off = reach * (f32::EPSILON as Real) * (D as Real).sqrt();
+        let walls_moved = world
+            .walls
+            .objects
+            .iter()
+            .zip(&self.wall_disp_at_build)
+            .any(|(o, d)| o.displacement != *d);
+        if !self.walls_binned || walls_moved {
+            self.wall_grid.bin(&world.walls.pos);
+            self.walls_binned = true;
+        }
+        self.wall_disp_at_build.clear();
+        self.wall_disp_at_build
+            .extend(world.walls.objects.iter().map(|o| o.displacement));
+        let none = CellGrid::<D>::default();
+        self.lists.build(
+            &w.pos,
+            &self.grid,
+            Binned {
+                pos: &world.walls.pos,
+                grid: &self.wall_grid,
+            },
+            Binned {
+                pos: &[],
+                grid: &none,
+            },
+            self.radius,
+        );
+        self.max_disp = 0.0;
+    }
+
+    /// The two sweeps of a step of `dt`: v_{n+1}, then dρ/dt with v_{n+1}; the water's
+    /// barrier loads of the step into `step_loads` and `slot_loads`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn sweeps(
+        &mut self,
+        world: &mut World<D>,
+        mat: &WaterMaterial,
+        kernel: WendlandC2,
+        dt: Real,
+        t: &mut StageTimers,
+    ) {
+        let n = world.water.len();
+        let nbs = world.walls.load_slots().max(1);
+        self.vel_new.resize(n, Vect::<D>::zeros());
+        self.sums.resize(n, WaterSums::zero());
+        self.chunk_loads
+            .resize(self.lists.chunks.len() * nbs, Load::default());
+        let prm = WaterParams {
+            kernel,
+            gravity: world.gravity,
+            dt,
+            z: mat.impedance(),
+            inv_c: 1.0 / mat.c0,
+            eta: mat.limiter,
+            mu: mat.mu,
+            hydrostatic: world.gravity,
+            keep: mat.velocity_kept(world.time, dt),
+        };
+        let no_slip = mat.wall == WallSlip::NoSlip;
+        self.corr.resize(n, Corr::<D>::identity());
+
+        t.time(Stage::WaterMomentum, || {
+            correction_sweep(
+                &world.water,
+                &self.src,
+                &world.walls,
+                &self.lists,
+                &prm,
+                mat.correction,
+                &mut self.corr,
+            );
+            momentum_sweep(
+                &world.water,
+                &self.src,
+                &self.corr,
+                &world.walls,
+                &self.lists,
+                &prm,
+                no_slip,
+                &mut self.vel_new,
+                &mut self.chunk_loads,
+                &mut self.sums,
+            )
+        });
+        std::mem::swap(&mut world.water.vel, &mut self.vel_new);
+        crate::panels::sum_slots(
+            &world.walls,
+            &self.chunk_loads,
+            nbs,
+            &mut self.slot_loads,
+            &mut self.step_loads,
+        );
+        let mut drho = std::mem::take(&mut world.water.drho);
+        t.time(Stage::WaterContinuity, || {
+            continuity_sweep(
+                &world.water,
+                &self.src,
+                &world.walls,
+                &self.lists,
+                &prm,
+                &mut drho,
+                &mut self.sums,
+            )
+        });
+        world.water.drho = drho;
+    }
+
+    /// x and ρ to the end of the step; each chunk records its largest speed and
+    /// displacement since the list build, and its first failing particle.
+    pub fn finalize(
+        &mut self,
+        world: &mut World<D>,
+        half: Real,
+        max_speed: Real,
+        t: &mut StageTimers,
+    ) {
+        let start = Instant::now();
+        let w = &mut world.water;
+        w.pos
+            .par_chunks_mut(CHUNK)
+            .zip(w.rho.par_chunks_mut(CHUNK))
+            .zip(w.vel.par_chunks(CHUNK))
+            .zip(w.drho.par_chunks(CHUNK))
+            .zip(self.pos_at_build.par_chunks(CHUNK))
+            .enumerate()
+            .map(|(c, ((((x, r), v), d), x0))| {
+                let mut vmax2: Real = 0.0;
+                let mut disp2: Real = 0.0;
+                let mut fail: ChunkFailure = None;
+                for k in 0..x.len() {
+                    x[k] += v[k] * half;
+                    r[k] += d[k] * half;
+                    let v2 = v[k].norm_squared();
+                    vmax2 = vmax2.max(v2);
+                    disp2 = disp2.max((x[k] - x0[k].cast::<Real>()).norm_squared());
+                    if fail.is_none() {
+                        let i = c * CHUNK + k;
+                        if !v2.is_finite() {
+                            fail = Some((i, "velocity", v2.sqrt(), false));
+                        } else if !x[k].iter().all(|q| q.is_finite()) {
+                            fail = Some((i, "position", x[k].norm(), false));
+                        } else if !(r[k].is_finite() && r[k] > 0.0) {
+                            fail = Some((i, "density", r[k], false));
+                        } else if v2 > max_speed * max_speed {
+                            fail = Some((i, "speed", v2.sqrt(), true));
+                        }
+                    }
+                }
+                (vmax2, disp2, fail)
+            })
+            .collect_into_vec(&mut self.failures);
+        t.add(Stage::WaterDriftFinalize, start.elapsed().as_secs_f64());
+    }
+
+    /// Stop on the first failing water particle of the step; otherwise keep the
+    /// step's largest speed and displacement.
+    pub fn guard(&mut self, world: &World<D>, max_speed: Real) -> Result<Real, Blowup> {
+        let mut vmax2: Real = 0.0;
+        let mut disp2: Real = 0.0;
+        for (v, d, fail) in &self.failures {
+            vmax2 = vmax2.max(*v);
+            disp2 = disp2.max(*d);
+            if let Some((i, q, val, speed)) = fail {
+                let w = &world.water;
+                return Err(Blowup {
+                    step: world.steps,
+                    time: world.time,
+                    particle: w.id[*i],
+                    body: None,
+                    family: crate::guard::Family::Water,
+                    position: w.pos[*i].iter().copied().collect(),
+                    quantity: q.to_string(),
+                    value: *val,
+                    limit: speed.then_some(max_speed),
+                });
+            }
+        }
+        self.vmax = vmax2.sqrt();
+        self.max_disp = disp2.sqrt() + self.round_off;
+        Ok(self.vmax)
+    }
+}

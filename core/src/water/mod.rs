@@ -1,0 +1,15 @@
+//! Water: weakly compressible SPH with the low-dissipation Riemann solver of Zhang,
+//! Hu & Adams (2017), the fluid of seed 001 §1.2 (its Eqs. 1–3), and Morris et al.
+//! (1997) laminar viscosity.
+//!
+//! The family holds the water–water terms only. Walls, barriers and (later) coarse and
+//! fine grains act on water through [`interactions`](crate::interactions); the stage
+//! that steps it is [`step`](crate::step). `docs/method.md` §Water gives the equations
+//! and where granmix departs from its sources.
+
+pub mod continuity;
+pub mod correction;
+pub mod material;
+pub mod momentum;
+pub mod source;
+pub mod state;

@@ -1,0 +1,120 @@
+//! Momentum of the water, water–water terms (Zhang, Hu & Adams 2017, Eqs. 7, 16–19;
+//! seed 001 Eq. 2 with the Riemann solver in place of Monaghan's viscosity):
+//!
+//!   dv_i/dt = (2/ρ_i) Σ_j ( −P*_ij ∇_i W_ij + μ v_ij (x_ij·∇_i W_ij)/(r² + 0.01h²) ) V_j + g
+//!
+//! P* = ½(P_i + P_j) + ½ β ρ_w c0 (U_L − U_R), U = −v·e_ij (the linearised Riemann
+//! problem along the pair, seed 000 Eqs. 19–21), with the limiter
+//! β = min(η max(U_L − U_R, 0)/c0, 1): dissipation opens under compression only, as in
+//! Zhang et al. (2017). The viscous term is Morris et al. (1997) Eq. (8).
+//! Each pair is evaluated once and added to both particles with opposite signs
+//! (two-phase slab schedule, [`slabs`](crate::slabs)), so Σ m_i dv_i/dt of the pair
+//! terms is zero to round-off.
+
+use super::correction::Corr;
+use super::source::WaterSource;
+use super::state::WaterParticles;
+use crate::kernel::WendlandC2;
+use crate::math::{Real, Vect};
+use crate::neighbors::NeighborLists;
+use crate::pair_block::{Pair, PairBlock, BLOCK};
+use crate::slabs::two_phase;
+
+/// Constants of the water sweeps for one step.
+#[derive(Clone, Copy, Debug)]
+pub struct WaterParams<const D: usize> {
+    pub kernel: WendlandC2,
+    pub gravity: Vect<D>,
+    pub dt: Real,
+    /// Acoustic impedance ρ_w c0.
+    pub z: Real,
+    /// 1/c0.
+    pub inv_c: Real,
+    /// Limiter coefficient η.
+    pub eta: Real,
+    /// Dynamic viscosity μ.
+    pub mu: Real,
+    /// Gravity of this step: the hydrostatic gradient ρ̄ g is taken out of the
+    /// continuity equation's pressure jump ([`continuity`](super::continuity)).
+    pub hydrostatic: Vect<D>,
+    /// Share of the velocity kept over the step: exp(−Δt/τ) while the settling
+    /// damping is on, 1 otherwise.
+    pub keep: Real,
+}
+
+/// Per-particle sums of the pair passes.
+#[derive(Clone, Copy, Debug)]
+pub struct WaterSums<const D: usize> {
+    /// Σ (−P* e dW + μ v_ij r² dW/(r (r² + 0.01h²))) V_j; times 2/ρ_i is dv_i/dt.
+    pub acc: Vect<D>,
+    /// Σ (v_ij·e + ΔP/Z) dW V_j; times ρ_i is dρ_i/dt.
+    pub drho: Real,
+}
+
+impl<const D: usize> WaterSums<D> {
+    pub fn zero() -> Self {
+        WaterSums {
+            acc: Vect::<D>::zeros(),
+            drho: 0.0,
+        }
+    }
+}
+
+/// P* of the pair (i, j) along e = e_ij: ½(P_i + P_j) + ½ β Z (U_L − U_R).
+#[inline(always)]
+pub fn p_star<const D: usize>(prm: &WaterParams<D>, pi: Real, pj: Real, du: Real) -> Real {
+    let beta = (prm.eta * du.max(0.0) * prm.inv_c).min(1.0);
+    0.5 * (pi + pj) + 0.5 * beta * prm.z * du
+}
+
+/// The water–water momentum terms, each pair once, into `sums[..].acc`; `corr` holds
+/// each particle's correction B ([`correction`](super::correction)), the pair's
+/// pressure force taken along ½(B_i + B_j)·∇_i W.
+pub fn pair_pass<const D: usize>(
+    w: &WaterParticles<D>,
+    src: &[WaterSource],
+    corr: &[Corr<D>],
+    lists: &NeighborLists,
+    prm: &WaterParams<D>,
+    sums: &mut [WaterSums<D>],
+) {
+    let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
+    let reg = 0.01 * prm.kernel.h * prm.kernel.h;
+    let n = w.len();
+    let (pos, vel, src, corr) = (&w.pos[..n], &w.vel[..n], &src[..n], &corr[..n]);
+    let slabs = &lists.slabs;
+    two_phase(
+        slabs,
+        &mut sums[..n],
+        &|s, win: &mut [WaterSums<D>], base| {
+            let mut block = PairBlock::<D>::default();
+            for i in slabs[s] as usize..slabs[s + 1] as usize {
+                let (xi, vi, si) = (pos[i], vel[i], src[i]);
+                let mut own = Vect::<D>::zeros();
+                for js in lists.fine_of(i).chunks(BLOCK) {
+                    block.fill(&xi, js, pos, cut2, reg);
+                    for Pair {
+                        j,
+                        rij,
+                        r,
+                        inv_r,
+                        inv,
+                    } in block.pairs(reg)
+                    {
+                        let sj = src[j];
+                        let e = rij * inv_r;
+                        let dw = prm.kernel.dw_within(r);
+                        let vij = vi - vel[j];
+                        // U_L − U_R = −v_i·e + v_j·e
+                        let ps = p_star(prm, si.p, sj.p, -vij.dot(&e));
+                        let be = (corr[i] + corr[j]) * (e * 0.5);
+                        let t = be * (-ps * dw) + vij * (prm.mu * r * r * dw * inv);
+                        own += t * sj.vol;
+                        win[j - base].acc -= t * si.vol;
+                    }
+                }
+                win[i - base].acc += own;
+            }
+        },
+    );
+}

@@ -1,0 +1,108 @@
+//! Water particle state: structure of arrays.
+
+use crate::math::{Real, Vect};
+use crate::permute::{cycle_apply, PermuteScratch};
+
+/// The water particles (updated Lagrangian, position Verlet like the fine grains).
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct WaterParticles<const D: usize> {
+    pub pos: Vec<Vect<D>>,
+    pub vel: Vec<Vect<D>>,
+    pub rho: Vec<Real>,
+    /// dρ/dt from the last continuity sweep.
+    pub drho: Vec<Real>,
+    pub mass: Vec<Real>,
+    /// Stable id (the particle's index at creation), kept through re-sorting.
+    pub id: Vec<u32>,
+}
+
+impl<const D: usize> WaterParticles<D> {
+    pub fn len(&self) -> usize {
+        self.pos.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.pos.is_empty()
+    }
+
+    pub fn push(&mut self, pos: Vect<D>, vel: Vect<D>, rho: Real, mass: Real) {
+        self.id.push(self.pos.len() as u32);
+        self.pos.push(pos);
+        self.vel.push(vel);
+        self.rho.push(rho);
+        self.drho.push(0.0);
+        self.mass.push(mass);
+    }
+
+    /// Release the spare capacity left by filling the arrays one particle at a time.
+    pub fn shrink_to_fit(&mut self) {
+        self.pos.shrink_to_fit();
+        self.vel.shrink_to_fit();
+        self.rho.shrink_to_fit();
+        self.drho.shrink_to_fit();
+        self.mass.shrink_to_fit();
+        self.id.shrink_to_fit();
+    }
+
+    /// Bytes held by the particle arrays.
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of;
+        (self.pos.capacity() + self.vel.capacity()) * size_of::<Vect<D>>()
+            + (self.rho.capacity() + self.drho.capacity() + self.mass.capacity())
+                * size_of::<Real>()
+            + self.id.capacity() * 4
+    }
+
+    /// Reorder every array by `order` (new index k holds old particle order[k]), in
+    /// place ([`cycle_apply`]).
+    pub fn permute(&mut self, order: &[u32], scratch: &mut PermuteScratch) {
+        cycle_apply(&mut self.pos, order, scratch);
+        cycle_apply(&mut self.vel, order, scratch);
+        cycle_apply(&mut self.rho, order, scratch);
+        cycle_apply(&mut self.drho, order, scratch);
+        cycle_apply(&mut self.mass, order, scratch);
+        cycle_apply(&mut self.id, order, scratch);
+    }
+
+    /// Σ ½ m v².
+    pub fn kinetic_energy(&self) -> Real {
+        self.vel
+            .iter()
+            .zip(&self.mass)
+            .map(|(v, m)| 0.5 * m * v.norm_squared())
+            .sum()
+    }
+
+    /// −Σ m g·x (zero at the origin).
+    pub fn potential_energy(&self, g: &Vect<D>) -> Real {
+        self.pos
+            .iter()
+            .zip(&self.mass)
+            .map(|(x, m)| -m * g.dot(x))
+            .sum()
+    }
+
+    /// The surge front: the largest x of any water particle (−∞ without water).
+    pub fn front(&self) -> Real {
+        self.pos
+            .iter()
+            .map(|x| x[0])
+            .fold(Real::NEG_INFINITY, Real::max)
+    }
+
+    /// Largest speed.
+    pub fn max_speed(&self) -> Real {
+        self.vel
+            .iter()
+            .map(|v| v.norm_squared())
+            .fold(0.0, Real::max)
+            .sqrt()
+    }
+
+    /// Total linear momentum Σ m v.
+    pub fn momentum(&self) -> Vect<D> {
+        self.vel
+            .iter()
+            .zip(&self.mass)
+            .fold(Vect::<D>::zeros(), |a, (v, m)| a + v * *m)
+    }
+}
