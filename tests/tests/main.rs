@@ -23,3 +23,4 @@ mod validation_geostatic;
 mod validation_incline;
 mod validation_rings;
 mod validation_srm;
+mod water;

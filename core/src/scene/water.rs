@@ -30,10 +30,11 @@ pub struct WaterSpec {
     /// Water on walls and barriers: `"no-slip"` (default) or `"free-slip"`.
     #[serde(default)]
     pub wall: WallSlip,
-    /// Coefficient η of the Riemann solver's dissipation limiter,
-    /// β = min(η max(U_L − U_R, 0)/c0, 1). Default 3 (Zhang et al. 2017).
-    #[serde(default = "default_limiter")]
-    pub limiter: f64,
+    /// Coefficient η of a limiter on the Riemann solver's dissipation,
+    /// β = min(η max(U_L − U_R, 0)/c0, 1) (Zhang et al. 2017 use η = 3). Default: no
+    /// limiter, β = 1 under compression (docs/method.md §Water has the measurements).
+    #[serde(default)]
+    pub limiter: Option<f64>,
     /// Kernel gradient correction of the pressure force (`water::correction`): exact
     /// for linear pressure fields, which a resting tank needs. Default true.
     #[serde(default = "yes")]
@@ -86,9 +87,6 @@ fn default_density() -> f64 {
 }
 fn default_viscosity() -> f64 {
     1.0e-3
-}
-fn default_limiter() -> f64 {
-    3.0
 }
 fn yes() -> bool {
     true

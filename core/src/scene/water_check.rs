@@ -40,11 +40,13 @@ pub(super) fn validate_water(s: &Scene) -> Check {
             );
         }
     }
-    if !(w.limiter.is_finite() && w.limiter >= 0.0) {
-        return fail(
-            "water.limiter",
-            format!("must be ≥ 0 (default 3), found {:?}", w.limiter),
-        );
+    if let Some(eta) = w.limiter {
+        if !(eta.is_finite() && eta >= 0.0) {
+            return fail(
+                "water.limiter",
+                format!("must be ≥ 0 (leave it out for no limiter), found {eta:?}"),
+            );
+        }
     }
     if !(w.settle_time.is_finite() && w.settle_time >= 0.0) {
         return fail(

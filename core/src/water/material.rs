@@ -15,7 +15,7 @@ pub struct WaterMaterial {
     pub mu: Real,
     pub eos: EquationOfState,
     pub wall: WallSlip,
-    /// Limiter coefficient η of the Riemann dissipation.
+    /// Limiter coefficient η of the Riemann dissipation (∞: no limiter).
     pub limiter: Real,
     /// The speed c0 was chosen against (m/s).
     pub speed_scale: Real,
@@ -34,7 +34,7 @@ impl WaterMaterial {
             mu: spec.viscosity,
             eos: spec.equation_of_state,
             wall: spec.wall,
-            limiter: spec.limiter,
+            limiter: spec.limiter.unwrap_or(Real::INFINITY),
             speed_scale,
             correction: spec.gradient_correction,
             settle_time: spec.settle_time,

@@ -4,9 +4,11 @@
 //!   dv_i/dt = (2/ρ_i) Σ_j ( −P*_ij ∇_i W_ij + μ v_ij (x_ij·∇_i W_ij)/(r² + 0.01h²) ) V_j + g
 //!
 //! P* = ½(P_i + P_j) + ½ β ρ_w c0 (U_L − U_R), U = −v·e_ij (the linearised Riemann
-//! problem along the pair, seed 000 Eqs. 19–21), with the limiter
-//! β = min(η max(U_L − U_R, 0)/c0, 1): dissipation opens under compression only, as in
-//! Zhang et al. (2017). The viscous term is Morris et al. (1997) Eq. (8).
+//! problem along the pair, seed 000 Eqs. 19–21): dissipation under compression only,
+//! as in Zhang et al. (2017). Their limiter β = min(η max(U_L − U_R, 0)/c0, 1) (η = 3)
+//! is optional (`water.limiter`); by default β = 1 under compression, which the resting
+//! tank and the dam break of docs/method.md §Water measured as the better choice.
+//! The viscous term is Morris et al. (1997) Eq. (8).
 //! Each pair is evaluated once and added to both particles with opposite signs
 //! (two-phase slab schedule, [`slabs`](crate::slabs)), so Σ m_i dv_i/dt of the pair
 //! terms is zero to round-off.
@@ -30,7 +32,7 @@ pub struct WaterParams<const D: usize> {
     pub z: Real,
     /// 1/c0.
     pub inv_c: Real,
-    /// Limiter coefficient η.
+    /// Limiter coefficient η (∞: none).
     pub eta: Real,
     /// Dynamic viscosity μ.
     pub mu: Real,
@@ -63,7 +65,12 @@ impl<const D: usize> WaterSums<D> {
 /// P* of the pair (i, j) along e = e_ij: ½(P_i + P_j) + ½ β Z (U_L − U_R).
 #[inline(always)]
 pub fn p_star<const D: usize>(prm: &WaterParams<D>, pi: Real, pj: Real, du: Real) -> Real {
-    let beta = (prm.eta * du.max(0.0) * prm.inv_c).min(1.0);
+    // β = 0 in expansion; η = ∞ (no limiter) gives β = 1 in compression
+    let beta = if du > 0.0 {
+        (prm.eta * du * prm.inv_c).min(1.0)
+    } else {
+        0.0
+    };
     0.5 * (pi + pj) + 0.5 * beta * prm.z * du
 }
 
