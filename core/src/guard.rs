@@ -22,6 +22,31 @@ pub struct Blowup {
     pub limit: Option<f64>,
 }
 
+impl Blowup {
+    /// The blow-up of particle `particle` of a family (not a body) at `position`, from
+    /// its [`Failure`], at step `step` and time `time`.
+    pub fn of_particle(
+        (step, time): (u64, f64),
+        family: Family,
+        particle: u32,
+        position: Vec<f64>,
+        (_, quantity, value, speed): Failure,
+        max_speed: f64,
+    ) -> Self {
+        Blowup {
+            step,
+            time,
+            particle,
+            body: None,
+            family,
+            position,
+            quantity: quantity.to_string(),
+            value,
+            limit: speed.then_some(max_speed),
+        }
+    }
+}
+
 impl fmt::Display for Blowup {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
@@ -73,5 +98,49 @@ impl Family {
     }
 }
 
-/// First failure found in a chunk: (particle index, quantity, value, is-speed).
-pub type ChunkFailure = Option<(usize, &'static str, f64, bool)>;
+/// A failing particle: (particle index, quantity, value, is-speed).
+pub type Failure = (usize, &'static str, f64, bool);
+
+/// First failure found in a chunk.
+pub type ChunkFailure = Option<Failure>;
+
+/// The first problem of particle `i` at the end of a step, in this order: a non-finite
+/// velocity (`v2` = |v|²), position or density, a density ≤ 0, the family's own check
+/// `more` (e.g. a non-finite stress), a speed beyond `max_speed`.
+#[inline(always)]
+pub fn check<const D: usize>(
+    i: usize,
+    v2: f64,
+    x: &nalgebra::SVector<f64, D>,
+    rho: f64,
+    more: impl FnOnce() -> Option<(&'static str, f64)>,
+    max_speed: f64,
+) -> ChunkFailure {
+    if !v2.is_finite() {
+        Some((i, "velocity", v2.sqrt(), false))
+    } else if !x.iter().all(|q| q.is_finite()) {
+        Some((i, "position", x.norm(), false))
+    } else if !(rho.is_finite() && rho > 0.0) {
+        Some((i, "density", rho, false))
+    } else if let Some((q, v)) = more() {
+        Some((i, q, v, false))
+    } else if v2 > max_speed * max_speed {
+        Some((i, "speed", v2.sqrt(), true))
+    } else {
+        None
+    }
+}
+
+/// The step's largest squared speed and squared displacement over the chunks'
+/// (speed², displacement², failure) records, or the first failure in chunk order.
+pub fn reduce(chunks: &[(f64, f64, ChunkFailure)]) -> Result<(f64, f64), Failure> {
+    let (mut v2, mut d2): (f64, f64) = (0.0, 0.0);
+    for (v, d, fail) in chunks {
+        if let Some(f) = fail {
+            return Err(*f);
+        }
+        v2 = v2.max(*v);
+        d2 = d2.max(*d);
+    }
+    Ok((v2, d2))
+}

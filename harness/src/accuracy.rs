@@ -115,6 +115,33 @@ fn series() -> Vec<Series> {
         note: "½ g (sin θ − μ cos θ) t², θ = 30°, μ = 0.3, t = 0.5 s",
     });
     v.push(Series {
+        case: "water_tank",
+        scheme: "water",
+        scene: "hydrostatic_tank.toml",
+        levels: dp_levels(&[0.02, 0.01, 0.005], 0.001, " mm"),
+        common: vec!["simulation.end_time=3.0".into()],
+        metric: Metric::WaterWallLoad(0.5 * 1000.0 * 9.81 * 0.25),
+        note: "resting tank H = 0.5 m: side-wall load ½ ρ_w g H²",
+    });
+    let a = 0.05715;
+    for (case, scene, fractions) in [
+        ("dam_break_2d", "dam_break_2d.toml", [20.0, 40.0, 80.0]),
+        ("dam_break_3d", "dam_break_3d.toml", [10.0, 15.0, 20.0]),
+    ] {
+        v.push(Series {
+            case,
+            scheme: "water",
+            scene,
+            levels: fractions
+                .iter()
+                .map(|n| (format!("a/{n}"), vec![format!("simulation.dp={}", a / n)]))
+                .collect(),
+            common: vec![],
+            metric: Metric::DamFront(a),
+            note: "largest error of the surge front against Martin & Moyce (1952), T ≤ 3",
+        });
+    }
+    v.push(Series {
         case: "rubber_rings",
         scheme: "multi-rate, elastic",
         scene: "rubber_rings.toml",

@@ -197,6 +197,42 @@ fn cases() -> Vec<Case> {
         note: "layer built quasi-statically: K at 3 s within [K_a, K0] (Rankine, Jaky)",
     });
     v.push(Case {
+        name: "water_tank".into(),
+        scene: "hydrostatic_tank.toml",
+        levels: vec![("dp=10mm".into(), vec![])],
+        common: vec!["simulation.end_time=3.0".into()],
+        metric: Metric::WaterWallLoad(0.5 * 1000.0 * 9.81 * 0.25),
+        tolerance: Some(0.01),
+        note: "resting tank H = 0.5 m: side-wall load ½ ρ_w g H² at 3 s",
+    });
+    v.push(Case {
+        name: "dam_break_2d".into(),
+        scene: "dam_break_2d.toml",
+        levels: vec![("a/40".into(), vec![])],
+        common: vec![],
+        metric: Metric::DamFront(0.05715),
+        tolerance: Some(0.05),
+        note: "surge front against Martin & Moyce (1952) n² = 2, T ≤ 3 (largest error)",
+    });
+    v.push(Case {
+        name: "speed_water_2d".into(),
+        scene: "dam_break_2d.toml",
+        levels: vec![("a/40".into(), vec![])],
+        common: vec![],
+        metric: Metric::Speed,
+        tolerance: None,
+        note: "2D dam break, 3200 water particles, T ≤ 3.15",
+    });
+    v.push(Case {
+        name: "speed_water_3d".into(),
+        scene: "dam_break_3d.toml",
+        levels: vec![("a/20".into(), vec![])],
+        common: vec![],
+        metric: Metric::Speed,
+        tolerance: None,
+        note: "3D dam break, 8000 water particles, T ≤ 3.15",
+    });
+    v.push(Case {
         name: "speed_2d".into(),
         scene: "column_collapse_2d.toml",
         levels: vec![("dp=2mm".into(), vec!["simulation.dp=0.002".into()])],

@@ -26,6 +26,51 @@ pub(crate) enum Metric {
     /// against the band [K_a, K0]; the reference shown is K0, the error the distance
     /// outside the band relative to K0 (0 inside it).
     EarthPressure(EarthPressureRef),
+    /// Resting water: the water's load on the barrier `tank.right` at the end against
+    /// ½ ρ_w g H² (N/m in 2D).
+    WaterWallLoad(f64),
+    /// Dam break of a column a wide (m): the largest relative error of the surge front
+    /// Z = x/a against Martin & Moyce (1952) Table 2 (n² = 2) for T = t √(2g/a) ≤ 3;
+    /// reference 0.
+    DamFront(f64),
+}
+
+/// Martin & Moyce (1952) Table 2, n² = 2, a = 2.25 in: T = t √(2g/a) and Z = x/a.
+pub(crate) const MARTIN_MOYCE: [(f64, f64); 13] = [
+    (0.41, 1.11),
+    (0.84, 1.22),
+    (1.19, 1.44),
+    (1.43, 1.67),
+    (1.63, 1.89),
+    (1.83, 2.11),
+    (1.98, 2.33),
+    (2.20, 2.56),
+    (2.32, 2.78),
+    (2.51, 3.00),
+    (2.65, 3.22),
+    (2.83, 3.44),
+    (2.98, 3.67),
+];
+
+/// Largest relative error of the water front of `samples` against [`MARTIN_MOYCE`]
+/// (front interpolated linearly between samples); None if the run ended first.
+pub(crate) fn dam_front_error(samples: &[granmix_core::simulation::Sample], a: f64) -> Option<f64> {
+    let scale = (2.0 * 9.81 / a).sqrt();
+    let pts: Vec<(f64, f64)> = samples
+        .iter()
+        .filter_map(|s| s.water.as_ref().map(|w| (s.time * scale, w.front / a)))
+        .collect();
+    let mut worst: f64 = 0.0;
+    for (tm, zm) in MARTIN_MOYCE {
+        let k = pts.iter().position(|p| p.0 >= tm)?;
+        if k == 0 {
+            return None;
+        }
+        let ((t0, z0), (t1, z1)) = (pts[k - 1], pts[k]);
+        let z = z0 + (tm - t0) / (t1 - t0) * (z1 - z0);
+        worst = worst.max((z - zm).abs() / zm);
+    }
+    Some(worst)
 }
 
 /// A level layer of height `height` and density `density` behind a vertical barrier,
@@ -102,6 +147,14 @@ impl Metric {
                     .fold(0.0, f64::max);
                 (Some(drift / scale.max(1e-300)), Some(0.0))
             }
+            Metric::WaterWallLoad(r) => (
+                last.barriers
+                    .iter()
+                    .find(|b| b.name == "tank.right")
+                    .map(|b| b.force_water[0]),
+                Some(r),
+            ),
+            Metric::DamFront(a) => (dam_front_error(&rep.samples, a), Some(0.0)),
             Metric::EarthPressure(r) => {
                 let unit = 0.5 * r.density * 9.81 * r.height * r.height;
                 (

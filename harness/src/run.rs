@@ -56,6 +56,7 @@ pub struct RunReport {
     pub summary: Value,
     pub samples: Vec<Sample>,
     pub blowup: Option<Blowup>,
+    /// Fine and water particles.
     pub particles: usize,
     pub wall_time: f64,
     /// Fine particle-steps plus coarse particle-sub-steps per second.
@@ -308,7 +309,7 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         summary,
         samples,
         blowup,
-        particles: n,
+        particles: n + sim.water_count(),
         wall_time: wall,
         particle_steps_per_s: pss,
         fine_particle_steps_per_s: fine_pss,

@@ -11,5 +11,12 @@ mod water_check;
 pub use error::{KeyError, SceneError};
 pub use text::{apply_overrides, at, locate, parse};
 pub use types::*;
-pub use validate::{unknown_solid, validate, validate_shape};
+pub use validate::{unknown_solid, validate_shape};
+
+/// Semantic checks on a deserialised scene: the grains, walls and probes, then the
+/// water. Errors carry the key path.
+pub fn validate(s: &Scene) -> Result<(), KeyError> {
+    validate::validate_grains(s)?;
+    water_check::validate_water(s)
+}
 pub use water::*;

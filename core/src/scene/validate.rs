@@ -221,8 +221,8 @@ fn elastic_constants(p: &str, density: f64, youngs: f64, poisson: f64) -> Check 
 
 const FACES: [&str; 6] = ["-x", "+x", "-y", "+y", "-z", "+z"];
 
-/// Validate the whole scene.
-pub fn validate(s: &Scene) -> Check {
+/// Validate the scene but its `[water]` table (`water_check`).
+pub fn validate_grains(s: &Scene) -> Check {
     validate_simulation(s)?;
     validate_numerics(s)?;
     validate_contents(s)?;
@@ -230,7 +230,6 @@ pub fn validate(s: &Scene) -> Check {
     validate_walls(s)?;
     let d = s.simulation.dimension;
     validate_coarse(s, &names)?;
-    super::water_check::validate_water(s)?;
     for (i, pr) in s.probes.iter().enumerate() {
         vec_len(&format!("probes[{i}].position"), &pr.position, d)?;
     }

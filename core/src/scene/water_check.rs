@@ -1,6 +1,7 @@
-//! Checks on the `[water]` table. The sound speed against a derived speed scale is
-//! checked where the scale is known, when the water is filled
-//! ([`world`](crate::world)); a scale given in the scene is checked here.
+//! Checks on the `[water]` table, after the rest of the scene (`scene::validate`).
+//! The sound speed against a derived speed scale is checked where the scale is known,
+//! when the water is filled ([`world`](crate::world)); a scale given in the scene is
+//! checked here.
 
 use super::validate::{fail, positive, validate_solid_shape, vec_len, Check};
 use super::Scene;

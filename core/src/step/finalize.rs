@@ -3,7 +3,7 @@
 //! a non-finite or runaway particle.
 
 use super::Stepper;
-use crate::guard::{Blowup, ChunkFailure};
+use crate::guard::{check, Blowup, ChunkFailure, Family};
 use crate::math::Real;
 use crate::neighbors::CHUNK;
 use crate::world::World;
@@ -21,7 +21,7 @@ impl<const D: usize> Stepper<D> {
             .zip(f.vel.par_chunks(CHUNK))
             .zip(f.drho.par_chunks(CHUNK))
             .zip(f.stress.par_chunks(CHUNK))
-            .zip(self.pos_at_build.par_chunks(CHUNK))
+            .zip(self.at_build.pos.par_chunks(CHUNK))
             .enumerate()
             .map(|(c, (((((x, r), v), d), s), x0))| {
                 let mut vmax2: Real = 0.0;
@@ -34,18 +34,8 @@ impl<const D: usize> Stepper<D> {
                     vmax2 = vmax2.max(v2);
                     disp2 = disp2.max((x[k] - x0[k].cast::<Real>()).norm_squared());
                     if fail.is_none() {
-                        let i = c * CHUNK + k;
-                        if !v2.is_finite() {
-                            fail = Some((i, "velocity", v2.sqrt(), false));
-                        } else if !x[k].iter().all(|q| q.is_finite()) {
-                            fail = Some((i, "position", x[k].norm(), false));
-                        } else if !(r[k].is_finite() && r[k] > 0.0) {
-                            fail = Some((i, "density", r[k], false));
-                        } else if !s[k].is_finite() {
-                            fail = Some((i, "stress", s[k].trace(), false));
-                        } else if v2 > max_speed * max_speed {
-                            fail = Some((i, "speed", v2.sqrt(), true));
-                        }
+                        let stress = || (!s[k].is_finite()).then(|| ("stress", s[k].trace()));
+                        fail = check(c * CHUNK + k, v2, &x[k], r[k], stress, max_speed);
                     }
                 }
                 (vmax2, disp2, fail)
@@ -58,28 +48,13 @@ impl<const D: usize> Stepper<D> {
     /// largest speed and displacement for Δt and the neighbour skin.
     pub(super) fn guard(&mut self, world: &World<D>) -> Result<Real, Blowup> {
         let max_speed = self.params.max_speed;
-        let mut vmax2: Real = 0.0;
-        let mut disp2: Real = 0.0;
-        for (v, d, fail) in &self.failures {
-            vmax2 = vmax2.max(*v);
-            disp2 = disp2.max(*d);
-            if let Some((i, q, val, speed)) = fail {
-                let f = &world.fine;
-                return Err(Blowup {
-                    step: world.steps,
-                    time: world.time,
-                    particle: f.id[*i],
-                    body: None,
-                    family: crate::guard::Family::Fine,
-                    position: f.pos[*i].iter().copied().collect(),
-                    quantity: q.to_string(),
-                    value: *val,
-                    limit: speed.then_some(max_speed),
-                });
-            }
-        }
+        let (vmax2, disp2) = crate::guard::reduce(&self.failures).map_err(|f| {
+            let (p, at) = (&world.fine, (world.steps, world.time));
+            let x = p.pos[f.0].iter().copied().collect();
+            Blowup::of_particle(at, Family::Fine, p.id[f.0], x, f, max_speed)
+        })?;
         self.vmax = vmax2.sqrt();
-        self.max_disp = disp2.sqrt() + self.round_off;
+        self.max_disp = disp2.sqrt() + self.at_build.round_off;
         Ok(self.vmax)
     }
 }

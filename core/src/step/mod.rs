@@ -14,8 +14,10 @@ use crate::neighbors::{CellGrid, NeighborLists};
 use crate::permute::PermuteScratch;
 use crate::timers::{Stage, StageTimers};
 use crate::world::{geostatic_tensor, World};
+use build_marks::{PositionMarks, WallBins};
 use coarse_substeps::CoarseStepper;
 
+mod build_marks;
 mod coarse_stage;
 pub mod coarse_substeps;
 mod finalize;
@@ -37,16 +39,9 @@ pub struct Stepper<const D: usize> {
     /// Binned afresh at every list build: a serialised state keeps only its geometry.
     #[serde(with = "crate::neighbors::geometry_only")]
     fine_grid: CellGrid<D>,
-    /// Binned when the walls moved since the last build: serialised in full.
-    wall_grid: CellGrid<D>,
+    walls: WallBins<D>,
     pub lists: NeighborLists,
-    /// Positions at the last list build, in single precision: only displacements
-    /// since then are read from them, and `round_off` bounds the rounding.
-    pos_at_build: Vec<nalgebra::SVector<f32, D>>,
-    /// Largest rounding error of a position stored in `pos_at_build` (m).
-    round_off: Real,
-    wall_disp_at_build: Vec<Vect<D>>,
-    walls_binned: bool,
+    at_build: PositionMarks<D>,
     /// Largest displacement since the last list build (end of last step).
     max_disp: Real,
     vmax: Real,
@@ -180,14 +175,11 @@ impl<const D: usize> Stepper<D> {
         let nb = world.walls.barriers.len();
         Stepper {
             fine_grid: CellGrid::new(&world.domain.0, &world.domain.1, cell),
-            wall_grid: CellGrid::new(&world.domain.0, &world.domain.1, cell),
+            walls: WallBins::new(CellGrid::new(&world.domain.0, &world.domain.1, cell)),
             params,
             kernel,
             lists: NeighborLists::default(),
-            pos_at_build: Vec::new(),
-            round_off: 0.0,
-            wall_disp_at_build: Vec::new(),
-            walls_binned: false,
+            at_build: PositionMarks::default(),
             max_disp: Real::INFINITY,
             vmax: 0.0,
             vel_new: Vec::new(),
@@ -254,14 +246,14 @@ impl<const D: usize> Stepper<D> {
     pub fn bytes(&self) -> usize {
         use std::mem::size_of;
         self.lists.bytes()
-            + self.pos_at_build.capacity() * size_of::<nalgebra::SVector<f32, D>>()
+            + self.at_build.bytes()
             + self.vel_new.capacity() * size_of::<Vect<D>>()
             + self.art.capacity() * size_of::<Sym>()
             + self.src.capacity() * size_of::<Source>()
             + self.order.capacity() * 4
             + self.pair_sums.capacity() * size_of::<PairSums<D>>()
             + self.fine_grid.bytes()
-            + self.wall_grid.bytes()
+            + self.walls.grid.bytes()
             + self.water.as_ref().map_or(0, |w| w.bytes())
     }
 

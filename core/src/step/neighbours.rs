@@ -7,7 +7,6 @@ use crate::fine::source::pack;
 use crate::math::Real;
 use crate::neighbors::Binned;
 use crate::world::World;
-use rayon::prelude::*;
 
 impl<const D: usize> Stepper<D> {
     /// Rebuild the lists if the skin may be used up over a step of `dt`; true if it
@@ -29,7 +28,7 @@ impl<const D: usize> Stepper<D> {
             return false;
         }
         let fine = self.max_disp + 0.5 * dt * self.vmax;
-        let wall = world.walls.max_displacement_since(&self.wall_disp_at_build);
+        let wall = self.walls.moved_since_build(&world.walls);
         let coarse = self
             .csrc
             .iter()
@@ -50,30 +49,8 @@ impl<const D: usize> Stepper<D> {
         self.order.extend_from_slice(self.fine_grid.order());
         world.fine.permute(&self.order, &mut self.permute);
         self.fine_grid.bin(&world.fine.pos);
-        self.pos_at_build.clear();
-        self.pos_at_build
-            .par_extend(world.fine.pos.par_iter().map(|x| x.cast::<f32>()));
-        // |x − (f32)x| ≤ ½ ulp ≤ |x| ε_f32 / 2 per component
-        let reach = world
-            .fine
-            .pos
-            .par_iter()
-            .map(|x| x.amax())
-            .reduce(|| 0.0, Real::max);
-        self.round_off = reach * (f32::EPSILON as Real) * (D as Real).sqrt();
-        let walls_moved = world
-            .walls
-            .objects
-            .iter()
-            .zip(&self.wall_disp_at_build)
-            .any(|(o, d)| o.displacement != *d);
-        if !self.walls_binned || walls_moved {
-            self.wall_grid.bin(&world.walls.pos);
-            self.walls_binned = true;
-        }
-        self.wall_disp_at_build.clear();
-        self.wall_disp_at_build
-            .extend(world.walls.objects.iter().map(|o| o.displacement));
+        self.at_build.mark(&world.fine.pos);
+        self.walls.refresh(&world.walls);
         self.coarse_at_build.clear();
         self.coarse_at_build.extend(self.csrc.iter().map(|c| c.pos));
         self.coarse_grid.bin(&self.coarse_at_build);
@@ -83,7 +60,7 @@ impl<const D: usize> Stepper<D> {
             &self.fine_grid,
             Binned {
                 pos: &world.walls.pos,
-                grid: &self.wall_grid,
+                grid: &self.walls.grid,
             },
             Binned {
                 pos: &self.coarse_at_build,

@@ -3,7 +3,8 @@
 //! neighbour lists (water–water and water–wall), the momentum sweep (v_{n+1}), the
 //! continuity sweep with v_{n+1}, and x, ρ to the end of the step with the guard.
 
-use crate::guard::{Blowup, ChunkFailure};
+use super::build_marks::{PositionMarks, WallBins};
+use crate::guard::{check, Blowup, ChunkFailure, Family};
 use crate::interactions::water_pass::{continuity_sweep, correction_sweep, momentum_sweep};
 use crate::kernel::WendlandC2;
 use crate::load::Load;
@@ -17,7 +18,6 @@ use crate::water::material::WaterMaterial;
 use crate::water::momentum::{WaterParams, WaterSums};
 use crate::water::source::{drift_and_pack, pack, WaterSource};
 use crate::world::World;
-use nalgebra::SVector;
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -26,12 +26,9 @@ use std::time::Instant;
 pub struct WaterStepper<const D: usize> {
     #[serde(with = "crate::neighbors::geometry_only")]
     grid: CellGrid<D>,
-    wall_grid: CellGrid<D>,
-    walls_binned: bool,
-    wall_disp_at_build: Vec<Vect<D>>,
+    walls: WallBins<D>,
     pub lists: NeighborLists,
-    pos_at_build: Vec<SVector<f32, D>>,
-    round_off: Real,
+    at_build: PositionMarks<D>,
     max_disp: Real,
     vmax: Real,
     skin: Real,
@@ -66,12 +63,9 @@ impl<const D: usize> WaterStepper<D> {
         let (lo, hi) = &world.domain;
         WaterStepper {
             grid: CellGrid::new(lo, hi, cell),
-            wall_grid: CellGrid::new(lo, hi, cell),
-            walls_binned: false,
-            wall_disp_at_build: Vec::new(),
+            walls: WallBins::new(CellGrid::new(lo, hi, cell)),
             lists: NeighborLists::default(),
-            pos_at_build: Vec::new(),
-            round_off: 0.0,
+            at_build: PositionMarks::default(),
             max_disp: Real::INFINITY,
             vmax: 0.0,
             skin,
@@ -103,12 +97,12 @@ impl<const D: usize> WaterStepper<D> {
     pub fn bytes(&self) -> usize {
         use std::mem::size_of;
         self.lists.bytes()
-            + self.pos_at_build.capacity() * size_of::<SVector<f32, D>>()
+            + self.at_build.bytes()
             + self.vel_new.capacity() * size_of::<Vect<D>>()
             + self.src.capacity() * size_of::<WaterSource>()
             + self.sums.capacity() * size_of::<WaterSums<D>>()
             + self.grid.bytes()
-            + self.wall_grid.bytes()
+            + self.walls.grid.bytes()
     }
 
     /// x and ρ to the half step, and the sources at the half step.
@@ -135,7 +129,7 @@ impl<const D: usize> WaterStepper<D> {
     ) {
         let start = Instant::now();
         let moved = self.max_disp + 0.5 * dt * self.vmax;
-        let wall = world.walls.max_displacement_since(&self.wall_disp_at_build);
+        let wall = self.walls.moved_since_build(&world.walls);
         if self.lists.chunks.is_empty() || 2.0 * moved > self.skin || moved + wall > self.skin {
             self.rebuild(world);
             pack(&world.water, mat, &mut self.src);
@@ -150,31 +144,15 @@ impl<const D: usize> WaterStepper<D> {
         self.order.extend_from_slice(self.grid.order());
         w.permute(&self.order, &mut self.permute);
         self.grid.bin(&w.pos);
-        self.pos_at_build.clear();
-        self.pos_at_build
-            .par_extend(w.pos.par_iter().map(|x| x.cast::<f32>()));
-        let reach = w.pos.par_iter().map(|x| x.amax()).reduce(|| 0.0, Real::max);
-        self.round_off = reach * (f32::EPSILON as Real) * (D as Real).sqrt();
-        let walls_moved = world
-            .walls
-            .objects
-            .iter()
-            .zip(&self.wall_disp_at_build)
-            .any(|(o, d)| o.displacement != *d);
-        if !self.walls_binned || walls_moved {
-            self.wall_grid.bin(&world.walls.pos);
-            self.walls_binned = true;
-        }
-        self.wall_disp_at_build.clear();
-        self.wall_disp_at_build
-            .extend(world.walls.objects.iter().map(|o| o.displacement));
+        self.at_build.mark(&w.pos);
+        self.walls.refresh(&world.walls);
         let none = CellGrid::<D>::default();
         self.lists.build(
             &w.pos,
             &self.grid,
             Binned {
                 pos: &world.walls.pos,
-                grid: &self.wall_grid,
+                grid: &self.walls.grid,
             },
             Binned {
                 pos: &[],
@@ -278,7 +256,7 @@ impl<const D: usize> WaterStepper<D> {
             .zip(w.rho.par_chunks_mut(CHUNK))
             .zip(w.vel.par_chunks(CHUNK))
             .zip(w.drho.par_chunks(CHUNK))
-            .zip(self.pos_at_build.par_chunks(CHUNK))
+            .zip(self.at_build.pos.par_chunks(CHUNK))
             .enumerate()
             .map(|(c, ((((x, r), v), d), x0))| {
                 let mut vmax2: Real = 0.0;
@@ -291,16 +269,7 @@ impl<const D: usize> WaterStepper<D> {
                     vmax2 = vmax2.max(v2);
                     disp2 = disp2.max((x[k] - x0[k].cast::<Real>()).norm_squared());
                     if fail.is_none() {
-                        let i = c * CHUNK + k;
-                        if !v2.is_finite() {
-                            fail = Some((i, "velocity", v2.sqrt(), false));
-                        } else if !x[k].iter().all(|q| q.is_finite()) {
-                            fail = Some((i, "position", x[k].norm(), false));
-                        } else if !(r[k].is_finite() && r[k] > 0.0) {
-                            fail = Some((i, "density", r[k], false));
-                        } else if v2 > max_speed * max_speed {
-                            fail = Some((i, "speed", v2.sqrt(), true));
-                        }
+                        fail = check(c * CHUNK + k, v2, &x[k], r[k], || None, max_speed);
                     }
                 }
                 (vmax2, disp2, fail)
@@ -312,28 +281,13 @@ impl<const D: usize> WaterStepper<D> {
     /// Stop on the first failing water particle of the step; otherwise keep the
     /// step's largest speed and displacement.
     pub fn guard(&mut self, world: &World<D>, max_speed: Real) -> Result<Real, Blowup> {
-        let mut vmax2: Real = 0.0;
-        let mut disp2: Real = 0.0;
-        for (v, d, fail) in &self.failures {
-            vmax2 = vmax2.max(*v);
-            disp2 = disp2.max(*d);
-            if let Some((i, q, val, speed)) = fail {
-                let w = &world.water;
-                return Err(Blowup {
-                    step: world.steps,
-                    time: world.time,
-                    particle: w.id[*i],
-                    body: None,
-                    family: crate::guard::Family::Water,
-                    position: w.pos[*i].iter().copied().collect(),
-                    quantity: q.to_string(),
-                    value: *val,
-                    limit: speed.then_some(max_speed),
-                });
-            }
-        }
+        let (vmax2, disp2) = crate::guard::reduce(&self.failures).map_err(|f| {
+            let (p, at) = (&world.water, (world.steps, world.time));
+            let x = p.pos[f.0].iter().copied().collect();
+            Blowup::of_particle(at, Family::Water, p.id[f.0], x, f, max_speed)
+        })?;
         self.vmax = vmax2.sqrt();
-        self.max_disp = disp2.sqrt() + self.round_off;
+        self.max_disp = disp2.sqrt() + self.at_build.round_off;
         Ok(self.vmax)
     }
 }
