@@ -67,6 +67,8 @@ pub struct BodySample {
     pub torque: [Real; 3],
     /// The fine grains' part of `force` (Eq. 50).
     pub fine_force: [Real; 3],
+    /// The water's part of `force` (pressure, with buoyancy, and viscous drag).
+    pub water_force: [Real; 3],
     /// `force` and `torque` impulse-averaged over the whole sampling interval (every
     /// fine step weighted by its length), as the FMU reports them.
     pub mean_force: [Real; 3],

@@ -297,6 +297,7 @@ impl<const D: usize> Simulation<D> {
                     force: b.force.into(),
                     torque: b.torque.into(),
                     fine_force: b.fine_force.into(),
+                    water_force: b.water_force.into(),
                     mean_force: (imp.force * inv).into(),
                     mean_torque: (imp.moment * inv).into(),
                     contacts: b.contacts,

@@ -16,6 +16,11 @@ pub fn header(
     bodies: &[String],
     water: bool,
 ) -> Vec<String> {
+    let body_forces: &[&str] = if water {
+        &["force", "fine_force", "water_force"]
+    } else {
+        &["force", "fine_force"]
+    };
     let mut h: Vec<String> = [
         "time",
         "steps",
@@ -92,7 +97,7 @@ pub fn header(
             h.push(format!("{b}.orientation.{q}"));
         }
         rot_cols(&mut h, dim, b, "angular_velocity");
-        for q in ["force", "fine_force"] {
+        for q in body_forces {
             for a in AX.iter().take(dim) {
                 h.push(format!("{b}.{q}.{a}"));
             }
@@ -174,6 +179,9 @@ pub fn row(dim: usize, s: &Sample) -> Vec<f64> {
         rot_vals(&mut r, dim, &b.angular_velocity);
         r.extend_from_slice(&b.force[..dim]);
         r.extend_from_slice(&b.fine_force[..dim]);
+        if s.water.is_some() {
+            r.extend_from_slice(&b.water_force[..dim]);
+        }
         rot_vals(&mut r, dim, &b.torque);
         r.push(b.contacts as f64);
     }

@@ -40,6 +40,9 @@ pub struct Body<const D: usize> {
     pub torque: Vector3<Real>,
     /// The part of `force` exerted by the fine grains (Eq. 50).
     pub fine_force: Vector3<Real>,
+    /// The part of `force` exerted by the water (pressure, buoyancy and viscous drag).
+    #[serde(default)]
+    pub water_force: Vector3<Real>,
     /// Contacts active in the last sub-step.
     pub contacts: usize,
 }

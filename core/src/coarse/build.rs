@@ -121,6 +121,7 @@ impl<const D: usize> Coarse<D> {
                 force: Vector3::zeros(),
                 torque: Vector3::zeros(),
                 fine_force: Vector3::zeros(),
+                water_force: Vector3::zeros(),
                 contacts: 0,
             });
         }

@@ -24,6 +24,9 @@ pub struct CoarseParticles<const D: usize> {
     pub depth: Vec<Real>,
     /// Force from the fine grains, Eq. (50), held over one fine step.
     pub f_fine: Vec<Vect<D>>,
+    /// Force from the water, held over one fine step.
+    #[serde(default)]
+    pub f_water: Vec<Vect<D>>,
     /// Contact force of the current sub-step.
     pub f_contact: Vec<Vect<D>>,
     /// Position at the start of the fine step (for Eq. 60).
@@ -65,6 +68,7 @@ impl<const D: usize> CoarseParticles<D> {
         self.surface.push(surface);
         self.depth.push(depth);
         self.f_fine.push(Vect::<D>::zeros());
+        self.f_water.push(Vect::<D>::zeros());
         self.f_contact.push(Vect::<D>::zeros());
         self.pos_start.push(pos);
         self.vbar.push(vel);

@@ -7,6 +7,7 @@
 //! - [`momentum_pass`] and [`continuity_pass`]: the fine sweeps' particle passes, which
 //!   fuse the fine–fine sums with the interactions above, one formula per module;
 //! - [`water_wall`]: water on walls, the fluid form of Eqs. (32)–(35);
+//! - [`water_coarse`]: water on coarse grains, the same law on moving particles;
 //! - [`water_pass`]: the water sweeps' particle passes.
 
 pub mod barrier_load;
@@ -18,5 +19,6 @@ pub mod momentum_pass;
 #[cfg(test)]
 mod symmetric_tests;
 pub mod wall_contact;
+pub mod water_coarse;
 pub mod water_pass;
 pub mod water_wall;

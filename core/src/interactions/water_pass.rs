@@ -7,7 +7,16 @@
 //! [`water::continuity`]: crate::water::continuity
 
 use super::barrier_load;
+use super::fine_coarse::CoarseSource;
+use super::water_coarse;
 use super::water_wall::{self, WaterAtWall};
+
+/// Coarse grains seen by the water sweeps: their packed records and one reaction
+/// buffer per chunk that receives `(coarse particle, force)` records.
+pub struct WaterCoarse<'a, const D: usize> {
+    pub src: &'a [CoarseSource<D>],
+    pub reactions: &'a mut [Vec<(u32, Vect<D>)>],
+}
 use crate::load::Load;
 use crate::math::{Real, Vect};
 use crate::neighbors::{NeighborLists, CHUNK};
@@ -22,10 +31,12 @@ use rayon::prelude::*;
 /// The kernel gradient correction B of every particle into `corr`: M from the
 /// water–water pairs and the walls, then inverted ([`correction`]); the identity where
 /// `on` is false.
+#[allow(clippy::too_many_arguments)]
 pub fn correction_sweep<const D: usize>(
     w: &WaterParticles<D>,
     src: &[WaterSource],
     walls: &Walls<D>,
+    csrc: &[CoarseSource<D>],
     lists: &NeighborLists,
     prm: &WaterParams<D>,
     on: bool,
@@ -48,6 +59,9 @@ pub fn correction_sweep<const D: usize>(
                 for &wp in &cl.wall[cl.woff[k] as usize..cl.woff[k + 1] as usize] {
                     *b += water_wall::moment(prm, walls, &xi, wp as usize);
                 }
+                for &j in &cl.coarse[cl.coff[k] as usize..cl.coff[k + 1] as usize] {
+                    *b += water_coarse::moment(prm, &csrc[j as usize], &xi);
+                }
                 *b = correction::invert(b);
             }
         });
@@ -62,6 +76,7 @@ pub fn momentum_sweep<const D: usize>(
     src: &[WaterSource],
     corr: &[Corr<D>],
     walls: &Walls<D>,
+    coarse: WaterCoarse<'_, D>,
     lists: &NeighborLists,
     prm: &WaterParams<D>,
     no_slip: bool,
@@ -69,6 +84,7 @@ pub fn momentum_sweep<const D: usize>(
     loads: &mut [Load],
     sums: &mut [WaterSums<D>],
 ) {
+    let csrc = coarse.src;
     momentum::pair_pass(w, src, corr, lists, prm, sums);
     let nbs = walls.load_slots().max(1);
     lists
@@ -77,11 +93,13 @@ pub fn momentum_sweep<const D: usize>(
         .zip(sums.par_chunks_mut(CHUNK))
         .zip(vel_new.par_chunks_mut(CHUNK))
         .zip(loads.par_chunks_mut(nbs))
+        .zip(coarse.reactions.par_iter_mut())
         .enumerate()
-        .for_each(|(c, (((cl, sums), vout), lout))| {
+        .for_each(|(c, ((((cl, sums), vout), lout), react))| {
             for l in lout.iter_mut() {
                 *l = Load::default();
             }
+            react.clear();
             for (k, vo) in vout.iter_mut().enumerate() {
                 let i = c * CHUNK + k;
                 let (xi, vi, rho) = (w.pos[i], w.vel[i], w.rho[i]);
@@ -100,16 +118,27 @@ pub fn momentum_sweep<const D: usize>(
                         }
                     }
                 }
+                let state = (&xi, &vi, rho, src[i].p);
+                for &j in &cl.coarse[cl.coff[k] as usize..cl.coff[k + 1] as usize] {
+                    let cj = &csrc[j as usize];
+                    if let Some(t) = water_coarse::momentum(prm, cj, state, &corr[i], no_slip) {
+                        let a = t * scale;
+                        acc += a;
+                        react.push((j, a * (-w.mass[i])));
+                    }
+                }
                 *vo = (vi + (acc + prm.gravity) * prm.dt) * prm.keep;
             }
         });
 }
 
 /// dρ/dt with v_{n+1} into `drho`; `sums` holds zero `drho` on entry and is left so.
+#[allow(clippy::too_many_arguments)]
 pub fn continuity_sweep<const D: usize>(
     w: &WaterParticles<D>,
     src: &[WaterSource],
     walls: &Walls<D>,
+    csrc: &[CoarseSource<D>],
     lists: &NeighborLists,
     prm: &WaterParams<D>,
     drho: &mut [Real],
@@ -129,6 +158,9 @@ pub fn continuity_sweep<const D: usize>(
                 let (w0, w1) = (cl.woff[k] as usize, cl.woff[k + 1] as usize);
                 for &wp in &cl.wall[w0..w1] {
                     rate += water_wall::continuity(prm, walls, &w.pos[i], &w.vel[i], wp as usize);
+                }
+                for &j in &cl.coarse[cl.coff[k] as usize..cl.coff[k + 1] as usize] {
+                    rate += water_coarse::continuity(prm, &csrc[j as usize], &w.pos[i], &w.vel[i]);
                 }
                 *d = w.rho[i] * rate;
             }

@@ -146,6 +146,7 @@ impl<const D: usize> CoarseStepper<D> {
             b.torque = t * inv;
             // the fine-grain force is held over the fine step: its sum needs no average
             b.fine_force = (b.start..b.end).fold(Vector3::zeros(), |a, i| a + to3(&p.f_fine[i]));
+            b.water_force = (b.start..b.end).fold(Vector3::zeros(), |a, i| a + to3(&p.f_water[i]));
         }
         for (b, n) in coarse.bodies.iter_mut().zip(&self.contacts.per_body) {
             b.contacts = *n;
@@ -177,12 +178,13 @@ impl<const D: usize> CoarseStepper<D> {
         let mut amax2: Real = 0.0;
         for (k, &i) in self.tlsph.elastic.iter().enumerate() {
             let i = i as usize;
-            let a = self.tlsph.acc[k] + (p.f_fine[i] + p.f_contact[i]) / p.mass[i] + g;
+            let a =
+                self.tlsph.acc[k] + (p.f_fine[i] + p.f_water[i] + p.f_contact[i]) / p.mass[i] + g;
             amax2 = amax2.max(a.norm_squared());
             p.vel[i] += a * dt;
         }
         for (bi, b) in coarse.bodies.iter_mut().enumerate() {
-            let (f, t) = rigid::resultant(b, p, |i| p.f_fine[i] + p.f_contact[i]);
+            let (f, t) = rigid::resultant(b, p, |i| p.f_fine[i] + p.f_water[i] + p.f_contact[i]);
             let imp = &mut self.impulse[bi];
             imp.0 += f * dt;
             imp.1 += t * dt;

@@ -274,7 +274,7 @@ impl<const D: usize> Stepper<D> {
         let half = 0.5 * dt;
         self.set_loads_of_time(world, half);
         // the coarse particles at the middle of the step, as the fine sweeps see them
-        if self.coarse.is_some() && !world.fine.is_empty() {
+        if self.coarse.is_some() && !(world.fine.is_empty() && self.water.is_none()) {
             self.timed(Stage::Coupling, |s| s.pack_coarse(world, dt));
         }
         // Eq. (54): x and ρ to the half step
@@ -283,7 +283,7 @@ impl<const D: usize> Stepper<D> {
         let water = self.water.as_mut().zip(world.water_material);
         if let Some((w, m)) = water {
             w.drift(world, &m, half, &mut self.timers);
-            w.refresh_lists(world, &m, dt, &mut self.timers);
+            w.refresh_lists(world, &m, &self.csrc, dt, &mut self.timers);
         }
         // Eq. (27), cohesive soils only
         let artificial = self
@@ -293,7 +293,7 @@ impl<const D: usize> Stepper<D> {
         // Eqs. (16), (55) then (15), (24)–(26), (7)–(12), with walls and coarse grains
         self.fine_sweeps(world, dt, artificial);
         if let Some((w, m)) = self.water.as_mut().zip(world.water_material) {
-            w.sweeps(world, &m, self.kernel, dt, &mut self.timers);
+            w.sweeps(world, &m, self.kernel, &self.csrc, dt, &mut self.timers);
             for (total, l) in self.step_loads.iter_mut().zip(&w.step_loads) {
                 total.add(l);
             }

@@ -5,7 +5,10 @@
 
 use super::build_marks::{PositionMarks, WallBins};
 use crate::guard::{check, Blowup, ChunkFailure, Family};
-use crate::interactions::water_pass::{continuity_sweep, correction_sweep, momentum_sweep};
+use crate::interactions::fine_coarse::{self, CoarseSource};
+use crate::interactions::water_pass::{
+    continuity_sweep, correction_sweep, momentum_sweep, WaterCoarse,
+};
 use crate::kernel::WendlandC2;
 use crate::load::Load;
 use crate::math::{Real, Vect};
@@ -27,6 +30,10 @@ pub struct WaterStepper<const D: usize> {
     #[serde(with = "crate::neighbors::geometry_only")]
     grid: CellGrid<D>,
     walls: WallBins<D>,
+    #[serde(with = "crate::neighbors::geometry_only")]
+    coarse_grid: CellGrid<D>,
+    /// Coarse particles at the last list build (half-step positions).
+    coarse_at_build: Vec<Vect<D>>,
     pub lists: NeighborLists,
     at_build: PositionMarks<D>,
     max_disp: Real,
@@ -55,6 +62,9 @@ pub struct WaterStepper<const D: usize> {
     order: Vec<u32>,
     #[serde(skip)]
     failures: Vec<(Real, Real, ChunkFailure)>,
+    /// Per chunk: the water's reactions on coarse particles in the last step.
+    #[serde(skip)]
+    reactions: Vec<Vec<(u32, Vect<D>)>>,
 }
 
 impl<const D: usize> WaterStepper<D> {
@@ -64,6 +74,8 @@ impl<const D: usize> WaterStepper<D> {
         WaterStepper {
             grid: CellGrid::new(lo, hi, cell),
             walls: WallBins::new(CellGrid::new(lo, hi, cell)),
+            coarse_grid: CellGrid::new(lo, hi, cell),
+            coarse_at_build: Vec::new(),
             lists: NeighborLists::default(),
             at_build: PositionMarks::default(),
             max_disp: Real::INFINITY,
@@ -80,6 +92,7 @@ impl<const D: usize> WaterStepper<D> {
             permute: PermuteScratch::default(),
             order: Vec::new(),
             failures: Vec::new(),
+            reactions: Vec::new(),
         }
     }
 
@@ -124,20 +137,32 @@ impl<const D: usize> WaterStepper<D> {
         &mut self,
         world: &mut World<D>,
         mat: &WaterMaterial,
+        csrc: &[CoarseSource<D>],
         dt: Real,
         t: &mut StageTimers,
     ) {
         let start = Instant::now();
         let moved = self.max_disp + 0.5 * dt * self.vmax;
         let wall = self.walls.moved_since_build(&world.walls);
-        if self.lists.chunks.is_empty() || 2.0 * moved > self.skin || moved + wall > self.skin {
-            self.rebuild(world);
+        let coarse = csrc
+            .iter()
+            .zip(&self.coarse_at_build)
+            .map(|(c, b)| (c.pos - b).norm_squared())
+            .fold(0.0, Real::max)
+            .sqrt();
+        if self.lists.chunks.is_empty()
+            || 2.0 * moved > self.skin
+            || moved + wall > self.skin
+            || moved + coarse > self.skin
+            || self.coarse_at_build.len() != csrc.len()
+        {
+            self.rebuild(world, csrc);
             pack(&world.water, mat, &mut self.src);
         }
         t.add(Stage::WaterNeighbors, start.elapsed().as_secs_f64());
     }
 
-    fn rebuild(&mut self, world: &mut World<D>) {
+    fn rebuild(&mut self, world: &mut World<D>, csrc: &[CoarseSource<D>]) {
         let w = &mut world.water;
         self.grid.bin(&w.pos);
         self.order.clear();
@@ -146,7 +171,9 @@ impl<const D: usize> WaterStepper<D> {
         self.grid.bin(&w.pos);
         self.at_build.mark(&w.pos);
         self.walls.refresh(&world.walls);
-        let none = CellGrid::<D>::default();
+        self.coarse_at_build.clear();
+        self.coarse_at_build.extend(csrc.iter().map(|c| c.pos));
+        self.coarse_grid.bin(&self.coarse_at_build);
         self.lists.build(
             &w.pos,
             &self.grid,
@@ -155,11 +182,13 @@ impl<const D: usize> WaterStepper<D> {
                 grid: &self.walls.grid,
             },
             Binned {
-                pos: &[],
-                grid: &none,
+                pos: &self.coarse_at_build,
+                grid: &self.coarse_grid,
             },
             self.radius,
         );
+        self.reactions
+            .resize_with(self.lists.chunks.len(), Vec::new);
         self.max_disp = 0.0;
     }
 
@@ -171,6 +200,7 @@ impl<const D: usize> WaterStepper<D> {
         world: &mut World<D>,
         mat: &WaterMaterial,
         kernel: WendlandC2,
+        csrc: &[CoarseSource<D>],
         dt: Real,
         t: &mut StageTimers,
     ) {
@@ -199,6 +229,7 @@ impl<const D: usize> WaterStepper<D> {
                 &world.water,
                 &self.src,
                 &world.walls,
+                csrc,
                 &self.lists,
                 &prm,
                 mat.correction,
@@ -209,6 +240,10 @@ impl<const D: usize> WaterStepper<D> {
                 &self.src,
                 &self.corr,
                 &world.walls,
+                WaterCoarse {
+                    src: csrc,
+                    reactions: &mut self.reactions,
+                },
                 &self.lists,
                 &prm,
                 no_slip,
@@ -218,6 +253,9 @@ impl<const D: usize> WaterStepper<D> {
             )
         });
         std::mem::swap(&mut world.water.vel, &mut self.vel_new);
+        if !csrc.is_empty() {
+            fine_coarse::gather_reactions(&self.reactions, &mut world.coarse.particles.f_water);
+        }
         crate::panels::sum_slots(
             &world.walls,
             &self.chunk_loads,
@@ -231,6 +269,7 @@ impl<const D: usize> WaterStepper<D> {
                 &world.water,
                 &self.src,
                 &world.walls,
+                csrc,
                 &self.lists,
                 &prm,
                 &mut drho,

@@ -1,0 +1,94 @@
+//! Water on coarse grains (seed 001 §1.7's boundary role of the DEM object, here in
+//! the form of the water's walls): a coarse particle near a water particle is a moving
+//! dummy particle. It takes the water particle's pressure extrapolated hydrostatically
+//! ([`wall_pressure`]), the velocity mirrored along its outward normal (Eq. 34 with the
+//! body's velocity v̄ of Eq. 60), and no-slip bodies add the viscous term with the
+//! mirrored velocity 2v̄ − v_i. The coarse particle receives exactly −m_i a_ic, so the
+//! momentum the water gives a body over each step is what the body gives the water,
+//! to round-off; buoyancy is the sum of these pressure forces over the body's surface.
+
+use super::fine_coarse::CoarseSource;
+use super::water_wall::wall_pressure;
+use crate::math::{Real, Vect};
+use crate::water::correction::{self, Corr};
+use crate::water::momentum::{p_star, WaterParams};
+
+/// The direction along which coarse particle `c` mirrors a water particle seen along
+/// `e` (from the coarse particle to the water particle): its outward normal when the
+/// water particle lies in front of it, `e` otherwise (at corners, and for interior
+/// particles whose normal is zero).
+#[inline(always)]
+fn mirror<const D: usize>(c: &CoarseSource<D>, e: &Vect<D>) -> Vect<D> {
+    if c.normal.dot(e) > 0.0 {
+        c.normal
+    } else {
+        *e
+    }
+}
+
+/// Coarse particle `c`'s term of Σ (before the factor 2/ρ_i) in dv_i/dt of water
+/// particle i at `xi` moving with `vi`, at density `rho` and pressure `p`, with the
+/// correction `b` (None outside the kernel).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub fn momentum<const D: usize>(
+    prm: &WaterParams<D>,
+    c: &CoarseSource<D>,
+    (xi, vi, rho, p): (&Vect<D>, &Vect<D>, Real, Real),
+    b: &Corr<D>,
+    no_slip: bool,
+) -> Option<Vect<D>> {
+    let rij = xi - c.pos;
+    let r2 = rij.norm_squared();
+    let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
+    if r2 >= cut2 || r2 == 0.0 {
+        return None;
+    }
+    let r = r2.sqrt();
+    let e = rij * (1.0 / r);
+    let dw = prm.kernel.dw(r);
+    let n = mirror(c, &e);
+    // U_L − U_R = 2 (U_L − u_c) along n
+    let du = 2.0 * n.dot(&(c.vel - vi));
+    let pc = wall_pressure(p, rho * prm.gravity.dot(&(-rij)));
+    let mut t = b * e * (-p_star(prm, p, pc, du) * dw);
+    if no_slip {
+        let reg = 0.01 * prm.kernel.h * prm.kernel.h;
+        t += (vi - c.vel) * (2.0 * prm.mu * r * dw / (r2 + reg));
+    }
+    Some(t * c.vol)
+}
+
+/// Coarse particle `c`'s term of Σ (before the factor ρ_i) in dρ_i/dt of water particle
+/// i at `xi` moving with `vi`: the mirrored normal velocity, 2 ((v_i − v̄)·n) n·e ∂W/∂r V.
+#[inline(always)]
+pub fn continuity<const D: usize>(
+    prm: &WaterParams<D>,
+    c: &CoarseSource<D>,
+    xi: &Vect<D>,
+    vi: &Vect<D>,
+) -> Real {
+    let rij = xi - c.pos;
+    let r2 = rij.norm_squared();
+    let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
+    if r2 >= cut2 || r2 == 0.0 {
+        return 0.0;
+    }
+    let r = r2.sqrt();
+    let e = rij * (1.0 / r);
+    let n = mirror(c, &e);
+    2.0 * (vi - c.vel).dot(&n) * n.dot(&e) * prm.kernel.dw(r) * c.vol
+}
+
+/// Coarse particle `c`'s share of M_i ([`correction`]) for water particle i at `xi`.
+#[inline(always)]
+pub fn moment<const D: usize>(prm: &WaterParams<D>, c: &CoarseSource<D>, xi: &Vect<D>) -> Corr<D> {
+    let rij = xi - c.pos;
+    let r2 = rij.norm_squared();
+    let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
+    if r2 >= cut2 || r2 == 0.0 {
+        return Corr::<D>::zeros();
+    }
+    let r = r2.sqrt();
+    correction::share(&(rij / r), r, prm.kernel.dw(r), c.vol)
+}
