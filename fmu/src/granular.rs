@@ -309,10 +309,16 @@ impl Model for Granular {
             Slot::BarrierForce(b, k) => s.barriers[*b].force[*k],
             Slot::BarrierMoment(b, k) => s.barriers[*b].moment[*k],
             Slot::BarrierPeak(b) => s.barriers[*b].peak_force,
+            Slot::BarrierForceWater(b, k) => s.barriers[*b].force_water[*k],
+            Slot::BarrierForceGrains(b, k) => {
+                let bs = &s.barriers[*b];
+                bs.force[*k] - bs.force_water[*k]
+            }
             Slot::PanelForce(b, p, k) => s.barriers[*b].panels[*p][*k],
             Slot::Body(b, q, k) => body_value(s, *b, *q, *k),
             Slot::KineticFine => s.kinetic_energy,
             Slot::KineticCoarse => s.coarse_kinetic_energy,
+            Slot::KineticWater => s.water.as_ref().map_or(0.0, |w| w.kinetic_energy),
             Slot::StepsFine => s.steps as f64,
             Slot::StepsCoarse => s.steps_coarse as f64,
             Slot::BarrierInput(..)

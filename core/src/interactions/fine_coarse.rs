@@ -41,16 +41,21 @@ pub struct CoarseSource<const D: usize> {
     pub vol: Real,
     /// Depth below the body surface (m).
     pub depth: Real,
+    /// The body's acceleration over the last fine step, F/m + g (translation only;
+    /// zero for a fixed body):
+    /// the water's dummy pressure takes it (Adami et al. 2012); the fine coupling does
+    /// not.
+    pub acc: Vect<D>,
 }
 
 /// Pack the coarse particles for a fine step of length `dt`: positions predicted to
-/// its middle with the current velocity.
+/// its middle with the current velocity; `gravity` for the bodies' accelerations.
 pub fn pack<const D: usize>(
     p: &CoarseParticles<D>,
     bodies: &[Body<D>],
     solids: &[SolidMaterial],
-    dt: Real,
-    vol: Real,
+    (dt, vol): (Real, Real),
+    gravity: &Vect<D>,
     out: &mut Vec<CoarseSource<D>>,
 ) {
     out.clear();
@@ -68,6 +73,11 @@ pub fn pack<const D: usize>(
             },
             vol,
             depth: p.depth[i],
+            acc: if b.fixed {
+                Vect::<D>::zeros()
+            } else {
+                crate::math::from3::<D>(&b.force) / b.mass + gravity
+            },
         }
     }));
 }

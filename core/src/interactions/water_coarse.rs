@@ -1,7 +1,9 @@
 //! Water on coarse grains (seed 001 §1.7's boundary role of the DEM object, here in
 //! the form of the water's walls): a coarse particle near a water particle is a moving
-//! dummy particle. It takes the water particle's pressure extrapolated hydrostatically
-//! ([`wall_pressure`]), the velocity mirrored along its outward normal (Eq. 34 with the
+//! dummy particle. It takes the water particle's pressure extrapolated along the
+//! relative acceleration of water at rest and the body, ρ_i (g − a_c)·(x_c − x_i)
+//! (Adami, Hu & Adams 2012; [`wall_pressure`]), the velocity mirrored along its
+//! outward normal (Eq. 34 with the
 //! body's velocity v̄ of Eq. 60), and no-slip bodies add the viscous term with the
 //! mirrored velocity 2v̄ − v_i. The coarse particle receives exactly −m_i a_ic, so the
 //! momentum the water gives a body over each step is what the body gives the water,
@@ -50,7 +52,9 @@ pub fn momentum<const D: usize>(
     let n = mirror(c, &e);
     // U_L − U_R = 2 (U_L − u_c) along n
     let du = 2.0 * n.dot(&(c.vel - vi));
-    let pc = wall_pressure(p, rho * prm.gravity.dot(&(-rij)));
+    // the body's own acceleration enters the extrapolation (Adami et al. 2012):
+    // ρ_i (g − a_c)·(x_c − x_i)
+    let pc = wall_pressure(p, rho * (prm.gravity - c.acc).dot(&(-rij)));
     let mut t = b * e * (-p_star(prm, p, pc, du) * dw);
     if no_slip {
         let reg = 0.01 * prm.kernel.h * prm.kernel.h;

@@ -22,8 +22,8 @@ impl<const D: usize> Stepper<D> {
             &wc.particles,
             &wc.bodies,
             &wc.solids,
-            dt,
-            self.coarse_vol,
+            (dt, self.coarse_vol),
+            &world.gravity,
             &mut self.csrc,
         );
     }

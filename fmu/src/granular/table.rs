@@ -34,6 +34,10 @@ pub enum Slot {
     BarrierForce(usize, usize),
     BarrierMoment(usize, usize),
     BarrierPeak(usize),
+    /// Component `k` of the water's part of the load on barrier `b`.
+    BarrierForceWater(usize, usize),
+    /// Component `k` of the grains' part of the load on barrier `b`.
+    BarrierForceGrains(usize, usize),
     /// Component `k` of the force on panel `p` of barrier `b`.
     PanelForce(usize, usize, usize),
     /// Component `k` of the input of driven barrier `b`.
@@ -41,6 +45,7 @@ pub enum Slot {
     Body(usize, BodyQ, usize),
     KineticFine,
     KineticCoarse,
+    KineticWater,
     StepsFine,
     StepsCoarse,
     /// A scene value set through an override `key.path=value`.
@@ -204,6 +209,27 @@ const BARRIER: &[Row] = &[
         "largest resultant load on barrier `{name}` of any solver step within the \
          communication step",
         |at, _| Slot::BarrierPeak(at.entity),
+    ),
+];
+
+/// The outputs of every barrier of a scene with water: the load split into the water's
+/// part and the grains'.
+const WATER_BARRIER: &[Row] = &[
+    Row::output(
+        "force_water",
+        Comps::Axes,
+        Unit::Force,
+        "the water's part of the load on barrier `{name}` (pressure and viscous traction), \
+         impulse over the step / step, {axis} component",
+        |at, k| Slot::BarrierForceWater(at.entity, k),
+    ),
+    Row::output(
+        "force_grains",
+        Comps::Axes,
+        Unit::Force,
+        "the grains' part of the load on barrier `{name}` (fine and coarse), impulse over \
+         the step / step, {axis} component",
+        |at, k| Slot::BarrierForceGrains(at.entity, k),
     ),
 ];
 
@@ -399,6 +425,8 @@ fn fill(template: &str, values: &[(&str, &str)]) -> String {
 struct Builder {
     /// Dimension of the scene.
     d: usize,
+    /// The scene has water: barriers split their loads, the water has its energy.
+    water: bool,
     table: Table,
 }
 
@@ -476,6 +504,9 @@ impl Builder {
             panel: 0,
         };
         self.rows(BARRIER, name, at, &[("name", name)]);
+        if self.water {
+            self.rows(WATER_BARRIER, name, at, &[("name", name)]);
+        }
         for (p, label) in panel_labels(name, counts, self.d)?.iter().enumerate() {
             let at = At {
                 entity: b,
@@ -526,6 +557,14 @@ impl Builder {
         ];
         for (v, s) in totals {
             self.push(v, s);
+        }
+        if self.water {
+            let v = Variable::output(
+                "kinetic_energy.water",
+                energy,
+                "kinetic energy of the water",
+            );
+            self.push(v, Slot::KineticWater);
         }
     }
 
@@ -633,6 +672,7 @@ pub fn build_table(loaded: &LoadedScene, sim: &AnySimulation) -> Result<Table, G
     let scene = &loaded.scene;
     let mut t = Builder {
         d: sim.dimension(),
+        water: sim.water_count() > 0,
         table: Table {
             variables: Vec::new(),
             slots: Vec::new(),
