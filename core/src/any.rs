@@ -66,6 +66,10 @@ impl AnySimulation {
     pub fn fine_count(&self) -> usize {
         dispatch!(self, s => s.world.fine.len())
     }
+    /// The scene has `[water]` (its particles may come later, through inflows).
+    pub fn has_water(&self) -> bool {
+        dispatch!(self, s => s.world.water_material.is_some())
+    }
     pub fn water_count(&self) -> usize {
         dispatch!(self, s => s.world.water.len())
     }

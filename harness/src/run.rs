@@ -94,7 +94,7 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
             &sim.barrier_names(),
             &sim.probe_names(),
             &sim.body_names(),
-            sim.water_count() > 0,
+            sim.has_water(),
         ),
     )?);
     if opts.vtk {

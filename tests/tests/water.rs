@@ -258,3 +258,116 @@ fn water_and_body_exchange_momentum_exactly() {
         "the water did not slow the disc: {v0} → {v1} m/s"
     );
 }
+
+const CHANNEL: &str = r#"
+[simulation]
+dimension = 2
+gravity = [0.0, -9.81]
+end_time = 0.303
+dp = 0.005
+output_interval = 0.01
+
+[water]
+speed_scale = 2.0
+
+[[water.inflows]]
+name = "inlet"
+shape = { type = "box", min = [0.0, 0.0], max = [0.05, 0.1] }
+direction = "+x"
+speed = 0.5
+
+[[water.outflows]]
+name = "outlet"
+point = [0.4, 0.0]
+normal = [1.0, 0.0]
+
+[[walls]]
+name = "floor"
+shape = { type = "box", min = [-0.05, -0.05], max = [0.5, 0.0] }
+
+[[walls]]
+name = "back"
+shape = { type = "box", min = [-0.05, 0.0], max = [0.0, 0.2] }
+"#;
+
+/// An inlet 0.1 m high lets in, layer by layer, the water its speed brings: after
+/// 0.303 s at 0.5 m/s, ⌊u t/dp⌋ = 30 layers of 20 particles.
+#[test]
+fn inflow_lets_in_what_its_speed_brings() {
+    let (loaded, mut sim) = build_text(CHANNEL, "channel.toml");
+    run_built(&loaded, &mut sim, |_| {});
+    assert_eq!(sim.water_count(), 30 * 20);
+}
+
+/// With the Gumbel hydrograph of seed 001 Eq. (36) the inlet lets in ∫u dt to within one
+/// layer; the outflow plane keeps every particle on its side.
+#[test]
+fn hydrograph_inflow_and_outflow() {
+    let text = CHANNEL
+        .replace(
+            "speed = 0.5",
+            "hydrograph = { type = \"gumbel\", a = 1.0, beta = 0.2, mu = 0.3 }",
+        )
+        .replace("end_time = 0.303", "end_time = 0.6");
+    let (loaded, mut sim) = build_text(&text, "gumbel.toml");
+    let mut before_outlet = 0;
+    run_built(&loaded, &mut sim, |s| {
+        let front = s.water.as_ref().unwrap().front;
+        assert!(
+            front <= 0.4 + 1e-12,
+            "particle past the outflow at x = {front}"
+        );
+        if front < 0.3 {
+            before_outlet = s.water.as_ref().unwrap().particles.max(before_outlet);
+        }
+    });
+    // ∫₀^t u dt of the Gumbel law is a exp(−exp(−(t − μ)/β)), once the front is still
+    // short of the outlet
+    let cum = |t: f64| (-(-(t - 0.3) / 0.2f64).exp()).exp() - (-(0.3 / 0.2f64).exp()).exp();
+    let layers = |t: f64| cum(t) / 0.005;
+    // the particle count stays within a layer of the integral at every sample time
+    let (loaded, mut sim) = build_text(&text, "gumbel.toml");
+    run_built(&loaded, &mut sim, |s| {
+        let w = s.water.as_ref().unwrap();
+        if w.front < 0.35 {
+            let want = layers(s.time);
+            let got = w.particles as f64 / 20.0;
+            assert!(
+                (got - want).abs() <= 1.0,
+                "t = {}: {got} layers vs {want:.3}",
+                s.time
+            );
+        }
+    });
+    assert!(before_outlet > 0);
+}
+
+/// An inlet that meets nothing of the scene, one shorter than three spacings, and one
+/// with a wrong direction are refused with the key.
+#[test]
+fn bad_inflows_name_the_key() {
+    let e = bad(&CHANNEL.replace(
+        "min = [0.0, 0.0], max = [0.05, 0.1]",
+        "min = [5.0, 5.0], max = [5.05, 5.1]",
+    ));
+    assert!(
+        e.contains("`water.inflows[0].shape`") && e.contains("outside the scene"),
+        "{e}"
+    );
+    assert!(e.contains("channel") || e.contains("bad.toml:"), "{e}");
+    let e = bad(&CHANNEL.replace("max = [0.05, 0.1]", "max = [0.01, 0.1]"));
+    assert!(
+        e.contains("`water.inflows[0].shape`") && e.contains("three particle"),
+        "{e}"
+    );
+    let e = bad(&CHANNEL.replace("direction = \"+x\"", "direction = \"+z\""));
+    assert!(e.contains("`water.inflows[0].direction`"), "{e}");
+    let e = bad(&CHANNEL.replace(
+        "speed = 0.5",
+        "speed = 0.5\nhydrograph = { type = \"gumbel\", a = 1.0, beta = 0.2, mu = 0.3 }",
+    ));
+    assert!(
+        e.contains("`water.inflows[0]`") && e.contains("not both"),
+        "{e}"
+    );
+}

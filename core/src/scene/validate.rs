@@ -360,7 +360,10 @@ fn validate_numerics(s: &Scene) -> Check {
 /// Something to simulate, with what it needs.
 fn validate_contents(s: &Scene) -> Check {
     let sim = &s.simulation;
-    let water = s.water.as_ref().is_some_and(|w| !w.regions.is_empty());
+    let water = s
+        .water
+        .as_ref()
+        .is_some_and(|w| !w.regions.is_empty() || !w.inflows.is_empty());
     if s.regions.is_empty() && s.bodies.is_empty() && !water {
         return fail(
             "regions",

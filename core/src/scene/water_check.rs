@@ -4,8 +4,85 @@
 //! checked here.
 
 use super::validate::{fail, positive, validate_solid_shape, vec_len, Check};
-use super::Scene;
+use super::{validate_shape, Scene, ShapeSpec};
 use std::collections::HashSet;
+
+/// `[[water.inflows]]` and `[[water.outflows]]`.
+fn validate_open_boundaries(s: &Scene) -> Check {
+    let Some(w) = &s.water else {
+        return Ok(());
+    };
+    let d = s.simulation.dimension;
+    let mut names = HashSet::new();
+    for (i, f) in w.inflows.iter().enumerate() {
+        let p = format!("water.inflows[{i}]");
+        if !names.insert(f.name.as_str()) {
+            return fail(
+                format!("{p}.name"),
+                format!("duplicate inflow name `{}`", f.name),
+            );
+        }
+        let ShapeSpec::Box { min, max } = &f.shape else {
+            return fail(format!("{p}.shape.type"), "an inlet must be a box");
+        };
+        validate_shape(&format!("{p}.shape"), &f.shape, d)?;
+        let axes = ["x", "y", "z"];
+        let axis = f
+            .direction
+            .strip_prefix(['+', '-'])
+            .and_then(|a| axes[..d].iter().position(|x| *x == a))
+            .filter(|_| f.direction.len() == 2);
+        let Some(axis) = axis else {
+            let allowed: Vec<String> = axes[..d]
+                .iter()
+                .flat_map(|a| [format!("\"+{a}\""), format!("\"-{a}\"")])
+                .collect();
+            return fail(
+                format!("{p}.direction"),
+                format!(
+                    "must be one of {}, found {:?}",
+                    allowed.join(", "),
+                    f.direction
+                ),
+            );
+        };
+        let length = max[axis] - min[axis];
+        if length < 3.0 * s.simulation.dp {
+            return fail(
+                format!("{p}.shape"),
+                format!(
+                    "the inlet is {length:?} m long along {}, less than three particle \
+                     spacings (3 dp = {:?} m)",
+                    f.direction,
+                    3.0 * s.simulation.dp
+                ),
+            );
+        }
+        match (f.speed, &f.hydrograph) {
+            (Some(u), None) => positive(&format!("{p}.speed"), u)?,
+            (None, Some(crate::scene::Hydrograph::Gumbel { a, beta, .. })) => {
+                positive(&format!("{p}.hydrograph.a"), *a)?;
+                positive(&format!("{p}.hydrograph.beta"), *beta)?;
+            }
+            _ => return fail(
+                p,
+                "give the inflow either `speed` (m/s) or `hydrograph`, not both and not neither",
+            ),
+        }
+        if let Some(t) = f.stop {
+            positive(&format!("{p}.stop"), t)?;
+        }
+    }
+    for (i, o) in w.outflows.iter().enumerate() {
+        let p = format!("water.outflows[{i}]");
+        vec_len(&format!("{p}.point"), &o.point, d)?;
+        vec_len(&format!("{p}.normal"), &o.normal, d)?;
+        if o.normal.iter().all(|x| *x == 0.0) {
+            return fail(format!("{p}.normal"), "must not be zero");
+        }
+    }
+    Ok(())
+}
 
 /// `[water]` and its `[[water.regions]]`.
 pub(super) fn validate_water(s: &Scene) -> Check {
@@ -58,12 +135,14 @@ pub(super) fn validate_water(s: &Scene) -> Check {
             ),
         );
     }
-    if w.regions.is_empty() {
+    if w.regions.is_empty() && w.inflows.is_empty() {
         return fail(
             "water.regions",
-            "[water] needs at least one [[water.regions]] entry saying where the water starts",
+            "[water] needs at least one [[water.regions]] entry saying where the water \
+             starts, or a [[water.inflows]] entry letting it in",
         );
     }
+    validate_open_boundaries(s)?;
     let mut names = HashSet::new();
     for (i, r) in w.regions.iter().enumerate() {
         let p = format!("water.regions[{i}]");

@@ -277,6 +277,11 @@ impl<const D: usize> Stepper<D> {
         if self.coarse.is_some() && !(world.fine.is_empty() && self.water.is_none()) {
             self.timed(Stage::Coupling, |s| s.pack_coarse(world, dt));
         }
+        if let Some((w, m)) = self.water.as_mut().zip(world.water_material) {
+            if !world.water_inflows.is_empty() {
+                w.let_in(world, &m, dt, &self.up);
+            }
+        }
         // Eq. (54): x and ρ to the half step
         self.timed(Stage::Drift, |s| s.drift(world, half));
         let rebuilt = self.timed(Stage::Neighbors, |s| s.refresh_lists(world, dt));
@@ -313,6 +318,9 @@ impl<const D: usize> Stepper<D> {
         let mut vmax = self.guard(world)?;
         if let Some(w) = self.water.as_mut() {
             vmax = vmax.max(w.guard(world, self.params.max_speed)?);
+            if !world.water_outflows.is_empty() {
+                w.let_out(world);
+            }
         }
         Ok(StepStats {
             vmax,

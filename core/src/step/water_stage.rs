@@ -96,6 +96,32 @@ impl<const D: usize> WaterStepper<D> {
         }
     }
 
+    /// Let water in through the inflows over a step of `dt` (before the drift), and
+    /// rebuild the lists if any came in.
+    pub fn let_in(&mut self, world: &mut World<D>, mat: &WaterMaterial, dt: Real, up: &Vect<D>) {
+        let (t, g) = (world.time, world.gravity.norm());
+        let res = (world.resolution.dp, world.resolution.volume);
+        let mut added = 0;
+        for f in &mut world.water_inflows {
+            added += f.emit(&mut world.water, mat, (t, dt), res, (g, up));
+        }
+        if added > 0 {
+            self.lists.chunks.clear();
+        }
+    }
+
+    /// Remove the water past the outflows (after the step), and rebuild the lists next
+    /// step if any left.
+    pub fn let_out(&mut self, world: &mut World<D>) {
+        let mut removed = 0;
+        for o in &world.water_outflows {
+            removed += o.remove(&mut world.water);
+        }
+        if removed > 0 {
+            self.lists.chunks.clear();
+        }
+    }
+
     /// Largest water speed at the end of the last step.
     pub fn vmax(&self) -> Real {
         self.vmax
@@ -253,6 +279,11 @@ impl<const D: usize> WaterStepper<D> {
             )
         });
         std::mem::swap(&mut world.water.vel, &mut self.vel_new);
+        // the inlets move their water at the inflow speed
+        let mid = world.time + 0.5 * dt;
+        for f in &world.water_inflows {
+            f.drive(&world.water.pos, &mut world.water.vel, mid);
+        }
         if !csrc.is_empty() {
             fine_coarse::gather_reactions(&self.reactions, &mut world.coarse.particles.f_water);
         }
@@ -276,6 +307,9 @@ impl<const D: usize> WaterStepper<D> {
                 &mut self.sums,
             )
         });
+        for f in &world.water_inflows {
+            f.hold_density(&world.water.pos, &mut drho);
+        }
         world.water.drho = drho;
     }
 

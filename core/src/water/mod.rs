@@ -7,6 +7,7 @@
 //! that steps it is [`step`](crate::step). `docs/method.md` §Water gives the equations
 //! and where granmix departs from its sources.
 
+pub mod boundary;
 pub mod continuity;
 pub mod correction;
 pub mod material;

@@ -12,8 +12,11 @@ pub struct WaterParticles<const D: usize> {
     /// dρ/dt from the last continuity sweep.
     pub drho: Vec<Real>,
     pub mass: Vec<Real>,
-    /// Stable id (the particle's index at creation), kept through re-sorting.
+    /// Stable id (the order of creation), kept through re-sorting and removals.
     pub id: Vec<u32>,
+    /// The id of the next particle created.
+    #[serde(default)]
+    pub next_id: u32,
 }
 
 impl<const D: usize> WaterParticles<D> {
@@ -25,7 +28,8 @@ impl<const D: usize> WaterParticles<D> {
     }
 
     pub fn push(&mut self, pos: Vect<D>, vel: Vect<D>, rho: Real, mass: Real) {
-        self.id.push(self.pos.len() as u32);
+        self.id.push(self.next_id);
+        self.next_id += 1;
         self.pos.push(pos);
         self.vel.push(vel);
         self.rho.push(rho);
@@ -61,6 +65,26 @@ impl<const D: usize> WaterParticles<D> {
         cycle_apply(&mut self.drho, order, scratch);
         cycle_apply(&mut self.mass, order, scratch);
         cycle_apply(&mut self.id, order, scratch);
+    }
+
+    /// Remove the particles for which `gone(position)` holds, keeping the order of the
+    /// others; returns how many left.
+    pub fn remove_where(&mut self, gone: impl Fn(&Vect<D>) -> bool) -> usize {
+        let keep: Vec<bool> = self.pos.iter().map(|x| !gone(x)).collect();
+        let before = self.len();
+        let mut k = keep.iter();
+        self.vel.retain(|_| *k.next().unwrap());
+        let mut k = keep.iter();
+        self.rho.retain(|_| *k.next().unwrap());
+        let mut k = keep.iter();
+        self.drho.retain(|_| *k.next().unwrap());
+        let mut k = keep.iter();
+        self.mass.retain(|_| *k.next().unwrap());
+        let mut k = keep.iter();
+        self.id.retain(|_| *k.next().unwrap());
+        let mut k = keep.iter();
+        self.pos.retain(|_| *k.next().unwrap());
+        before - self.len()
     }
 
     /// Σ ½ m v².

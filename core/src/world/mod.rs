@@ -10,6 +10,7 @@ use crate::math::{Real, Sym, Vect};
 use crate::resolution::Resolution;
 use crate::scene::Scene;
 use crate::walls::Walls;
+use crate::water::boundary::{Inflow, Outflow};
 use crate::water::material::WaterMaterial;
 use crate::water::state::WaterParticles;
 use nalgebra::{Rotation3, Vector3};
@@ -55,6 +56,11 @@ pub struct World<const D: usize> {
     /// Per water region particle counts, in scene order.
     #[serde(default)]
     pub water_counts: Vec<(String, usize)>,
+    /// Where water enters and leaves.
+    #[serde(default)]
+    pub water_inflows: Vec<Inflow<D>>,
+    #[serde(default)]
+    pub water_outflows: Vec<Outflow<D>>,
 }
 
 fn v<const D: usize>(x: &[f64]) -> Vect<D> {
@@ -86,10 +92,6 @@ impl<const D: usize> World<D> {
         let (mut fine, region_counts) = regions::fill(scene, &materials, &up, dp, vol)?;
         let walls = boundaries::build(scene, dp, vol)?;
         let coarse = Coarse::<D>::build(scene, &resolution)?;
-        let (water, water_material, water_counts) = match water_fill::fill(scene, &up, dp, vol)? {
-            Some((w, m, c)) => (w, Some(m), c),
-            None => (WaterParticles::default(), None, Vec::new()),
-        };
 
         // Domain: everything, plus a margin for the flow to spread into.
         let mut lo = Vect::<D>::repeat(Real::INFINITY);
@@ -99,10 +101,28 @@ impl<const D: usize> World<D> {
             .iter()
             .chain(walls.pos.iter())
             .chain(coarse.particles.pos.iter())
-            .chain(water.pos.iter())
         {
             lo = lo.inf(p);
             hi = hi.sup(p);
+        }
+        let filled = water_fill::fill(scene, &up, (dp, vol), (lo, hi))?;
+        let (water, water_material, water_counts, water_inflows, water_outflows) = match filled {
+            Some(f) => (f.water, Some(f.material), f.counts, f.inflows, f.outflows),
+            None => (
+                WaterParticles::default(),
+                None,
+                Vec::new(),
+                Vec::new(),
+                Vec::new(),
+            ),
+        };
+        for p in water.pos.iter() {
+            lo = lo.inf(p);
+            hi = hi.sup(p);
+        }
+        for f in &water_inflows {
+            lo = lo.inf(&f.lo);
+            hi = hi.sup(&f.hi);
         }
         let margin = (hi - lo).max() * 0.1 + 8.0 * dp;
         let domain = (lo.add_scalar(-margin), hi.add_scalar(margin));
@@ -132,6 +152,8 @@ impl<const D: usize> World<D> {
             water,
             water_material,
             water_counts,
+            water_inflows,
+            water_outflows,
         })
     }
 

@@ -7,20 +7,29 @@ use super::v;
 use crate::build_error::BuildError;
 use crate::geometry::Shape;
 use crate::math::{Real, Vect};
-use crate::scene::Scene;
+use crate::scene::{Hydrograph, Scene, ShapeSpec};
+use crate::water::boundary::{Inflow, InflowSpeed, Outflow};
 use crate::water::material::WaterMaterial;
 use crate::water::state::WaterParticles;
 
-/// The water particles, their material and the particle count of each region (scene
-/// order); `None` without `[water]`.
-pub(super) type Filled<const D: usize> = (WaterParticles<D>, WaterMaterial, Vec<(String, usize)>);
+/// The water of a scene: its particles, material, the particle count of each region
+/// (scene order) and its open boundaries.
+pub(super) struct Filled<const D: usize> {
+    pub water: WaterParticles<D>,
+    pub material: WaterMaterial,
+    pub counts: Vec<(String, usize)>,
+    pub inflows: Vec<Inflow<D>>,
+    pub outflows: Vec<Outflow<D>>,
+}
 
-/// Fill the water regions of `scene` at spacing `dp` (particle volume `vol`).
+/// Fill the water regions of `scene` at spacing `dp` (particle volume `vol`); `reach`
+/// is the box of everything else in the scene (walls, grains), which every inlet must
+/// meet. `None` without `[water]`.
 pub(super) fn fill<const D: usize>(
     scene: &Scene,
     up: &Vect<D>,
-    dp: Real,
-    vol: Real,
+    (dp, vol): (Real, Real),
+    reach: (Vect<D>, Vect<D>),
 ) -> Result<Option<Filled<D>>, BuildError> {
     let Some(spec) = &scene.water else {
         return Ok(None);
@@ -57,6 +66,18 @@ pub(super) fn fill<const D: usize>(
             .max((2.0 * gnorm * (top - bottom)).sqrt())
             .max(vel.norm());
         regions.push((r.name.clone(), pts, top, vel));
+    }
+    // the inlets must meet the scene, the water regions included
+    let mut reach = reach;
+    for x in regions.iter().flat_map(|r| r.1.iter()) {
+        reach = (reach.0.inf(x), reach.1.sup(x));
+    }
+    let inflows = inflows::<D>(scene, reach)?;
+    for f in &inflows {
+        let (bottom, top) = f.extent_along(up);
+        speed = speed
+            .max((2.0 * gnorm * (top - bottom)).sqrt())
+            .max(peak_speed(f));
     }
     let scale = spec.speed_scale.unwrap_or(speed);
     let c0 = match spec.sound_speed {
@@ -97,5 +118,88 @@ pub(super) fn fill<const D: usize>(
         counts.push((name, pts.len()));
     }
     water.shrink_to_fit();
-    Ok(Some((water, mat, counts)))
+    let outflows = spec
+        .outflows
+        .iter()
+        .map(|o| {
+            let n = v::<D>(&o.normal);
+            Outflow {
+                name: o.name.clone(),
+                point: v::<D>(&o.point),
+                normal: n / n.norm(),
+            }
+        })
+        .collect();
+    Ok(Some(Filled {
+        water,
+        material: mat,
+        counts,
+        inflows,
+        outflows,
+    }))
+}
+
+/// The largest speed of an inflow: its constant speed, or the hydrograph's peak.
+fn peak_speed<const D: usize>(f: &Inflow<D>) -> Real {
+    match f.speed {
+        InflowSpeed::Constant(u) => u,
+        // the Gumbel peak is at t = μ: a/(β e)
+        InflowSpeed::Hydrograph(Hydrograph::Gumbel { a, beta, .. }) => {
+            a / (beta * std::f64::consts::E)
+        }
+    }
+}
+
+/// The inflows of the scene; an inlet that does not meet `reach` is refused.
+fn inflows<const D: usize>(
+    scene: &Scene,
+    reach: (Vect<D>, Vect<D>),
+) -> Result<Vec<Inflow<D>>, BuildError> {
+    let Some(spec) = &scene.water else {
+        return Ok(Vec::new());
+    };
+    let mut out = Vec::new();
+    for (i, f) in spec.inflows.iter().enumerate() {
+        let ShapeSpec::Box { min, max } = &f.shape else {
+            unreachable!("validated: an inlet is a box");
+        };
+        let (lo, hi) = (v::<D>(min), v::<D>(max));
+        if (0..D).any(|k| hi[k] < reach.0[k] || lo[k] > reach.1[k]) {
+            return Err(BuildError {
+                path: format!("water.inflows[{i}].shape"),
+                message: format!(
+                    "inlet `{}` lies outside the scene: its box {:?}..{:?} meets none of the \
+                     walls, barriers, grains or water, which span {:?}..{:?}",
+                    f.name,
+                    lo.as_slice(),
+                    hi.as_slice(),
+                    reach.0.as_slice(),
+                    reach.1.as_slice()
+                ),
+            });
+        }
+        let axis = ["x", "y", "z"]
+            .iter()
+            .position(|a| f.direction[1..] == **a)
+            .expect("validated");
+        out.push(Inflow {
+            name: f.name.clone(),
+            lo,
+            hi,
+            axis,
+            sign: if f.direction.starts_with('-') {
+                -1.0
+            } else {
+                1.0
+            },
+            speed: match (f.speed, f.hydrograph) {
+                (Some(u), _) => InflowSpeed::Constant(u),
+                (None, Some(h)) => InflowSpeed::Hydrograph(h),
+                (None, None) => unreachable!("validated: a speed or a hydrograph"),
+            },
+            stop: f.stop.unwrap_or(Real::INFINITY),
+            fill: 0.0,
+        });
+    }
+    Ok(out)
 }

@@ -672,7 +672,7 @@ pub fn build_table(loaded: &LoadedScene, sim: &AnySimulation) -> Result<Table, G
     let scene = &loaded.scene;
     let mut t = Builder {
         d: sim.dimension(),
-        water: sim.water_count() > 0,
+        water: sim.has_water(),
         table: Table {
             variables: Vec::new(),
             slots: Vec::new(),
