@@ -24,6 +24,11 @@ pub enum StateMismatch {
     CoarseArrays(usize),
     #[error("the saved state's wall particles are inconsistent")]
     WallParticles,
+    #[error(
+        "the saved state's {0} water particles have arrays of other lengths, or its water \
+         differs from the scene's (water, inflows, outflows)"
+    )]
+    WaterArrays(usize),
     #[error("the saved state is {state}D, the scene {scene}D")]
     Dimension { state: usize, scene: usize },
 }
@@ -64,8 +69,31 @@ impl<const D: usize> Simulation<D> {
         if lens.iter().any(|&l| l != n) || f.material.iter().any(|&m| m as usize >= materials) {
             return Err(StateMismatch::FineArrays(n));
         }
+        let wa = &w.water;
+        let nw = wa.pos.len();
+        if [
+            wa.vel.len(),
+            wa.rho.len(),
+            wa.drho.len(),
+            wa.mass.len(),
+            wa.id.len(),
+        ]
+        .iter()
+        .any(|&l| l != nw)
+            || w.water_material.is_some() != t.water_material.is_some()
+            || w.water_inflows.len() != t.water_inflows.len()
+            || w.water_outflows.len() != t.water_outflows.len()
+            || self.stepper.water.is_some() != template.stepper.water.is_some()
+        {
+            return Err(StateMismatch::WaterArrays(nw));
+        }
+        // a state saved before the water family carries no water force on coarse
+        // particles
+        let nc = w.coarse.particles.pos.len();
+        if w.coarse.particles.f_water.len() != nc {
+            w.coarse.particles.f_water = vec![crate::math::Vect::<D>::zeros(); nc];
+        }
         let c = &w.coarse.particles;
-        let nc = c.pos.len();
         let bodies = w.coarse.bodies.len();
         if [c.vel.len(), c.mass.len(), c.body.len(), c.f_fine.len()]
             .iter()

@@ -38,6 +38,16 @@ fn run_with_threads(threads: usize, scene: &str, set: &[&str], steps: usize) -> 
                 .flat_map(|b| b.force.iter().chain(&b.velocity).map(|x| x.to_bits())),
         );
         bits.push(s.kinetic_energy.to_bits());
+        bits.extend(f.water.iter().flat_map(|p| {
+            p.position
+                .iter()
+                .chain(&p.velocity)
+                .map(|x| x.to_bits() as u64)
+                .chain([p.id as u64])
+        }));
+        if let Some(w) = &s.water {
+            bits.extend(w.momentum.iter().map(|x| x.to_bits()));
+        }
         bits.extend(
             s.barriers
                 .iter()
@@ -56,6 +66,10 @@ fn bitwise_identical_across_thread_counts() {
         ("impact_crater.toml", vec!["simulation.dp=0.008"], 150),
         // rigid bodies with contacts
         ("blocks_impact.toml", vec!["simulation.dp=0.005"], 400),
+        // water on walls and a rigid body
+        ("boulder_in_water.toml", vec!["simulation.dp=0.01"], 200),
+        // 3D water
+        ("dam_break_3d.toml", vec!["simulation.dp=0.0057"], 150),
     ] {
         let a = run_with_threads(1, scene, &set, steps);
         let b = run_with_threads(2, scene, &set, steps);

@@ -249,6 +249,9 @@ impl<const D: usize> WaterStepper<D> {
         };
         let no_slip = mat.wall == WallSlip::NoSlip;
         self.corr.resize(n, Corr::<D>::identity());
+        // scratch, not serialised: a restored state has none yet
+        self.reactions
+            .resize_with(self.lists.chunks.len(), Vec::new);
 
         t.time(Stage::WaterMomentum, || {
             correction_sweep(
