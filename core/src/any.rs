@@ -71,7 +71,7 @@ impl AnySimulation {
         dispatch!(self, s => s.world.water_material.is_some())
     }
     pub fn water_count(&self) -> usize {
-        dispatch!(self, s => s.world.water.len())
+        dispatch!(self, s => s.water_count())
     }
     pub fn wall_count(&self) -> usize {
         dispatch!(self, s => s.world.walls.len())

@@ -135,9 +135,10 @@ pub struct Frame {
 }
 
 /// One particle as every bulk sink sees it (the particle channel, recordings, VTK
-/// snapshots): 40 bytes, 3D layout (z = 0 in 2D), single precision. Fine particles
+/// snapshots): 44 bytes, 3D layout (z = 0 in 2D), single precision. Fine particles
 /// carry their material index in `group`, coarse-grain particles their body index;
-/// coarse particles have no pressure or plastic strain (0). `#[repr(C)]` with an
+/// coarse particles have no pressure or plastic strain (0), water no plastic strain;
+/// `family` says which ([`FAMILY_FINE`], [`FAMILY_COARSE`], [`FAMILY_WATER`]). `#[repr(C)]` with an
 /// explicit type name: the particle channel sends it as it is (feature `zero-copy`,
 /// which `granmix-ipc` turns on), and subscribers in other languages declare the same
 /// layout (`docs/ipc.md`).
@@ -159,6 +160,15 @@ pub struct ParticleRecord {
     pub plastic_strain: f32,
     /// Particle id (fine: the stable id; coarse: the index among coarse particles).
     pub id: u32,
-    /// Material index (fine) or body index (coarse).
+    /// Material index (fine) or body index (coarse); 0 for water.
     pub group: u32,
+    /// The particle's family: [`FAMILY_FINE`], [`FAMILY_COARSE`] or [`FAMILY_WATER`].
+    pub family: u32,
 }
+
+/// [`ParticleRecord::family`] of a fine-grain particle.
+pub const FAMILY_FINE: u32 = 0;
+/// [`ParticleRecord::family`] of a coarse-grain particle.
+pub const FAMILY_COARSE: u32 = 1;
+/// [`ParticleRecord::family`] of a water particle.
+pub const FAMILY_WATER: u32 = 2;

@@ -352,13 +352,21 @@ impl<const D: usize> Simulation<D> {
             .collect())
     }
 
-    /// Fill `out` (fine particles first, then coarse; [`Self::particle_counts`]) with
-    /// every particle's [`ParticleRecord`], in parallel. Reads only: the
-    /// solver state is untouched, so publishing cannot change results.
+    /// Fill `out` (fine particles first, then coarse, then water;
+    /// [`Self::particle_counts`], [`Self::water_count`]) with every particle's
+    /// [`ParticleRecord`], in parallel, as far as `out` reaches. Reads only: the solver
+    /// state is untouched, so publishing cannot change results.
     pub fn fill_particles(&self, out: &mut [ParticleRecord]) {
         use rayon::prelude::*;
         let (nf, nc) = self.particle_counts();
         let (fine_out, coarse_out) = out.split_at_mut(nf.min(out.len()));
+        let (coarse_out, water_out) = coarse_out.split_at_mut(nc.min(coarse_out.len()));
+        water_out
+            .par_iter_mut()
+            .with_min_len(4096)
+            .take(self.world.water.len())
+            .enumerate()
+            .for_each(|(i, o)| *o = self.water_record(i));
         fine_out
             .par_iter_mut()
             .with_min_len(4096)
@@ -382,6 +390,7 @@ impl<const D: usize> Simulation<D> {
             plastic_strain: f.plastic_strain[i] as f32,
             id: f.id[i],
             group: f.material[i] as u32,
+            family: crate::sample::FAMILY_FINE,
         }
     }
 
@@ -395,6 +404,7 @@ impl<const D: usize> Simulation<D> {
             plastic_strain: 0.0,
             id: i as u32,
             group: c.body[i],
+            family: crate::sample::FAMILY_COARSE,
         }
     }
 
@@ -412,7 +422,13 @@ impl<const D: usize> Simulation<D> {
             plastic_strain: 0.0,
             id: w.id[i],
             group: 0,
+            family: crate::sample::FAMILY_WATER,
         }
+    }
+
+    /// Water particles.
+    pub fn water_count(&self) -> usize {
+        self.world.water.len()
     }
 
     /// Fine and coarse particle counts.

@@ -7,8 +7,8 @@
 Needs `pip install iceoryx2==0.10.0 numpy`. Run it in its own process: a subscriber
 in the same process as a granmix FMU receives nothing.
 
-The layouts below mirror `granmix_ipc::payload` (docs/ipc.md): a 48-byte header and
-40-byte records, fine particles first, then coarse-grain particles.
+The layouts below mirror `granmix_ipc::payload` (docs/ipc.md): a 56-byte header and
+44-byte records, fine particles first, then coarse-grain particles, then water.
 """
 
 import argparse
@@ -20,7 +20,7 @@ import time
 import iceoryx2 as iox2
 import numpy as np
 
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
 
 
 class ParticleRecord(ctypes.Structure):
@@ -33,6 +33,7 @@ class ParticleRecord(ctypes.Structure):
         ("plastic_strain", ctypes.c_float),
         ("id", ctypes.c_uint32),
         ("group", ctypes.c_uint32),
+        ("family", ctypes.c_uint32),
     ]
 
     @staticmethod
@@ -52,6 +53,8 @@ class FrameHeader(ctypes.Structure):
         ("coarse_count", ctypes.c_uint32),
         ("dimension", ctypes.c_uint32),
         ("schema_version", ctypes.c_uint32),
+        ("water_count", ctypes.c_uint32),
+        ("reserved", ctypes.c_uint32),
     ]
 
     @staticmethod
@@ -59,7 +62,8 @@ class FrameHeader(ctypes.Structure):
         return "granmix::FrameHeader"
 
 
-#: numpy view of a record; `group` is the material (fine) or body (coarse) index.
+#: numpy view of a record; `group` is the material (fine) or body (coarse) index,
+#: `family` 0 (fine), 1 (coarse) or 2 (water).
 RECORD_DTYPE = np.dtype(
     [
         ("position", "<f4", (3,)),
@@ -68,10 +72,11 @@ RECORD_DTYPE = np.dtype(
         ("plastic_strain", "<f4"),
         ("id", "<u4"),
         ("group", "<u4"),
+        ("family", "<u4"),
     ]
 )
-assert RECORD_DTYPE.itemsize == ctypes.sizeof(ParticleRecord) == 40
-assert ctypes.sizeof(FrameHeader) == 48
+assert RECORD_DTYPE.itemsize == ctypes.sizeof(ParticleRecord) == 44
+assert ctypes.sizeof(FrameHeader) == 56
 
 
 def service_name(spec: str) -> str:
@@ -118,7 +123,7 @@ class Subscriber:
             raise ValueError(
                 f"{self.name}: schema version {h.schema_version}, expected {SCHEMA_VERSION}"
             )
-        n = h.fine_count + h.coarse_count
+        n = h.fine_count + h.coarse_count + h.water_count
         raw = (ctypes.c_uint8 * (n * RECORD_DTYPE.itemsize)).from_address(
             sample.payload().as_ptr()
         )
@@ -138,10 +143,10 @@ class Subscriber:
 
 
 def pattern_words(k: int, n: int) -> np.ndarray:
-    """The test pattern of `granmix ipc-pattern` (granmix_ipc::pattern), as (n, 10) u32."""
+    """The test pattern of `granmix ipc-pattern` (granmix_ipc::pattern), as (n, 11) u32."""
     i = np.arange(n, dtype=np.uint32)
-    out = np.empty((n, 10), dtype=np.uint32)
-    for w in range(10):
+    out = np.empty((n, 11), dtype=np.uint32)
+    for w in range(11):
         h = i * np.uint32(2654435761) + np.uint32((k * 40503 + w * 97) % 2**32)
         out[:, w] = (h & np.uint32(0x807FFFFF)) | np.uint32(0x3F000000) if w < 8 else h
     return out
@@ -172,7 +177,7 @@ def main() -> int:
         received += 1
         headers.append(header)
         if a.check_pattern:
-            got = records.view(np.uint32).reshape(len(records), 10)
+            got = records.view(np.uint32).reshape(len(records), 11)
             if not np.array_equal(got, pattern_words(header["sequence"], len(records))):
                 mismatches += 1
         pos = records["position"]

@@ -206,6 +206,7 @@ impl Granular {
                 file: l.file.clone(),
                 name: l.scene.simulation.name.clone(),
                 dimension: self.sim.dimension(),
+                water: self.sim.has_water(),
             };
             sinks.push(Recorder::create(Path::new(&path), &info).map_err(GranularError::Record)?);
         }

@@ -138,6 +138,7 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
                 file: opts.scene.display().to_string(),
                 name: sim_spec.name.clone(),
                 dimension: dim,
+                water: sim.has_water(),
             },
         )?);
     }

@@ -46,6 +46,7 @@ pub fn watch(a: &WatchArgs) -> Result<()> {
                 file: format!("iceoryx2 service {}", sub.name()),
                 name: None,
                 dimension: 3,
+                water: false,
             },
         )?),
         None => None,

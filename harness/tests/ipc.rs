@@ -203,8 +203,8 @@ fn recording_reads_back_with_the_rust_reader() {
                 assert_eq!(schema.encoding, "protobuf");
                 assert_eq!(&schema.data[..], &fox.data[..], "foxglove's descriptor");
                 let pc = PointCloud::decode(&m.data[..]).unwrap();
-                assert_eq!(pc.point_stride, 40);
-                assert_eq!(pc.data.len() as u64, 40 * particles);
+                assert_eq!(pc.point_stride, 44);
+                assert_eq!(pc.data.len() as u64, 44 * particles);
             }
             "/bodies" => {
                 let fox = FrameTransforms::get_schema().unwrap();
@@ -239,4 +239,45 @@ fn recording_reads_back_with_the_rust_reader() {
     assert_eq!(att.name, "scene.toml");
     assert_eq!(&att.data[..], scene_text.as_bytes());
     let _ = std::fs::remove_dir_all(&tmp);
+}
+
+/// A water scene's recording carries the water on its own `/water` topic, every record
+/// of family 2 and as many as the run's water particles.
+#[test]
+fn water_is_recorded_on_its_own_topic() {
+    let tmp = std::env::temp_dir().join(unique("water"));
+    let mcap_path = tmp.join("run.mcap");
+    let status = run(
+        "fmu_water_barrier_2d.toml",
+        &tmp,
+        &[
+            "--set",
+            "simulation.end_time=0.004",
+            "--set",
+            "simulation.output_interval=0.002",
+            "--record",
+            mcap_path.to_str().unwrap(),
+        ],
+    );
+    assert!(status.success());
+    let s = summary(&tmp);
+    let water = s["particles_water"].as_u64().unwrap();
+    assert!(water > 0);
+    let samples = read_series(&tmp).lines().count() as u64 - 1;
+    assert_eq!(s["record"]["messages"]["water"].as_u64(), Some(samples));
+    let bytes = std::fs::read(&mcap_path).unwrap();
+    let mut seen = 0;
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        let m = m.unwrap();
+        if m.channel.topic == "/water" {
+            let pc = PointCloud::decode(&m.data[..]).unwrap();
+            assert_eq!(pc.point_stride, 44);
+            assert_eq!(pc.data.len() as u64, 44 * water);
+            for r in pc.data.chunks(44) {
+                assert_eq!(&r[40..44], &2u32.to_le_bytes(), "family of a water record");
+            }
+            seen += 1;
+        }
+    }
+    assert_eq!(seen, samples);
 }

@@ -9,7 +9,7 @@ use crate::publisher::FrameInfo;
 /// Coarse-grain records at the end of every pattern frame.
 pub const PATTERN_COARSE: usize = 7;
 
-/// Word `w` (0..10, in layout order) of record `i` in frame `k`, as raw bits.
+/// Word `w` (0..11, in layout order) of record `i` in frame `k`, as raw bits.
 #[inline(always)]
 pub fn pattern_word(k: u64, i: usize, w: u32) -> u32 {
     let h = (i as u32)
@@ -34,6 +34,7 @@ pub fn pattern_record(k: u64, i: usize) -> ParticleRecord {
         plastic_strain: f(7),
         id: pattern_word(k, i, 8),
         group: pattern_word(k, i, 9),
+        family: pattern_word(k, i, 10),
     }
 }
 
@@ -44,6 +45,7 @@ pub fn pattern_info(k: u64, n: usize) -> FrameInfo {
         step: k * 10,
         fine_count: n - PATTERN_COARSE.min(n),
         coarse_count: PATTERN_COARSE.min(n),
+        water_count: 0,
         dimension: 3,
     }
 }

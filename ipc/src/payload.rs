@@ -6,13 +6,14 @@
 use iceoryx2::prelude::ZeroCopySend;
 
 /// Layout version of [`FrameHeader`] and [`ParticleRecord`], also a service attribute.
-pub const SCHEMA_VERSION: u32 = 1;
+pub const SCHEMA_VERSION: u32 = 2;
 
-/// One particle: 40 bytes, fine particles first, then coarse-grain particles; the one
-/// particle record of granmix ([`granmix_core::sample::ParticleRecord`]).
-pub use granmix_core::sample::ParticleRecord;
+/// One particle: 44 bytes, fine particles first, then coarse-grain particles, then
+/// water; the one particle record of granmix
+/// ([`granmix_core::sample::ParticleRecord`]), its family in `family`.
+pub use granmix_core::sample::{ParticleRecord, FAMILY_COARSE, FAMILY_FINE, FAMILY_WATER};
 
-/// Per-frame header: 48 bytes.
+/// Per-frame header: 56 bytes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
 #[type_name("granmix::FrameHeader")]
 #[repr(C)]
@@ -33,12 +34,16 @@ pub struct FrameHeader {
     pub dimension: u32,
     /// [`SCHEMA_VERSION`] of the publisher.
     pub schema_version: u32,
+    /// Water particles: the records after the coarse ones.
+    pub water_count: u32,
+    /// Zero (keeps the header a multiple of 8 bytes).
+    pub reserved: u32,
 }
 
 impl FrameHeader {
     /// Records in the frame.
     pub fn count(&self) -> usize {
-        self.fine_count as usize + self.coarse_count as usize
+        self.fine_count as usize + self.coarse_count as usize + self.water_count as usize
     }
 }
 
@@ -62,6 +67,7 @@ pub fn append_record(out: &mut Vec<u8>, r: &ParticleRecord) {
     out.extend_from_slice(&r.plastic_strain.to_le_bytes());
     out.extend_from_slice(&r.id.to_le_bytes());
     out.extend_from_slice(&r.group.to_le_bytes());
+    out.extend_from_slice(&r.family.to_le_bytes());
 }
 
 #[cfg(test)]
@@ -71,9 +77,9 @@ mod tests {
 
     #[test]
     fn layouts_have_no_padding() {
-        assert_eq!(size_of::<ParticleRecord>(), 40);
+        assert_eq!(size_of::<ParticleRecord>(), 44);
         assert_eq!(align_of::<ParticleRecord>(), 4);
-        assert_eq!(size_of::<FrameHeader>(), 48);
+        assert_eq!(size_of::<FrameHeader>(), 56);
         assert_eq!(align_of::<FrameHeader>(), 8);
         let r = ParticleRecord {
             position: [1.0, 2.0, 3.0],
@@ -82,9 +88,11 @@ mod tests {
             plastic_strain: 8.0,
             id: 9,
             group: 10,
+            family: FAMILY_WATER,
         };
         let b = record_bytes(&[r]);
-        assert_eq!(b.len(), 40);
+        assert_eq!(b.len(), 44);
         assert_eq!(&b[36..40], &10u32.to_le_bytes());
+        assert_eq!(&b[40..44], &2u32.to_le_bytes());
     }
 }

@@ -47,6 +47,7 @@ pub struct FrameInfo {
     pub step: u64,
     pub fine_count: usize,
     pub coarse_count: usize,
+    pub water_count: usize,
     pub dimension: u32,
 }
 
@@ -167,6 +168,7 @@ impl FramePublisher {
             step: sim.steps(),
             fine_count: fine,
             coarse_count: coarse,
+            water_count: sim.water_count(),
             dimension: sim.dimension() as u32,
         };
         self.publish_with(&info, |out| sim.fill_particles(out))
@@ -174,11 +176,15 @@ impl FramePublisher {
 
     /// Publish a copy of `records` (one memcpy into shared memory), if anybody listens.
     pub fn publish_slice(&mut self, info: &FrameInfo, records: &[ParticleRecord]) -> Outcome {
-        debug_assert_eq!(records.len(), info.fine_count + info.coarse_count);
+        debug_assert_eq!(
+            records.len(),
+            info.fine_count + info.coarse_count + info.water_count
+        );
         self.publish_via(info, Fill::<NoFill>::Copy(records))
     }
 
-    /// Publish a frame of `info.fine_count + info.coarse_count` records written by
+    /// Publish a frame of `info.fine_count + info.coarse_count + info.water_count`
+    /// records written by
     /// `fill` straight into shared memory (if anybody listens). The loaned slice
     /// starts zeroed.
     pub fn publish_with(
@@ -221,7 +227,7 @@ impl FramePublisher {
         if !self.wants_frame() {
             return Outcome::NoSubscriber;
         }
-        let n = info.fine_count + info.coarse_count;
+        let n = info.fine_count + info.coarse_count + info.water_count;
         let sample = match self.publisher.loan_slice_uninit(n) {
             Ok(s) => s,
             Err(e) => return Outcome::Dropped(format!("no sample to loan: {e:?}")),
@@ -249,6 +255,8 @@ impl FramePublisher {
             coarse_count: info.coarse_count as u32,
             dimension: info.dimension,
             schema_version: SCHEMA_VERSION,
+            water_count: info.water_count as u32,
+            reserved: 0,
         };
         match sample.send() {
             Ok(k) => Outcome::Sent(k),

@@ -2,14 +2,15 @@
 //!
 //! | topic | schema | encoding | one message per |
 //! |---|---|---|---|
-//! | `/particles` | `foxglove.PointCloud` | protobuf | recorded frame |
+//! | `/particles` | `foxglove.PointCloud` | protobuf | recorded frame (fine and coarse grains) |
+//! | `/water` | `foxglove.PointCloud` | protobuf | recorded frame, scenes with water |
 //! | `/bodies` | `foxglove.FrameTransforms` | protobuf | sample, scenes with bodies |
 //! | `/barriers` | `granmix.BarrierLoads` | JSON (JSON Schema) | sample |
 //! | `/energy` | `granmix.Energies` | JSON (JSON Schema) | sample |
 //!
 //! Message log times are simulation time in ns. The PointCloud's data are the
-//! [`ParticleRecord`] bytes themselves (stride 40), so `/particles` holds exactly what
-//! the particle channel carries. The scene goes in as the attachment `scene.toml` and
+//! [`ParticleRecord`] bytes themselves (stride 44), so `/particles` and `/water` hold
+//! exactly what the particle channel carries. The scene goes in as the attachment `scene.toml` and
 //! the metadata record `granmix`. The protobuf schemas are foxglove's own descriptors
 //! (from the `foxglove` crate).
 
@@ -31,6 +32,8 @@ use std::path::{Path, PathBuf};
 
 /// Topic names.
 pub const TOPIC_PARTICLES: &str = "/particles";
+/// The water particles' topic.
+pub const TOPIC_WATER: &str = "/water";
 pub const TOPIC_BODIES: &str = "/bodies";
 pub const TOPIC_BARRIERS: &str = "/barriers";
 pub const TOPIC_ENERGY: &str = "/energy";
@@ -82,6 +85,9 @@ const ENERGY_SCHEMA: &str = r#"{
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct RecordCounts {
     pub particles: u64,
+    /// `/water` messages (left out of the summary without water).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub water: u64,
     pub bodies: u64,
     pub barriers: u64,
     pub energy: u64,
@@ -97,10 +103,17 @@ pub struct SceneInfo {
     /// Scene name, if any.
     pub name: Option<String>,
     pub dimension: usize,
+    /// The scene has water: the recording gets the `/water` topic.
+    pub water: bool,
+}
+
+fn is_zero(n: &u64) -> bool {
+    *n == 0
 }
 
 struct Channels {
     particles: u16,
+    water: Option<u16>,
     bodies: u16,
     barriers: u16,
     energy: u16,
@@ -157,6 +170,7 @@ fn point_fields() -> Vec<PackedElementField> {
         f("plastic_strain", 28, NumericType::Float32),
         f("id", 32, NumericType::Uint32),
         f("group", 36, NumericType::Uint32),
+        f("family", 40, NumericType::Uint32),
     ]
 }
 
@@ -185,6 +199,11 @@ impl Recorder {
             .map_err(|e| rec_err(path, e))?;
         let e = |x| rec_err(path, x);
         let particles = add_channel::<PointCloud>(&mut w, TOPIC_PARTICLES).map_err(e)?;
+        let water = if scene.water {
+            Some(add_channel::<PointCloud>(&mut w, TOPIC_WATER).map_err(e)?)
+        } else {
+            None
+        };
         let bodies = add_channel::<FrameTransforms>(&mut w, TOPIC_BODIES).map_err(e)?;
         let json_channel = |w: &mut mcap::Writer<_>, name: &str, schema: &str, topic: &str| {
             let id = w.add_schema(name, "jsonschema", schema.as_bytes())?;
@@ -226,6 +245,7 @@ impl Recorder {
             writer: w,
             channels: Channels {
                 particles,
+                water,
                 bodies,
                 barriers,
                 energy,
@@ -272,6 +292,20 @@ impl Recorder {
         time: f64,
         records: &[ParticleRecord],
     ) -> Result<(), IpcError> {
+        let (channel, sequence) = (self.channels.particles, self.counts.particles);
+        self.write_cloud(channel, sequence, time, records)?;
+        self.counts.particles += 1;
+        Ok(())
+    }
+
+    /// One PointCloud message of `records` on `channel`.
+    fn write_cloud(
+        &mut self,
+        channel: u16,
+        sequence: u64,
+        time: f64,
+        records: &[ParticleRecord],
+    ) -> Result<(), IpcError> {
         let mut bytes = std::mem::take(&mut self.bytes);
         bytes.clear();
         bytes.reserve(std::mem::size_of_val(records));
@@ -299,20 +333,23 @@ impl Recorder {
         msg.encode(&mut out).map_err(|e| rec_err(&self.path, e))?;
         // take the particle buffer back for the next frame
         self.bytes = Vec::from(msg.data);
-        let r = self.write(self.channels.particles, self.counts.particles, time, &out);
+        let r = self.write(channel, sequence, time, &out);
         self.out = out;
-        r?;
-        self.counts.particles += 1;
-        Ok(())
+        r
     }
 
     /// Write the particles of `sim` now.
     pub fn record_particles(&mut self, sim: &AnySimulation) -> Result<(), IpcError> {
         let (f, c) = sim.particle_counts();
+        let nw = sim.water_count();
         let mut records = std::mem::take(&mut self.records);
-        records.resize(f + c, ParticleRecord::default());
+        records.resize(f + c + nw, ParticleRecord::default());
         sim.fill_particles(&mut records);
-        let r = self.write_particles(sim.time(), &records);
+        let mut r = self.write_particles(sim.time(), &records[..f + c]);
+        if let (Some(ch), true) = (self.channels.water, r.is_ok()) {
+            r = self.write_cloud(ch, self.counts.water, sim.time(), &records[f + c..]);
+            self.counts.water += 1;
+        }
         self.records = records;
         r
     }

@@ -98,9 +98,10 @@ impl FrameSubscriber {
         }
         if h.count() != frame.records().len() {
             return Err(bad(format!(
-                "header counts {} + {} particles, payload holds {}",
+                "header counts {} + {} + {} particles, payload holds {}",
                 h.fine_count,
                 h.coarse_count,
+                h.water_count,
                 frame.records().len()
             )));
         }

@@ -97,7 +97,7 @@ def test_python_and_rust_subscribers_read_the_same_frames(tmp_path):
     assert got["mismatches"] == 0
     assert [h["sequence"] for h in got["headers"]] == list(range(frames))
     assert [h["time"] for h in got["headers"]] == [k * 0.5 for k in range(frames)]
-    assert all(h["fine_count"] + h["coarse_count"] == n for h in got["headers"])
+    assert all(h["fine_count"] + h["coarse_count"] + h["water_count"] == n for h in got["headers"])
     # what the Rust subscriber received (and recorded) is the same, bit for bit
     with open(rec, "rb") as f:
         msgs = list(make_reader(f).iter_messages(topics=["/particles"]))
@@ -170,7 +170,7 @@ def test_run_record_reads_back_with_python_mcap(tmp_path):
         for _, ch, m in reader.iter_messages():
             if ch.topic == "/particles":
                 pc = protobuf_fields(m.data)
-                assert len(pc[6][0]) == 40 * n
+                assert len(pc[6][0]) == 44 * n
                 times.append(m.log_time)
             elif ch.topic == "/barriers":
                 assert isinstance(json.loads(m.data)["barriers"], list)
