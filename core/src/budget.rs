@@ -88,13 +88,14 @@ pub enum SizeError {
 /// The refusal message.
 pub fn over_budget(e: &Estimate, b: &Budget) -> String {
     format!(
-        "dp = {} m gives an estimated {:.3e} particles ({:.3e} fine, {:.3e} wall, {:.3e} coarse) \
+        "dp = {} m gives an estimated {:.3e} particles ({:.3e} fine, {:.3e} water, {:.3e} wall, {:.3e} coarse) \
          needing about {} ({:.3e} bytes), over the memory budget of {} ({}); coarsen \
          simulation.dp or raise the budget (`--memory-budget 8GiB` on the command line, \
          simulation.memory_budget in bytes in the scene, the FMU parameter memory_budget)",
         e.dp,
         e.particles(),
         e.fine(),
+        e.water(),
         e.walls,
         e.coarse(),
         human_bytes(e.bytes),

@@ -32,6 +32,9 @@ pub struct Estimate {
     pub dp: Real,
     /// Fine particles per region, in scene order.
     pub regions: Vec<(String, Real)>,
+    /// Water particles per water region at the start (inflows add more), in scene
+    /// order; counted at the fine grains' bytes per particle (a bound).
+    pub water: Vec<(String, Real)>,
     /// Dummy wall particles of every wall, barrier and container face.
     pub walls: Real,
     /// Coarse particles per body, after rigid interiors are trimmed.
@@ -54,9 +57,13 @@ impl Estimate {
         // + 0.0: an empty sum is −0
         self.bodies.iter().map(|b| b.1).sum::<Real>() + 0.0
     }
-    /// Every particle: fine, wall and coarse.
+    /// Water particles at the start.
+    pub fn water(&self) -> Real {
+        self.water.iter().map(|r| r.1).sum::<Real>() + 0.0
+    }
+    /// Every particle: fine, wall, coarse and water.
     pub fn particles(&self) -> Real {
-        self.fine() + self.walls + self.coarse()
+        self.fine() + self.walls + self.coarse() + self.water()
     }
 }
 
@@ -96,7 +103,18 @@ fn estimate_in<const D: usize>(scene: &Scene) -> Estimate {
     let mut rng = Rng(0x5EED_0FB0_D6E7);
     let mut bounds = Bounds::<D>::new();
     let solids = solids::<D>(scene);
-    let regions = count_regions(scene, &res, &solids, &mut rng, &mut bounds);
+    let fine: Vec<(&str, &ShapeSpec)> = scene
+        .regions
+        .iter()
+        .map(|r| (r.name.as_str(), &r.shape))
+        .collect();
+    let regions = count_regions(scene, &fine, &res, &solids, &mut rng, &mut bounds);
+    let water: Vec<(&str, &ShapeSpec)> = scene
+        .water
+        .iter()
+        .flat_map(|w| w.regions.iter().map(|r| (r.name.as_str(), &r.shape)))
+        .collect();
+    let water = count_regions(scene, &water, &res, &solids, &mut rng, &mut bounds);
     let walls = count_walls(scene, &mut rng, &mut bounds);
     let (bodies, largest_body_fill) = count_bodies(scene, &res, &solids, &mut rng, &mut bounds);
     let (lo_all, hi_all) = (bounds.lo, bounds.hi);
@@ -125,6 +143,7 @@ fn estimate_in<const D: usize>(scene: &Scene) -> Estimate {
         dimension: D,
         dp,
         regions,
+        water,
         walls,
         bodies,
         largest_body_fill,
@@ -133,7 +152,7 @@ fn estimate_in<const D: usize>(scene: &Scene) -> Estimate {
         bytes: 0.0,
     };
     let grids = 1.0 + (e.walls > 0.0) as u8 as Real + (!e.bodies.is_empty()) as u8 as Real;
-    e.bytes = e.fine() * per_particle[0]
+    e.bytes = (e.fine() + e.water()) * per_particle[0]
         + e.walls * per_particle[1]
         + e.coarse() * per_particle[2]
         + largest_body_fill * BODY_FILL_BYTES_PER_DIM * D as Real
@@ -196,6 +215,7 @@ fn solids<const D: usize>(scene: &Scene) -> Vec<Solid<D>> {
 /// solids, else sampled.
 fn count_regions<const D: usize>(
     scene: &Scene,
+    shapes: &[(&str, &ShapeSpec)],
     res: &Resolution,
     solids: &[Solid<D>],
     rng: &mut Rng,
@@ -204,8 +224,8 @@ fn count_regions<const D: usize>(
     let (dp, cell_vol) = (res.dp, res.volume);
     let margin = 0.5 * dp * (1.0 - 1e-6);
     let mut regions = Vec::new();
-    for r in &scene.regions {
-        let shape = Shape::<D>::from_spec(&r.shape, &scene.assets);
+    for &(name, spec) in shapes {
+        let shape = Shape::<D>::from_spec(spec, &scene.assets);
         let (lo, hi) = shape.bounds();
         bounds.grow(&lo, &hi);
         let near: Vec<&Solid<D>> = solids
@@ -234,7 +254,7 @@ fn count_regions<const D: usize>(
                 None => box_volume(&lo, &hi) * kept as Real / SAMPLES as Real / cell_vol,
             }
         };
-        regions.push((r.name.clone(), count));
+        regions.push((name.to_string(), count));
     }
 
     regions
@@ -502,17 +522,61 @@ fn overlaps<const D: usize>(a0: &Vect<D>, a1: &Vect<D>, b0: &Vect<D>, b1: &Vect<
     (0..D).all(|k| a0[k] <= b1[k] && b0[k] <= a1[k])
 }
 
-/// Δt of Eq. (51) at rest, CFL · h / c0 over the fastest fine material (no particle
-/// moves yet, so |v|max = 0); infinite without fine materials.
+/// Δt of Eq. (51) at rest, CFL · h / c0 over the fastest fine material and the water
+/// (no particle moves yet, so |v|max = 0), and the water's viscous limit; infinite
+/// without fine grains or water.
 pub fn rest_dt(scene: &Scene) -> Real {
     let c0 = scene
         .materials
         .iter()
         .map(|m| crate::fine::material::FineMaterial::from_spec(m).c0)
-        .fold(0.0, Real::max);
+        .fold(0.0, Real::max)
+        .max(water_c0(scene));
+    let h = scene.numerics.smoothing_ratio * scene.simulation.dp;
+    let viscous = scene
+        .water
+        .as_ref()
+        .filter(|w| w.viscosity > 0.0)
+        .map_or(Real::INFINITY, |w| 0.125 * h * h * w.density / w.viscosity);
     if c0 > 0.0 {
-        scene.simulation.cfl * scene.numerics.smoothing_ratio * scene.simulation.dp / c0
+        (scene.simulation.cfl * h / c0).min(viscous)
     } else {
         Real::INFINITY
     }
+}
+
+/// The water's sound speed as the build will choose it: given, 10 × the given speed
+/// scale, or 10 √(2 g H) over the tallest water region (inflows, whose speed also
+/// counts, are left to the build); 0 without water.
+pub fn water_c0(scene: &Scene) -> Real {
+    let Some(w) = &scene.water else {
+        return 0.0;
+    };
+    if let Some(c) = w.sound_speed {
+        return c;
+    }
+    if let Some(u) = w.speed_scale {
+        return 10.0 * u;
+    }
+    let g = &scene.simulation.gravity;
+    let gn = g.iter().map(|x| x * x).sum::<Real>().sqrt();
+    let height = |spec: &ShapeSpec| -> Real {
+        let (lo, hi): (Vec<Real>, Vec<Real>) = if scene.simulation.dimension == 2 {
+            let (lo, hi) = Shape::<2>::from_spec(spec, &scene.assets).bounds();
+            (lo.iter().copied().collect(), hi.iter().copied().collect())
+        } else {
+            let (lo, hi) = Shape::<3>::from_spec(spec, &scene.assets).bounds();
+            (lo.iter().copied().collect(), hi.iter().copied().collect())
+        };
+        // the extent along gravity
+        (0..lo.len())
+            .map(|k| (hi[k] - lo[k]) * g[k].abs() / gn.max(1e-300))
+            .sum()
+    };
+    let h = w
+        .regions
+        .iter()
+        .map(|r| height(&r.shape))
+        .fold(0.0, Real::max);
+    10.0 * (2.0 * gn * h).sqrt()
 }

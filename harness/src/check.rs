@@ -33,6 +33,9 @@ pub fn check(scene: &Path, set: &[String], exact: bool) -> Result<()> {
     for (name, n) in &e.regions {
         println!("  region {name:<20} {n:>10.3e} fine particles");
     }
+    for (name, n) in &e.water {
+        println!("  water {name:<21} {n:>10.3e} water particles at the start");
+    }
     println!("  walls {:>34.3e} dummy particles", e.walls);
     for (name, n) in e.bodies.iter().take(LISTED) {
         println!("  body {name:<22} {n:>10.3e} particles");
@@ -61,12 +64,13 @@ pub fn check(scene: &Path, set: &[String], exact: bool) -> Result<()> {
             "  Δt_c (Eq. 52 and contacts): run `granmix check --exact` to build and measure it"
         );
     }
-    let (n, step) = if e.fine() > 0.0 {
-        (e.fine(), dt)
+    let grains_or_water = e.fine() + e.water() > 0.0;
+    let (n, step) = if grains_or_water {
+        (e.fine() + e.water(), dt)
     } else {
         (e.coarse(), s.output_interval)
     };
-    cost(&loaded, n, step, e.fine() > 0.0);
+    cost(&loaded, n, step, grains_or_water);
     Ok(())
 }
 
@@ -77,6 +81,12 @@ fn check_exact(loaded: &LoadedScene) -> Result<()> {
     println!("  built (exact counts):");
     for (name, n) in sim.region_counts() {
         println!("  region {name:<20} {n:>10} fine particles");
+    }
+    if sim.has_water() {
+        println!(
+            "  water {:>34} water particles at the start",
+            sim.water_count()
+        );
     }
     println!("  walls {:>34} dummy particles", sim.wall_count());
     for b in sim.barrier_names() {
@@ -102,9 +112,9 @@ fn check_exact(loaded: &LoadedScene) -> Result<()> {
             loaded.scene.simulation.time_stepping_name()
         );
     }
-    let fine = sim.fine_count() > 0;
+    let fine = sim.fine_count() + sim.water_count() > 0;
     let (n, step) = if fine {
-        (sim.fine_count() as f64, dt)
+        ((sim.fine_count() + sim.water_count()) as f64, dt)
     } else {
         (
             sim.coarse_count() as f64,
@@ -132,7 +142,7 @@ fn cost(loaded: &LoadedScene, n: f64, step: f64, fine: bool) {
     let steps = (s.end_time / step).ceil();
     if fine {
         println!(
-            "  Δt (Eq. 51, at rest) {step:.3e} s → ~{steps:.0} fine steps to t = {} s",
+            "  Δt (Eq. 51, at rest) {step:.3e} s → ~{steps:.0} steps to t = {} s",
             s.end_time
         );
     } else {

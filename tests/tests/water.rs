@@ -371,3 +371,16 @@ fn bad_inflows_name_the_key() {
         "{e}"
     );
 }
+
+/// The memory budget counts the water: a tank at dp = 0.1 mm (25 M water particles)
+/// under a 1 GiB budget is refused before anything is built, naming the water.
+#[test]
+fn memory_budget_counts_the_water() {
+    let tank = std::fs::read_to_string(granmix_tests::scene_path("hydrostatic_tank.toml")).unwrap();
+    let text = tank.replace(
+        "dp = 0.01                  # 2500 water particles",
+        "dp = 0.0001\nmemory_budget = 1073741824.0",
+    );
+    let e = bad(&text);
+    assert!(e.contains("memory budget") && e.contains("water"), "{e}");
+}
