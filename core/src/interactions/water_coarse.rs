@@ -10,7 +10,7 @@
 //! to round-off; buoyancy is the sum of these pressure forces over the body's surface.
 
 use super::fine_coarse::CoarseSource;
-use super::water_wall::wall_pressure;
+use super::water_wall::{boundary_pair, wall_pressure};
 use crate::math::{Real, Vect};
 use crate::water::correction::{self, Corr};
 use crate::water::momentum::{p_star, WaterParams};
@@ -40,15 +40,8 @@ pub fn momentum<const D: usize>(
     b: &Corr<D>,
     no_slip: bool,
 ) -> Option<Vect<D>> {
-    let rij = xi - c.pos;
-    let r2 = rij.norm_squared();
-    let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
-    if r2 >= cut2 || r2 == 0.0 {
-        return None;
-    }
-    let r = r2.sqrt();
+    let (rij, r, dw) = boundary_pair(&prm.kernel, xi, &c.pos)?;
     let e = rij * (1.0 / r);
-    let dw = prm.kernel.dw(r);
     let n = mirror(c, &e);
     // U_L − U_R = 2 (U_L − u_c) along n
     let du = 2.0 * n.dot(&(c.vel - vi));
@@ -58,7 +51,7 @@ pub fn momentum<const D: usize>(
     let mut t = b * e * (-p_star(prm, p, pc, du) * dw);
     if no_slip {
         let reg = 0.01 * prm.kernel.h * prm.kernel.h;
-        t += (vi - c.vel) * (2.0 * prm.mu * r * dw / (r2 + reg));
+        t += (vi - c.vel) * (2.0 * prm.mu * r * dw / (r * r + reg));
     }
     Some(t * c.vol)
 }
@@ -72,27 +65,19 @@ pub fn continuity<const D: usize>(
     xi: &Vect<D>,
     vi: &Vect<D>,
 ) -> Real {
-    let rij = xi - c.pos;
-    let r2 = rij.norm_squared();
-    let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
-    if r2 >= cut2 || r2 == 0.0 {
+    let Some((rij, r, dw)) = boundary_pair(&prm.kernel, xi, &c.pos) else {
         return 0.0;
-    }
-    let r = r2.sqrt();
+    };
     let e = rij * (1.0 / r);
     let n = mirror(c, &e);
-    2.0 * (vi - c.vel).dot(&n) * n.dot(&e) * prm.kernel.dw(r) * c.vol
+    2.0 * (vi - c.vel).dot(&n) * n.dot(&e) * dw * c.vol
 }
 
 /// Coarse particle `c`'s share of M_i ([`correction`]) for water particle i at `xi`.
 #[inline(always)]
 pub fn moment<const D: usize>(prm: &WaterParams<D>, c: &CoarseSource<D>, xi: &Vect<D>) -> Corr<D> {
-    let rij = xi - c.pos;
-    let r2 = rij.norm_squared();
-    let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
-    if r2 >= cut2 || r2 == 0.0 {
-        return Corr::<D>::zeros();
+    match boundary_pair(&prm.kernel, xi, &c.pos) {
+        Some((rij, r, dw)) => correction::share(&(rij / r), r, dw, c.vol),
+        None => Corr::<D>::zeros(),
     }
-    let r = r2.sqrt();
-    correction::share(&(rij / r), r, prm.kernel.dw(r), c.vol)
 }

@@ -18,6 +18,7 @@
 //! Adami, Hu & Adams (2012) balances it.
 
 use super::fine_wall::normal;
+use crate::kernel::WendlandC2;
 use crate::math::{Real, Vect};
 use crate::walls::Walls;
 use crate::water::correction::{self, Corr};
@@ -64,15 +65,8 @@ impl<const D: usize> WaterAtWall<D> {
     /// (32)–(35) and the no-slip viscous term (None outside the kernel).
     #[inline(always)]
     pub fn momentum(&self, prm: &WaterParams<D>, walls: &Walls<D>, w: usize) -> Option<Vect<D>> {
-        let rij = self.pos - walls.pos[w];
-        let r2 = rij.norm_squared();
-        let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
-        if r2 >= cut2 || r2 == 0.0 {
-            return None;
-        }
-        let r = r2.sqrt();
+        let (rij, r, dw) = boundary_pair(&prm.kernel, &self.pos, &walls.pos[w])?;
         let e = rij * (1.0 / r);
-        let dw = prm.kernel.dw(r);
         let vw = walls.velocity(w);
         // Eq. (34): U_L − U_R = 2 (U_L − u_w) along n
         let du = 2.0 * self.n.dot(&(vw - self.vel));
@@ -83,10 +77,27 @@ impl<const D: usize> WaterAtWall<D> {
         let mut t = self.corr * e * (-ps * dw);
         if self.no_slip {
             let reg = 0.01 * prm.kernel.h * prm.kernel.h;
-            t += (self.vel - vw) * (2.0 * prm.mu * r * dw / (r2 + reg));
+            t += (self.vel - vw) * (2.0 * prm.mu * r * dw / (r * r + reg));
         }
         Some(t * walls.volume)
     }
+}
+
+/// A water particle at `xi` and a boundary particle (wall or coarse) at `xj`: x_i − x_j,
+/// r and ∂W/∂r, or None outside the kernel (and at r = 0).
+#[inline(always)]
+pub fn boundary_pair<const D: usize>(
+    kernel: &WendlandC2,
+    xi: &Vect<D>,
+    xj: &Vect<D>,
+) -> Option<(Vect<D>, Real, Real)> {
+    let rij = xi - xj;
+    let r2 = rij.norm_squared();
+    if r2 >= kernel.cutoff * kernel.cutoff || r2 == 0.0 {
+        return None;
+    }
+    let r = r2.sqrt();
+    Some((rij, r, kernel.dw(r)))
 }
 
 /// The pressure of a wall particle against a water particle at pressure `p`, with
@@ -114,14 +125,9 @@ pub fn continuity<const D: usize>(
     vi: &Vect<D>,
     w: usize,
 ) -> Real {
-    let rij = xi - walls.pos[w];
-    let r2 = rij.norm_squared();
-    let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
-    if r2 >= cut2 || r2 == 0.0 {
+    let Some((rij, r, dw)) = boundary_pair(&prm.kernel, xi, &walls.pos[w]) else {
         return 0.0;
-    }
-    let r = r2.sqrt();
-    let dw = prm.kernel.dw(r);
+    };
     2.0 * (vi - walls.velocity(w)).dot(&rij) / r * dw * walls.volume
 }
 
@@ -134,12 +140,8 @@ pub fn moment<const D: usize>(
     xi: &Vect<D>,
     w: usize,
 ) -> Corr<D> {
-    let rij = xi - walls.pos[w];
-    let r2 = rij.norm_squared();
-    let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
-    if r2 >= cut2 || r2 == 0.0 {
-        return Corr::<D>::zeros();
+    match boundary_pair(&prm.kernel, xi, &walls.pos[w]) {
+        Some((rij, r, dw)) => correction::share(&(rij / r), r, dw, walls.volume),
+        None => Corr::<D>::zeros(),
     }
-    let r = r2.sqrt();
-    correction::share(&(rij / r), r, prm.kernel.dw(r), walls.volume)
 }

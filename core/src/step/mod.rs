@@ -25,6 +25,7 @@ mod fine_sweeps;
 pub mod landing;
 mod neighbours;
 mod params;
+mod water_open;
 mod water_stage;
 
 pub use landing::{land_on, Stepping};
@@ -279,7 +280,7 @@ impl<const D: usize> Stepper<D> {
         }
         if let Some((w, m)) = self.water.as_mut().zip(world.water_material) {
             if !world.water_inflows.is_empty() {
-                w.let_in(world, &m, dt, &self.up);
+                w.let_in(world, &m, (dt, &self.up), &mut self.timers);
             }
         }
         // Eq. (54): x and ρ to the half step
@@ -319,7 +320,7 @@ impl<const D: usize> Stepper<D> {
         if let Some(w) = self.water.as_mut() {
             vmax = vmax.max(w.guard(world, self.params.max_speed)?);
             if !world.water_outflows.is_empty() {
-                w.let_out(world);
+                w.let_out(world, &mut self.timers);
             }
         }
         Ok(StepStats {

@@ -96,32 +96,6 @@ impl<const D: usize> WaterStepper<D> {
         }
     }
 
-    /// Let water in through the inflows over a step of `dt` (before the drift), and
-    /// rebuild the lists if any came in.
-    pub fn let_in(&mut self, world: &mut World<D>, mat: &WaterMaterial, dt: Real, up: &Vect<D>) {
-        let (t, g) = (world.time, world.gravity.norm());
-        let res = (world.resolution.dp, world.resolution.volume);
-        let mut added = 0;
-        for f in &mut world.water_inflows {
-            added += f.emit(&mut world.water, mat, (t, dt), res, (g, up));
-        }
-        if added > 0 {
-            self.lists.chunks.clear();
-        }
-    }
-
-    /// Remove the water past the outflows (after the step), and rebuild the lists next
-    /// step if any left.
-    pub fn let_out(&mut self, world: &mut World<D>) {
-        let mut removed = 0;
-        for o in &world.water_outflows {
-            removed += o.remove(&mut world.water);
-        }
-        if removed > 0 {
-            self.lists.chunks.clear();
-        }
-    }
-
     /// Largest water speed at the end of the last step.
     pub fn vmax(&self) -> Real {
         self.vmax

@@ -1,0 +1,48 @@
+//! The water's open boundaries in the step: inflows let water in before the drift,
+//! outflows take it out after the guard ([`water::boundary`](crate::water::boundary));
+//! either way the water's lists are rebuilt.
+
+use super::water_stage::WaterStepper;
+use crate::math::{Real, Vect};
+use crate::timers::{Stage, StageTimers};
+use crate::water::material::WaterMaterial;
+use crate::world::World;
+use std::time::Instant;
+
+impl<const D: usize> WaterStepper<D> {
+    /// Let water in through the inflows over a step of `dt` (before the drift), and
+    /// rebuild the lists if any came in.
+    pub fn let_in(
+        &mut self,
+        world: &mut World<D>,
+        mat: &WaterMaterial,
+        (dt, up): (Real, &Vect<D>),
+        timers: &mut StageTimers,
+    ) {
+        let start = Instant::now();
+        let (t, g) = (world.time, world.gravity.norm());
+        let res = (world.resolution.dp, world.resolution.volume);
+        let mut added = 0;
+        for f in &mut world.water_inflows {
+            added += f.emit(&mut world.water, mat, (t, dt), res, (g, up));
+        }
+        if added > 0 {
+            self.lists.chunks.clear();
+        }
+        timers.add(Stage::WaterDriftFinalize, start.elapsed().as_secs_f64());
+    }
+
+    /// Remove the water past the outflows (after the step), and rebuild the lists next
+    /// step if any left.
+    pub fn let_out(&mut self, world: &mut World<D>, timers: &mut StageTimers) {
+        let start = Instant::now();
+        let mut removed = 0;
+        for o in &world.water_outflows {
+            removed += o.remove(&mut world.water);
+        }
+        if removed > 0 {
+            self.lists.chunks.clear();
+        }
+        timers.add(Stage::WaterDriftFinalize, start.elapsed().as_secs_f64());
+    }
+}
