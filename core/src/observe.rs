@@ -134,6 +134,7 @@ pub fn probe<const D: usize>(
         stress: s,
         velocity: vel,
         support: n,
+        water_pressure: None,
     }
 }
 

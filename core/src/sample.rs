@@ -13,6 +13,10 @@ pub struct ProbeValue {
     pub velocity: [Real; 3],
     /// Number of particles within the kernel support.
     pub support: usize,
+    /// Kernel-weighted (Shepard) water pressure at the point (Pa); None without water
+    /// within the kernel support.
+    #[serde(default)]
+    pub water_pressure: Option<Real>,
 }
 
 /// Barrier load over a sampling interval.

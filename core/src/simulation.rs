@@ -161,10 +161,13 @@ impl<const D: usize> Simulation<D> {
             .probes
             .iter()
             .map(|p| {
-                (
-                    p.name.clone(),
-                    observe::probe(&w.fine, &self.stepper.kernel, &p.position),
-                )
+                let mut v = observe::probe(&w.fine, &self.stepper.kernel, &p.position);
+                if let Some(m) = &w.water_material {
+                    v.water_pressure = w.water.shepard(&self.stepper.kernel, &p.position, |i| {
+                        m.pressure(w.water.rho[i])
+                    });
+                }
+                (p.name.clone(), v)
             })
             .collect();
         let bodies = self.body_samples(inv);

@@ -86,6 +86,9 @@ pub fn header(
         for a in AX.iter().take(dim) {
             h.push(format!("{p}.velocity.{a}"));
         }
+        if water {
+            h.push(format!("{p}.water_pressure"));
+        }
     }
     for b in bodies {
         for q in ["position", "velocity"] {
@@ -171,6 +174,10 @@ pub fn row(dim: usize, s: &Sample) -> Vec<f64> {
         r.extend_from_slice(&p.stress.0[..if dim == 2 { 4 } else { 6 }]);
         r.push(-p.stress.trace() / 3.0);
         r.extend_from_slice(&p.velocity[..dim]);
+        if s.water.is_some() {
+            // gauge pressure: 0 where no water reaches the probe
+            r.push(p.water_pressure.unwrap_or(0.0));
+        }
     }
     for b in &s.bodies {
         r.extend_from_slice(&b.position[..dim]);

@@ -25,6 +25,13 @@ fn resting_tank_is_hydrostatic() {
             worst = worst.max(rel(p.pressure as f64, want));
         }
     }
+    // the probe at mid-depth reads ρ_w g H/2
+    let probe = samples.last().unwrap().probes[0].1.water_pressure.unwrap();
+    assert!(
+        rel(probe, RHO * G * h / 2.0) < 0.01,
+        "probe {probe} Pa vs {}",
+        RHO * G * h / 2.0
+    );
     assert!(
         worst < 0.01,
         "pressure off hydrostatic by {:.3} %",

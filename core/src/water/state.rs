@@ -87,6 +87,26 @@ impl<const D: usize> WaterParticles<D> {
         before - self.len()
     }
 
+    /// The kernel-weighted (Shepard) average of `value` over the particles within the
+    /// support of `kernel` around `at`, or None if there are none.
+    pub fn shepard(
+        &self,
+        kernel: &crate::kernel::WendlandC2,
+        at: &Vect<D>,
+        value: impl Fn(usize) -> Real,
+    ) -> Option<Real> {
+        let (mut wsum, mut sum) = (0.0, 0.0);
+        for i in 0..self.len() {
+            let r = (self.pos[i] - at).norm();
+            if r < kernel.cutoff {
+                let w = kernel.w(r) * self.mass[i] / self.rho[i];
+                wsum += w;
+                sum += w * value(i);
+            }
+        }
+        (wsum > 0.0).then(|| sum / wsum)
+    }
+
     /// Σ ½ m v².
     pub fn kinetic_energy(&self) -> Real {
         self.vel
