@@ -1,10 +1,11 @@
 //! What a family's neighbour lists remember of their last build: the particle
-//! positions in single precision (with the bound on their rounding) and the walls,
-//! binned and re-binned only once a wall has moved. The fine and the water lists keep
-//! one each.
+//! positions in single precision (with the bound on their rounding), the walls, binned
+//! and re-binned only once a wall has moved, and the coarse particles, binned at their
+//! half-step positions. The fine and the water lists keep one of each.
 
+use crate::interactions::fine_coarse::CoarseSource;
 use crate::math::{Real, Vect};
-use crate::neighbors::CellGrid;
+use crate::neighbors::{Binned, CellGrid};
 use crate::walls::Walls;
 use nalgebra::SVector;
 use rayon::prelude::*;
@@ -31,6 +32,73 @@ impl<const D: usize> PositionMarks<D> {
     pub fn bytes(&self) -> usize {
         self.pos.capacity() * std::mem::size_of::<SVector<f32, D>>()
     }
+
+    /// Eq. (56) for one particle: x and ρ to the end of the step by `half` with v and
+    /// dρ/dt; returns |v|² and the squared displacement since the build of particle
+    /// `k`.
+    #[inline(always)]
+    pub fn close_step(
+        &self,
+        k: usize,
+        (x, rho): (&mut Vect<D>, &mut Real),
+        (v, drho): (&Vect<D>, Real),
+        half: Real,
+    ) -> (Real, Real) {
+        *x += v * half;
+        *rho += drho * half;
+        (
+            v.norm_squared(),
+            (*x - self.pos[k].cast::<Real>()).norm_squared(),
+        )
+    }
+}
+
+/// The coarse particles binned for a family's lists, at their half-step positions of
+/// the last build.
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
+pub struct CoarseBins<const D: usize> {
+    /// Binned afresh at every build: a serialised state keeps only its geometry.
+    #[serde(with = "crate::neighbors::geometry_only")]
+    grid: CellGrid<D>,
+    /// Positions at the last build.
+    at_build: Vec<Vect<D>>,
+}
+
+impl<const D: usize> CoarseBins<D> {
+    pub fn new(grid: CellGrid<D>) -> Self {
+        CoarseBins {
+            grid,
+            at_build: Vec::new(),
+        }
+    }
+
+    /// Largest displacement of a coarse particle of `csrc` since the last build;
+    /// infinite when the count changed.
+    pub fn moved_since_build(&self, csrc: &[CoarseSource<D>]) -> Real {
+        if self.at_build.len() != csrc.len() {
+            return Real::INFINITY;
+        }
+        csrc.iter()
+            .zip(&self.at_build)
+            .map(|(c, b)| (c.pos - b).norm_squared())
+            .fold(0.0, Real::max)
+            .sqrt()
+    }
+
+    /// Bin `csrc` for this build.
+    pub fn refresh(&mut self, csrc: &[CoarseSource<D>]) {
+        self.at_build.clear();
+        self.at_build.extend(csrc.iter().map(|c| c.pos));
+        self.grid.bin(&self.at_build);
+    }
+
+    /// The binned coarse particles, for the lists.
+    pub fn binned(&self) -> Binned<'_, D> {
+        Binned {
+            pos: &self.at_build,
+            grid: &self.grid,
+        }
+    }
 }
 
 /// The wall particles binned for a family's lists.
@@ -55,6 +123,14 @@ impl<const D: usize> WallBins<D> {
     /// Largest rigid displacement of any wall object since the last build.
     pub fn moved_since_build(&self, walls: &Walls<D>) -> Real {
         walls.max_displacement_since(&self.disp_at_build)
+    }
+
+    /// The binned walls of `walls`, for the lists.
+    pub fn binned<'a>(&'a self, walls: &'a Walls<D>) -> Binned<'a, D> {
+        Binned {
+            pos: &walls.pos,
+            grid: &self.grid,
+        }
     }
 
     /// Bin the walls if they are not binned yet or moved since the last build, and mark

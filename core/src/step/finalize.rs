@@ -14,28 +14,26 @@ impl<const D: usize> Stepper<D> {
     /// and displacement since the list build, and its first failing particle.
     pub(super) fn finalize(&mut self, world: &mut World<D>, half: Real) {
         let max_speed = self.params.max_speed;
-        let f = &mut world.fine;
+        let (f, marks) = (&mut world.fine, &self.at_build);
         f.pos
             .par_chunks_mut(CHUNK)
             .zip(f.rho.par_chunks_mut(CHUNK))
             .zip(f.vel.par_chunks(CHUNK))
             .zip(f.drho.par_chunks(CHUNK))
             .zip(f.stress.par_chunks(CHUNK))
-            .zip(self.at_build.pos.par_chunks(CHUNK))
             .enumerate()
-            .map(|(c, (((((x, r), v), d), s), x0))| {
+            .map(|(c, ((((x, r), v), d), s))| {
                 let mut vmax2: Real = 0.0;
                 let mut disp2: Real = 0.0;
                 let mut fail: ChunkFailure = None;
                 for k in 0..x.len() {
-                    x[k] += v[k] * half;
-                    r[k] += d[k] * half;
-                    let v2 = v[k].norm_squared();
+                    let i = c * CHUNK + k;
+                    let (v2, d2) = marks.close_step(i, (&mut x[k], &mut r[k]), (&v[k], d[k]), half);
                     vmax2 = vmax2.max(v2);
-                    disp2 = disp2.max((x[k] - x0[k].cast::<Real>()).norm_squared());
+                    disp2 = disp2.max(d2);
                     if fail.is_none() {
                         let stress = || (!s[k].is_finite()).then(|| ("stress", s[k].trace()));
-                        fail = check(c * CHUNK + k, v2, &x[k], r[k], stress, max_speed);
+                        fail = check(i, v2, &x[k], r[k], stress, max_speed);
                     }
                 }
                 (vmax2, disp2, fail)

@@ -14,7 +14,7 @@ use crate::neighbors::{CellGrid, NeighborLists};
 use crate::permute::PermuteScratch;
 use crate::timers::{Stage, StageTimers};
 use crate::world::{geostatic_tensor, World};
-use build_marks::{PositionMarks, WallBins};
+use build_marks::{CoarseBins, PositionMarks, WallBins};
 use coarse_substeps::CoarseStepper;
 
 mod build_marks;
@@ -94,9 +94,7 @@ pub struct Stepper<const D: usize> {
     /// Coarse grains: sub-stepper (None without bodies).
     pub coarse: Option<CoarseStepper<D>>,
     csrc: Vec<CoarseSource<D>>,
-    #[serde(with = "crate::neighbors::geometry_only")]
-    coarse_grid: CellGrid<D>,
-    coarse_at_build: Vec<Vect<D>>,
+    coarse_bins: CoarseBins<D>,
     reactions: Vec<Vec<(u32, Vect<D>)>>,
     coarse_vol: Real,
     /// Water: its stages' lists and scratch (None without water).
@@ -206,8 +204,7 @@ impl<const D: usize> Stepper<D> {
             failures: Vec::new(),
             coarse,
             csrc: Vec::new(),
-            coarse_grid: CellGrid::new(&world.domain.0, &world.domain.1, cell),
-            coarse_at_build: Vec::new(),
+            coarse_bins: CoarseBins::new(CellGrid::new(&world.domain.0, &world.domain.1, cell)),
             reactions: Vec::new(),
             coarse_vol: world.resolution.volume,
             water,

@@ -5,7 +5,6 @@
 use super::Stepper;
 use crate::fine::source::pack;
 use crate::math::Real;
-use crate::neighbors::Binned;
 use crate::world::World;
 
 impl<const D: usize> Stepper<D> {
@@ -29,17 +28,11 @@ impl<const D: usize> Stepper<D> {
         }
         let fine = self.max_disp + 0.5 * dt * self.vmax;
         let wall = self.walls.moved_since_build(&world.walls);
-        let coarse = self
-            .csrc
-            .iter()
-            .zip(&self.coarse_at_build)
-            .map(|(c, b)| (c.pos - b).norm_squared())
-            .fold(0.0, Real::max)
-            .sqrt();
+        // infinite when the coarse particles' count changed
+        let coarse = self.coarse_bins.moved_since_build(&self.csrc);
         2.0 * fine > self.params.skin
             || fine + wall > self.params.skin
             || fine + coarse > self.params.skin
-            || self.coarse_at_build.len() != self.csrc.len()
     }
 
     /// Re-sort particles by cell and rebuild the Verlet lists.
@@ -51,21 +44,13 @@ impl<const D: usize> Stepper<D> {
         self.fine_grid.bin(&world.fine.pos);
         self.at_build.mark(&world.fine.pos);
         self.walls.refresh(&world.walls);
-        self.coarse_at_build.clear();
-        self.coarse_at_build.extend(self.csrc.iter().map(|c| c.pos));
-        self.coarse_grid.bin(&self.coarse_at_build);
+        self.coarse_bins.refresh(&self.csrc);
         let radius = self.kernel.cutoff + self.params.skin;
         self.lists.build(
             &world.fine.pos,
             &self.fine_grid,
-            Binned {
-                pos: &world.walls.pos,
-                grid: &self.walls.grid,
-            },
-            Binned {
-                pos: &self.coarse_at_build,
-                grid: &self.coarse_grid,
-            },
+            self.walls.binned(&world.walls),
+            self.coarse_bins.binned(),
             radius,
         );
         self.reactions

@@ -3,7 +3,7 @@
 //! neighbour lists (water–water and water–wall), the momentum sweep (v_{n+1}), the
 //! continuity sweep with v_{n+1}, and x, ρ to the end of the step with the guard.
 
-use super::build_marks::{PositionMarks, WallBins};
+use super::build_marks::{CoarseBins, PositionMarks, WallBins};
 use crate::guard::{check, Blowup, ChunkFailure, Family};
 use crate::interactions::fine_coarse::{self, CoarseSource};
 use crate::interactions::water_pass::{
@@ -12,7 +12,7 @@ use crate::interactions::water_pass::{
 use crate::kernel::WendlandC2;
 use crate::load::Load;
 use crate::math::{Real, Vect};
-use crate::neighbors::{Binned, CellGrid, NeighborLists, CHUNK};
+use crate::neighbors::{CellGrid, NeighborLists, CHUNK};
 use crate::permute::PermuteScratch;
 use crate::scene::WallSlip;
 use crate::timers::{Stage, StageTimers};
@@ -30,10 +30,7 @@ pub struct WaterStepper<const D: usize> {
     #[serde(with = "crate::neighbors::geometry_only")]
     grid: CellGrid<D>,
     walls: WallBins<D>,
-    #[serde(with = "crate::neighbors::geometry_only")]
-    coarse_grid: CellGrid<D>,
-    /// Coarse particles at the last list build (half-step positions).
-    coarse_at_build: Vec<Vect<D>>,
+    coarse_bins: CoarseBins<D>,
     pub lists: NeighborLists,
     at_build: PositionMarks<D>,
     max_disp: Real,
@@ -74,8 +71,7 @@ impl<const D: usize> WaterStepper<D> {
         WaterStepper {
             grid: CellGrid::new(lo, hi, cell),
             walls: WallBins::new(CellGrid::new(lo, hi, cell)),
-            coarse_grid: CellGrid::new(lo, hi, cell),
-            coarse_at_build: Vec::new(),
+            coarse_bins: CoarseBins::new(CellGrid::new(lo, hi, cell)),
             lists: NeighborLists::default(),
             at_build: PositionMarks::default(),
             max_disp: Real::INFINITY,
@@ -144,17 +140,12 @@ impl<const D: usize> WaterStepper<D> {
         let start = Instant::now();
         let moved = self.max_disp + 0.5 * dt * self.vmax;
         let wall = self.walls.moved_since_build(&world.walls);
-        let coarse = csrc
-            .iter()
-            .zip(&self.coarse_at_build)
-            .map(|(c, b)| (c.pos - b).norm_squared())
-            .fold(0.0, Real::max)
-            .sqrt();
+        // infinite when the coarse particles' count changed
+        let coarse = self.coarse_bins.moved_since_build(csrc);
         if self.lists.chunks.is_empty()
             || 2.0 * moved > self.skin
             || moved + wall > self.skin
             || moved + coarse > self.skin
-            || self.coarse_at_build.len() != csrc.len()
         {
             self.rebuild(world, csrc);
             pack(&world.water, mat, &mut self.src);
@@ -171,20 +162,12 @@ impl<const D: usize> WaterStepper<D> {
         self.grid.bin(&w.pos);
         self.at_build.mark(&w.pos);
         self.walls.refresh(&world.walls);
-        self.coarse_at_build.clear();
-        self.coarse_at_build.extend(csrc.iter().map(|c| c.pos));
-        self.coarse_grid.bin(&self.coarse_at_build);
+        self.coarse_bins.refresh(csrc);
         self.lists.build(
             &w.pos,
             &self.grid,
-            Binned {
-                pos: &world.walls.pos,
-                grid: &self.walls.grid,
-            },
-            Binned {
-                pos: &self.coarse_at_build,
-                grid: &self.coarse_grid,
-            },
+            self.walls.binned(&world.walls),
+            self.coarse_bins.binned(),
             self.radius,
         );
         self.reactions
@@ -218,7 +201,6 @@ impl<const D: usize> WaterStepper<D> {
             inv_c: 1.0 / mat.c0,
             eta: mat.limiter,
             mu: mat.mu,
-            hydrostatic: world.gravity,
             keep: mat.velocity_kept(world.time, dt),
         };
         let no_slip = mat.wall == WallSlip::NoSlip;
@@ -300,26 +282,24 @@ impl<const D: usize> WaterStepper<D> {
         t: &mut StageTimers,
     ) {
         let start = Instant::now();
-        let w = &mut world.water;
+        let (w, marks) = (&mut world.water, &self.at_build);
         w.pos
             .par_chunks_mut(CHUNK)
             .zip(w.rho.par_chunks_mut(CHUNK))
             .zip(w.vel.par_chunks(CHUNK))
             .zip(w.drho.par_chunks(CHUNK))
-            .zip(self.at_build.pos.par_chunks(CHUNK))
             .enumerate()
-            .map(|(c, ((((x, r), v), d), x0))| {
+            .map(|(c, (((x, r), v), d))| {
                 let mut vmax2: Real = 0.0;
                 let mut disp2: Real = 0.0;
                 let mut fail: ChunkFailure = None;
                 for k in 0..x.len() {
-                    x[k] += v[k] * half;
-                    r[k] += d[k] * half;
-                    let v2 = v[k].norm_squared();
+                    let i = c * CHUNK + k;
+                    let (v2, d2) = marks.close_step(i, (&mut x[k], &mut r[k]), (&v[k], d[k]), half);
                     vmax2 = vmax2.max(v2);
-                    disp2 = disp2.max((x[k] - x0[k].cast::<Real>()).norm_squared());
+                    disp2 = disp2.max(d2);
                     if fail.is_none() {
-                        fail = check(c * CHUNK + k, v2, &x[k], r[k], || None, max_speed);
+                        fail = check(i, v2, &x[k], r[k], || None, max_speed);
                     }
                 }
                 (vmax2, disp2, fail)

@@ -74,7 +74,7 @@ impl<const D: usize> Inflow<D> {
         let u = self.speed_at(t + 0.5 * dt);
         self.fill += u * dt;
         let dir = self.direction();
-        let (a, top) = (self.axis, self.top(up));
+        let (a, top) = (self.axis, self.extent_along(up).1);
         let face = if self.sign > 0.0 {
             self.lo[a]
         } else {
@@ -93,11 +93,6 @@ impl<const D: usize> Inflow<D> {
             }
         }
         added
-    }
-
-    /// The height of the box's top along `up`.
-    fn top(&self, up: &Vect<D>) -> Real {
-        self.extent_along(up).1
     }
 
     /// The lowest and highest coordinate of the box's corners along `up`.

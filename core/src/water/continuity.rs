@@ -30,7 +30,8 @@ pub fn pair_pass<const D: usize>(
     let n = w.len();
     let (pos, vel, src) = (&w.pos[..n], &w.vel[..n], &src[..n]);
     let inv_z = 1.0 / prm.z;
-    let hyd: Vect<D> = prm.hydrostatic;
+    // the hydrostatic gradient ρ̄ g is taken out of the jump
+    let hyd: Vect<D> = prm.gravity;
     let slabs = &lists.slabs;
     two_phase(
         slabs,

@@ -36,9 +36,6 @@ pub struct WaterParams<const D: usize> {
     pub eta: Real,
     /// Dynamic viscosity μ.
     pub mu: Real,
-    /// Gravity of this step: the hydrostatic gradient ρ̄ g is taken out of the
-    /// continuity equation's pressure jump ([`continuity`](super::continuity)).
-    pub hydrostatic: Vect<D>,
     /// Share of the velocity kept over the step: exp(−Δt/τ) while the settling
     /// damping is on, 1 otherwise.
     pub keep: Real,

@@ -72,18 +72,12 @@ impl<const D: usize> WaterParticles<D> {
     pub fn remove_where(&mut self, gone: impl Fn(&Vect<D>) -> bool) -> usize {
         let keep: Vec<bool> = self.pos.iter().map(|x| !gone(x)).collect();
         let before = self.len();
-        let mut k = keep.iter();
-        self.vel.retain(|_| *k.next().unwrap());
-        let mut k = keep.iter();
-        self.rho.retain(|_| *k.next().unwrap());
-        let mut k = keep.iter();
-        self.drho.retain(|_| *k.next().unwrap());
-        let mut k = keep.iter();
-        self.mass.retain(|_| *k.next().unwrap());
-        let mut k = keep.iter();
-        self.id.retain(|_| *k.next().unwrap());
-        let mut k = keep.iter();
-        self.pos.retain(|_| *k.next().unwrap());
+        retain_marked(&mut self.pos, &keep);
+        retain_marked(&mut self.vel, &keep);
+        retain_marked(&mut self.rho, &keep);
+        retain_marked(&mut self.drho, &keep);
+        retain_marked(&mut self.mass, &keep);
+        retain_marked(&mut self.id, &keep);
         before - self.len()
     }
 
@@ -149,4 +143,10 @@ impl<const D: usize> WaterParticles<D> {
             .zip(&self.mass)
             .fold(Vect::<D>::zeros(), |a, (v, m)| a + v * *m)
     }
+}
+
+/// Keep the entries of `v` whose mark in `keep` is set, in order.
+fn retain_marked<T>(v: &mut Vec<T>, keep: &[bool]) {
+    let mut k = keep.iter();
+    v.retain(|_| *k.next().expect("one mark per entry"));
 }
