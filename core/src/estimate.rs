@@ -313,6 +313,12 @@ fn count_walls<const D: usize>(scene: &Scene, rng: &mut Rng, bounds: &mut Bounds
                 for b in 0..a {
                     size[b] += 2.0 * t;
                 }
+                // cut to the period along a periodic axis
+                if let Some(p) = &scene.simulation.periodic {
+                    if let Some(k) = crate::periodic::axis_index(&p.axis).filter(|&k| k < D) {
+                        size[k] = p.max - p.min;
+                    }
+                }
                 walls += box_count(&size, dp);
             }
         }

@@ -27,6 +27,7 @@ pub mod neighbors;
 pub mod observe;
 pub mod pair_block;
 pub mod panels;
+pub mod periodic;
 pub mod permute;
 pub mod resolution;
 mod restore;

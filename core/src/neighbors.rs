@@ -13,21 +13,28 @@
 //! ([`slabs`](crate::slabs)).
 
 use crate::math::{Real, Vect};
+use crate::periodic::{Period, Separation};
 use rayon::prelude::*;
 
 /// Particles per work chunk. Fixed, so chunking is independent of the thread count.
 pub const CHUNK: usize = 256;
 
 /// A uniform grid of cells over a fixed box; positions outside are clamped into the
-/// border cells (correct, only slower).
+/// border cells (correct, only slower). Along a periodic axis the cells tile the
+/// period, positions are taken modulo the period and the stencil wraps
+/// ([`periodic`](crate::periodic)).
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct CellGrid<const D: usize> {
     origin: [Real; 3],
-    inv_cell: Real,
+    /// 1 / cell size per axis (the periodic axis' cells are stretched to tile the
+    /// period).
+    inv_cell: [Real; 3],
     dims: [usize; 3],
     /// Axes from the slowest varying in the cell index to the fastest: the slab axis
     /// first, the longest other axis last (so a stencil row is three adjacent cells).
     axes: [usize; 3],
+    /// The periodic axis, if any (never the slab axis).
+    wrap: Option<usize>,
     /// `start[c]..start[c+1]` indexes `items` for cell c.
     start: Vec<u32>,
     items: Vec<u32>,
@@ -41,16 +48,42 @@ pub struct CellGrid<const D: usize> {
 impl<const D: usize> CellGrid<D> {
     /// A grid with cells of size `cell` covering [lo, hi].
     pub fn new(lo: &Vect<D>, hi: &Vect<D>, cell: Real) -> Self {
+        Self::periodic(lo, hi, cell, None)
+    }
+
+    /// A grid with cells of at least `cell` covering [lo, hi], and along the axis of
+    /// `period` (if any) exactly the period, with at least three cells across it.
+    pub fn periodic(lo: &Vect<D>, hi: &Vect<D>, cell: Real, period: Option<Period>) -> Self {
         let mut origin = [0.0; 3];
         let mut dims = [1usize; 3];
+        let mut inv_cell = [1.0 / cell; 3];
         for k in 0..D {
             origin[k] = lo[k];
             dims[k] = (((hi[k] - lo[k]) / cell).ceil() as usize).max(1);
         }
-        // longest axis first (ties: the lower axis), then the longer of the others
-        // last; in 2D the unused third axis (one cell) sits in the middle
+        let wrap = period.map(|p| {
+            let a = p.axis;
+            origin[a] = p.lo;
+            dims[a] = ((p.len / cell).floor() as usize).max(1);
+            // three distinct cells in every wrapped stencil (the scene checks the period)
+            assert!(
+                dims[a] >= 3,
+                "period {} under three list radii {cell}",
+                p.len
+            );
+            inv_cell[a] = dims[a] as Real / p.len;
+            a
+        });
+        // longest axis first (ties: the lower axis), the periodic axis never first, then
+        // the longer of the others last; in 2D the unused third axis (one cell) sits in
+        // the middle
         let mut by_len: Vec<usize> = (0..D).collect();
-        by_len.sort_by(|&a, &b| dims[b].cmp(&dims[a]).then(a.cmp(&b)));
+        by_len.sort_by(|&a, &b| {
+            (wrap == Some(a))
+                .cmp(&(wrap == Some(b)))
+                .then(dims[b].cmp(&dims[a]))
+                .then(a.cmp(&b))
+        });
         let axes = if D == 3 {
             [by_len[0], by_len[2], by_len[1]]
         } else {
@@ -58,9 +91,10 @@ impl<const D: usize> CellGrid<D> {
         };
         CellGrid {
             origin,
-            inv_cell: 1.0 / cell,
+            inv_cell,
             dims,
             axes,
+            wrap,
             ..Default::default()
         }
     }
@@ -94,8 +128,10 @@ impl<const D: usize> CellGrid<D> {
     fn coords(&self, x: &Vect<D>) -> [usize; 3] {
         let mut c = [0usize; 3];
         for k in 0..D {
-            let f = ((x[k] - self.origin[k]) * self.inv_cell).floor();
-            c[k] = if f <= 0.0 {
+            let f = ((x[k] - self.origin[k]) * self.inv_cell[k]).floor();
+            c[k] = if self.wrap == Some(k) {
+                (f as i64).rem_euclid(self.dims[k] as i64) as usize
+            } else if f <= 0.0 {
                 0
             } else {
                 (f as usize).min(self.dims[k] - 1)
@@ -158,6 +194,9 @@ impl<const D: usize> CellGrid<D> {
 
     #[inline(always)]
     fn stencil(&self, x: &Vect<D>, forward: bool, mut f: impl FnMut(u32)) {
+        if self.wrap.is_some() {
+            return self.wrapped_stencil(x, f);
+        }
         let c = self.coords(x);
         let [a0, a1, a2] = self.axes;
         let lo = |k: usize| if k < D { c[k].saturating_sub(1) } else { 0 };
@@ -192,8 +231,50 @@ impl<const D: usize> CellGrid<D> {
     }
 }
 
-/// Verlet lists of one chunk of particles: fine–fine, fine–wall and fine–coarse
-/// neighbours.
+impl<const D: usize> CellGrid<D> {
+    /// The stencil of a periodic grid: every one of the 3^D cells around `x`, the
+    /// periodic axis' neighbours taken modulo the period (the forward half is not
+    /// contiguous across the seam, so the lists filter j > i themselves).
+    fn wrapped_stencil(&self, x: &Vect<D>, mut f: impl FnMut(u32)) {
+        let c = self.coords(x);
+        // the cells along axis k around c[k]: (cells, count)
+        let around = |k: usize| -> ([usize; 3], usize) {
+            if k >= D {
+                ([0; 3], 1)
+            } else if self.wrap == Some(k) {
+                let n = self.dims[k];
+                ([(c[k] + n - 1) % n, c[k], (c[k] + 1) % n], 3)
+            } else {
+                let (lo, hi) = (c[k].saturating_sub(1), (c[k] + 1).min(self.dims[k] - 1));
+                let mut out = [0; 3];
+                for (m, v) in (lo..=hi).enumerate() {
+                    out[m] = v;
+                }
+                (out, hi - lo + 1)
+            }
+        };
+        let [a0, a1, a2] = self.axes;
+        let (s0, n0) = around(a0);
+        let (s1, n1) = around(a1);
+        let (s2, n2) = around(a2);
+        for &p in &s0[..n0] {
+            for &q in &s1[..n1] {
+                for &r in &s2[..n2] {
+                    let mut cc = [0usize; 3];
+                    cc[a0] = p;
+                    cc[a1] = q;
+                    cc[a2] = r;
+                    let k = self.index(cc);
+                    let (a, b) = (self.start[k] as usize, self.start[k + 1] as usize);
+                    for &j in &self.items[a..b] {
+                        f(j);
+                    }
+                }
+            }
+        }
+    }
+}
+
 /// Serialise a [`CellGrid`] as its geometry only (origin, cell size, dimensions, axis
 /// order), for grids that are binned afresh before every read: they come back empty.
 pub mod geometry_only {
@@ -201,29 +282,32 @@ pub mod geometry_only {
     use crate::math::Real;
     use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-    type Geometry = ([Real; 3], Real, [usize; 3], [usize; 3]);
+    type Geometry = ([Real; 3], [Real; 3], [usize; 3], [usize; 3], Option<usize>);
 
     pub fn serialize<S: Serializer, const D: usize>(
         g: &CellGrid<D>,
         s: S,
     ) -> Result<S::Ok, S::Error> {
-        (g.origin, g.inv_cell, g.dims, g.axes).serialize(s)
+        (g.origin, g.inv_cell, g.dims, g.axes, g.wrap).serialize(s)
     }
 
     pub fn deserialize<'de, De: Deserializer<'de>, const D: usize>(
         d: De,
     ) -> Result<CellGrid<D>, De::Error> {
-        let (origin, inv_cell, dims, axes) = Geometry::deserialize(d)?;
+        let (origin, inv_cell, dims, axes, wrap) = Geometry::deserialize(d)?;
         Ok(CellGrid {
             origin,
             inv_cell,
             dims,
             axes,
+            wrap,
             ..Default::default()
         })
     }
 }
 
+/// Verlet lists of one chunk of particles: fine–fine, fine–wall and fine–coarse
+/// neighbours.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct ChunkList {
     /// `fine[off[k]..off[k+1]]` are the fine neighbours j > i of particle
@@ -266,7 +350,8 @@ pub struct NeighborLists {
 
 impl NeighborLists {
     /// Build the lists from binned grids. `fine_grid` must have been binned on `pos`,
-    /// `wall_grid` on `wall_pos`.
+    /// `wall_grid` on `wall_pos`; `sep` gives the pair separations (minimum images
+    /// across a periodic seam).
     pub fn build<const D: usize>(
         &mut self,
         pos: &[Vect<D>],
@@ -274,6 +359,7 @@ impl NeighborLists {
         walls: Binned<'_, D>,
         coarse: Binned<'_, D>,
         radius: Real,
+        sep: &impl Separation,
     ) {
         let (wall_pos, wall_grid) = (walls.pos, walls.grid);
         let (coarse_pos, coarse_grid) = (coarse.pos, coarse.grid);
@@ -301,14 +387,14 @@ impl NeighborLists {
                 headroom(&mut cl.wall);
                 headroom(&mut cl.coarse);
                 fine_grid.for_each_near_forward(&xi, |j| {
-                    if j as usize > i && (xi - pos[j as usize]).norm_squared() < r2 {
+                    if j as usize > i && sep.of(xi - pos[j as usize]).norm_squared() < r2 {
                         cl.fine.push(j);
                     }
                 });
                 cl.off.push(cl.fine.len() as u32);
                 if !wall_pos.is_empty() {
                     wall_grid.for_each_near(&xi, |w| {
-                        if (xi - wall_pos[w as usize]).norm_squared() < r2 {
+                        if sep.of(xi - wall_pos[w as usize]).norm_squared() < r2 {
                             cl.wall.push(w);
                         }
                     });
@@ -316,7 +402,7 @@ impl NeighborLists {
                 cl.woff.push(cl.wall.len() as u32);
                 if !coarse_pos.is_empty() {
                     coarse_grid.for_each_near(&xi, |w| {
-                        if (xi - coarse_pos[w as usize]).norm_squared() < r2 {
+                        if sep.of(xi - coarse_pos[w as usize]).norm_squared() < r2 {
                             cl.coarse.push(w);
                         }
                     });
@@ -396,6 +482,7 @@ mod tests {
                 grid: &gc,
             },
             r,
+            &crate::periodic::Open,
         );
         assert_eq!(nl.slabs.len(), g.slab_count() + 1);
         assert_eq!(*nl.slabs.last().unwrap() as usize, pos.len());
@@ -417,6 +504,72 @@ mod tests {
             let wantw = walls.iter().filter(|w| (pos[i] - **w).norm() < r).count() as u32;
             assert_eq!(gotw, wantw);
         }
+    }
+
+    /// Across a periodic seam the lists hold the minimum-image pairs, each once, and a
+    /// neighbour still lies in its particle's slab or the next.
+    #[test]
+    fn periodic_lists_match_brute_force_minimum_image() {
+        use crate::periodic::{Period, Separation, Wrap};
+        let mut s = 777u64;
+        let mut rnd = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        // periodic along x (the longest axis, so the slab axis must become y)
+        let wrap: Wrap = Some(Period {
+            axis: 0,
+            lo: 0.0,
+            len: 1.0,
+        });
+        let mut pos: Vec<Vect<2>> = (0..900)
+            .map(|_| Vect::<2>::new(rnd() * 1.02 - 0.01, rnd() * 0.6))
+            .collect();
+        let walls: Vec<Vect<2>> = (0..40)
+            .map(|k| Vect::<2>::new(0.0125 + k as f64 / 40.0, -0.02))
+            .collect();
+        let r = 0.13;
+        let (lo, hi) = (Vect::<2>::new(-0.2, -0.1), Vect::<2>::new(1.2, 0.7));
+        let mut g = CellGrid::periodic(&lo, &hi, r, wrap);
+        assert_eq!(g.axes, [1, 2, 0]);
+        assert_eq!(g.dims[0], 7);
+        g.bin(&pos);
+        pos = g.order().iter().map(|&i| pos[i as usize]).collect();
+        g.bin(&pos);
+        let mut gw = CellGrid::periodic(&lo, &hi, r, wrap);
+        gw.bin(&walls);
+        let gc = CellGrid::periodic(&lo, &hi, r, wrap);
+        let mut nl = NeighborLists::default();
+        let binned = |p, g| Binned { pos: p, grid: g };
+        nl.build(&pos, &g, binned(&walls, &gw), binned(&[], &gc), r, &wrap);
+        let slab = |i: usize| nl.slabs.partition_point(|&b| b as usize <= i) - 1;
+        let mut across = 0;
+        for i in 0..pos.len() {
+            let (cl, k) = (&nl.chunks[i / CHUNK], i % CHUNK);
+            let mut got: Vec<u32> = nl.fine_of(i).to_vec();
+            got.sort();
+            let want: Vec<u32> = (i as u32 + 1..pos.len() as u32)
+                .filter(|&j| wrap.of(pos[i] - pos[j as usize]).norm() < r)
+                .collect();
+            assert_eq!(got, want, "particle {i}");
+            across += want
+                .iter()
+                .filter(|&&j| (pos[i] - pos[j as usize]).norm() >= r)
+                .count();
+            for &j in &got {
+                let (si, sj) = (slab(i), slab(j as usize));
+                assert!(sj == si || sj == si + 1, "pair {i}-{j} in slabs {si}, {sj}");
+            }
+            let gotw = cl.woff[k + 1] - cl.woff[k];
+            let wantw = walls
+                .iter()
+                .filter(|w| wrap.of(pos[i] - **w).norm() < r)
+                .count();
+            assert_eq!(gotw as usize, wantw);
+        }
+        assert!(across > 50, "only {across} pairs across the seam");
     }
 
     #[test]

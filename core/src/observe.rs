@@ -135,6 +135,7 @@ pub fn probe<const D: usize>(
         velocity: vel,
         support: n,
         water_pressure: None,
+        water_velocity: None,
     }
 }
 

@@ -8,6 +8,7 @@
 //! the pairs within the cut-off, so the sweep's loop has no distance test either.
 
 use crate::math::{Real, Vect};
+use crate::periodic::Separation;
 
 /// Neighbours taken per block (a particle's half list holds about 12 in 2D and 50 in
 /// 3D).
@@ -51,13 +52,20 @@ impl<const D: usize> Default for PairBlock<D> {
 
 impl<const D: usize> PairBlock<D> {
     /// Take the pairs of `xi` with the particles `js` (at most [`BLOCK`]) closer than
-    /// √`cut2`; `reg` is the 0.01h² of Eq. (25).
+    /// √`cut2`, separated as `sep` has it (minimum images across a periodic seam);
+    /// `reg` is the 0.01h² of Eq. (25).
     #[inline(always)]
-    pub fn fill(&mut self, xi: &Vect<D>, js: &[u32], pos: &[Vect<D>], cut2: Real, reg: Real) {
+    pub fn fill(
+        &mut self,
+        (xi, js, pos): (&Vect<D>, &[u32], &[Vect<D>]),
+        cut2: Real,
+        reg: Real,
+        sep: &impl Separation,
+    ) {
         debug_assert!(js.len() <= BLOCK);
         let mut n = 0;
         for &j in js.iter().take(BLOCK) {
-            let rij = xi - pos[j as usize];
+            let rij = sep.of(xi - pos[j as usize]);
             let r2 = rij.norm_squared();
             // written always, kept when within the cut-off (no branch to mispredict)
             self.j[n] = j;
@@ -103,7 +111,7 @@ mod tests {
         let js: Vec<u32> = (1..33).collect();
         let mut b = PairBlock::<2>::default();
         let reg = 1e-4;
-        b.fill(&pos[0], &js, &pos, 1.0, reg);
+        b.fill((&pos[0], &js, &pos), 1.0, reg, &crate::periodic::Open);
         let got: Vec<Pair<2>> = b.pairs(reg).collect();
         // r = 0.1 k < 1 for k = 1..9
         assert_eq!(

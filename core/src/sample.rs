@@ -17,6 +17,10 @@ pub struct ProbeValue {
     /// within the kernel support.
     #[serde(default)]
     pub water_pressure: Option<Real>,
+    /// Kernel-weighted (Shepard) water velocity at the point (m/s); None without water
+    /// within the kernel support.
+    #[serde(default)]
+    pub water_velocity: Option<[Real; 3]>,
 }
 
 /// Barrier load over a sampling interval.

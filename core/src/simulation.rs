@@ -163,9 +163,13 @@ impl<const D: usize> Simulation<D> {
             .map(|p| {
                 let mut v = observe::probe(&w.fine, &self.stepper.kernel, &p.position);
                 if let Some(m) = &w.water_material {
-                    v.water_pressure = w.water.shepard(&self.stepper.kernel, &p.position, |i| {
-                        m.pressure(w.water.rho[i])
-                    });
+                    let (water, kernel, at) = (&w.water, &self.stepper.kernel, &p.position);
+                    let pressure = |i: usize| m.pressure(water.rho[i]);
+                    v.water_pressure = water.shepard(kernel, at, (pressure, 0.0), &w.periodic);
+                    let vel = |i: usize| water.vel[i];
+                    v.water_velocity = water
+                        .shepard(kernel, at, (vel, Vect::<D>::zeros()), &w.periodic)
+                        .map(|u| std::array::from_fn(|k| if k < D { u[k] } else { 0.0 }));
                 }
                 (p.name.clone(), v)
             })
@@ -226,7 +230,7 @@ impl<const D: usize> Simulation<D> {
                 WaterSample {
                     particles: wp.len(),
                     kinetic_energy: wp.kinetic_energy(),
-                    potential_energy: wp.potential_energy(&w.gravity),
+                    potential_energy: wp.potential_energy(&w.hydrostatic_gravity()),
                     front: wp.front(),
                     max_speed: wp.max_speed(),
                     momentum: to3(&wp.momentum()).into(),

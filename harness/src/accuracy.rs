@@ -142,6 +142,24 @@ fn series() -> Vec<Series> {
         });
     }
     v.push(Series {
+        case: "poiseuille_2d",
+        scheme: "water",
+        scene: "poiseuille_2d.toml",
+        levels: [20, 40, 80]
+            .iter()
+            .map(|n| {
+                (
+                    format!("H/{n}"),
+                    vec![format!("simulation.dp={}", 0.1 / *n as f64)],
+                )
+            })
+            .collect(),
+        common: vec![],
+        metric: Metric::Poiseuille(crate::metric::PoiseuilleRef::SEED_001),
+        note:
+            "seed 001 §2.1: centreline velocity against Morris et al. (1997), t = 5, 10, 20, 80 s",
+    });
+    v.push(Series {
         case: "rubber_rings",
         scheme: "multi-rate, elastic",
         scene: "rubber_rings.toml",

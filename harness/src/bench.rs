@@ -215,6 +215,16 @@ fn cases() -> Vec<Case> {
         note: "surge front against Martin & Moyce (1952) n² = 2, T ≤ 3 (largest error)",
     });
     v.push(Case {
+        name: "poiseuille_2d".into(),
+        scene: "poiseuille_2d.toml",
+        levels: vec![("H/40".into(), vec![])],
+        common: vec![],
+        metric: Metric::Poiseuille(crate::metric::PoiseuilleRef::SEED_001),
+        tolerance: Some(0.02),
+        note:
+            "seed 001 §2.1: centreline velocity against Morris et al. (1997), t = 5, 10, 20, 80 s",
+    });
+    v.push(Case {
         name: "speed_water_2d".into(),
         scene: "dam_break_2d.toml",
         levels: vec![("a/40".into(), vec![])],

@@ -33,6 +33,61 @@ pub(crate) enum Metric {
     /// Z = x/a against Martin & Moyce (1952) Table 2 (n² = 2) for T = t √(2g/a) ≤ 3;
     /// reference 0.
     DamFront(f64),
+    /// Poiseuille flow (seed 001 §2.1): the largest relative error of the water velocity
+    /// at the probe `centre` (y = H/2) against the series solution at t = 5, 10, 20 s
+    /// and the end; reference 0.
+    Poiseuille(PoiseuilleRef),
+}
+
+/// Plates H apart, body acceleration a, kinematic viscosity ν (seed 001 §2.1).
+#[derive(Clone, Copy)]
+pub(crate) struct PoiseuilleRef {
+    pub(crate) accel: f64,
+    pub(crate) height: f64,
+    pub(crate) nu: f64,
+}
+
+impl PoiseuilleRef {
+    /// Seed 001 §2.1: a = 1e-4 m/s², H = 0.1 m, ν = 1e-4 m²/s.
+    pub(crate) const SEED_001: PoiseuilleRef = PoiseuilleRef {
+        accel: 1e-4,
+        height: 0.1,
+        nu: 1e-4,
+    };
+
+    /// u(y, t), seed 001 Eq. (28) (Morris, Fox & Zhu 1997).
+    pub(crate) fn velocity(&self, y: f64, t: f64) -> f64 {
+        let (a, h, nu, pi) = (self.accel, self.height, self.nu, std::f64::consts::PI);
+        let mut u = a / (2.0 * nu) * y * (h - y);
+        for n in 0..200 {
+            let k = (2 * n + 1) as f64;
+            u -= 4.0 * a * h * h / (nu * pi.powi(3) * k.powi(3))
+                * (pi * y * k / h).sin()
+                * (-k * k * pi * pi * nu * t / (h * h)).exp();
+        }
+        u
+    }
+
+    /// Largest relative error of the probe `centre`'s water velocity against
+    /// [`velocity`](Self::velocity) at y = H/2, at t = 5, 10, 20 s and the last sample.
+    pub(crate) fn error(&self, samples: &[granmix_core::simulation::Sample]) -> Option<f64> {
+        let end = samples.last()?.time;
+        let mut worst: Option<f64> = None;
+        for t in [5.0, 10.0, 20.0, end].into_iter().filter(|&t| t <= end) {
+            let s = samples
+                .iter()
+                .min_by(|a, b| (a.time - t).abs().total_cmp(&(b.time - t).abs()))?;
+            let u = s
+                .probes
+                .iter()
+                .find(|p| p.0 == "centre")?
+                .1
+                .water_velocity?[0];
+            let want = self.velocity(0.5 * self.height, s.time);
+            worst = Some(worst.unwrap_or(0.0).max((u - want).abs() / want));
+        }
+        worst
+    }
 }
 
 /// Martin & Moyce (1952) Table 2, n² = 2, a = 2.25 in: T = t √(2g/a) and Z = x/a.
@@ -155,6 +210,7 @@ impl Metric {
                 Some(r),
             ),
             Metric::DamFront(a) => (dam_front_error(&rep.samples, a), Some(0.0)),
+            Metric::Poiseuille(r) => (r.error(&rep.samples), Some(0.0)),
             Metric::EarthPressure(r) => {
                 let unit = 0.5 * r.density * 9.81 * r.height * r.height;
                 (

@@ -88,6 +88,9 @@ pub fn header(
         }
         if water {
             h.push(format!("{p}.water_pressure"));
+            for a in AX.iter().take(dim) {
+                h.push(format!("{p}.water_velocity.{a}"));
+            }
         }
     }
     for b in bodies {
@@ -177,6 +180,7 @@ pub fn row(dim: usize, s: &Sample) -> Vec<f64> {
         if s.water.is_some() {
             // gauge pressure: 0 where no water reaches the probe
             r.push(p.water_pressure.unwrap_or(0.0));
+            r.extend_from_slice(&p.water_velocity.unwrap_or_default()[..dim]);
         }
     }
     for b in &s.bodies {

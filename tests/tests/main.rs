@@ -24,3 +24,4 @@ mod validation_incline;
 mod validation_rings;
 mod validation_srm;
 mod water;
+mod water_channel;

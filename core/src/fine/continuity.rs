@@ -28,6 +28,7 @@ use crate::kernel::WendlandC2;
 use crate::math::{sub_outer, Real, Sym, Vect};
 use crate::neighbors::NeighborLists;
 use crate::pair_block::{Pair, PairBlock, BLOCK};
+use crate::periodic::Open;
 use crate::riemann::pair_reciprocals;
 use crate::scene::ContinuityJump;
 use crate::slabs::two_phase;
@@ -254,7 +255,7 @@ pub fn pair_pass<const D: usize>(
                 let (xi, vi, vol_i) = (pos[i], vel[i], si.vol);
                 let mut own = ContinuitySums::<D>::zero();
                 for js in lists.fine_of(i).chunks(BLOCK) {
-                    block.fill(&xi, js, pos, cut2, 0.0);
+                    block.fill((&xi, js, pos), cut2, 0.0, &Open);
                     for Pair {
                         j, rij, r, inv_r, ..
                     } in block.pairs(0.0)

@@ -25,6 +25,7 @@ use crate::kernel::WendlandC2;
 use crate::math::{Real, Sym, Vect};
 use crate::neighbors::NeighborLists;
 use crate::pair_block::{Pair, PairBlock, BLOCK};
+use crate::periodic::Open;
 use crate::riemann::{pair_reciprocals, Riemann, Side};
 use crate::slabs::two_phase;
 use nalgebra::SVector;
@@ -132,7 +133,7 @@ pub fn pair_pass<const D: usize>(
                 let li = &vel_grad[i];
                 let mut own = PairSums::<D>::zero();
                 for js in lists.fine_of(i).chunks(BLOCK) {
-                    block.fill(&xi, js, pos, cut2, jump.reg);
+                    block.fill((&xi, js, pos), cut2, jump.reg, &Open);
                     for Pair {
                         j,
                         rij,

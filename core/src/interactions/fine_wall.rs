@@ -14,6 +14,7 @@ use crate::fine::material::FineMaterial;
 use crate::fine::source::Source;
 use crate::kernel::WendlandC2;
 use crate::math::{sub_outer, Real, Vect};
+use crate::periodic::{Open, Separation};
 use crate::riemann::Riemann;
 use crate::scene::WallStress;
 use crate::walls::Walls;
@@ -39,11 +40,12 @@ pub fn normal<const D: usize>(
     walls: &Walls<D>,
     xi: &Vect<D>,
     wl: &[u32],
+    sep: &impl Separation,
 ) -> Vect<D> {
     let cut2 = kernel.cutoff * kernel.cutoff;
     let mut phi = Vect::<D>::zeros();
     for &w in wl {
-        let rij = xi - walls.pos[w as usize];
+        let rij = sep.of(xi - walls.pos[w as usize]);
         let r2 = rij.norm_squared();
         if r2 >= cut2 || r2 == 0.0 {
             continue;
@@ -95,7 +97,7 @@ impl<'a, const D: usize> FineAtWall<'a, D> {
         src: &'a Source,
         wl: &[u32],
     ) -> Self {
-        let n = normal(&law.kernel, walls, &pos, wl);
+        let n = normal(&law.kernel, walls, &pos, wl, &Open);
         FineAtWall {
             pos,
             vel,

@@ -137,6 +137,7 @@ fn cloud<const D: usize>(side: usize, two_soils: bool) -> Cloud<D> {
             grid: &empty,
         },
         radius,
+        &crate::periodic::Open,
     );
     Cloud {
         p,

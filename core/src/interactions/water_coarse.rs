@@ -40,7 +40,7 @@ pub fn momentum<const D: usize>(
     b: &Corr<D>,
     no_slip: bool,
 ) -> Option<Vect<D>> {
-    let (rij, r, dw) = boundary_pair(&prm.kernel, xi, &c.pos)?;
+    let (rij, r, dw) = boundary_pair(prm, xi, &c.pos)?;
     let e = rij * (1.0 / r);
     let n = mirror(c, &e);
     // U_L − U_R = 2 (U_L − u_c) along n
@@ -48,10 +48,11 @@ pub fn momentum<const D: usize>(
     // the body's own acceleration enters the extrapolation (Adami et al. 2012):
     // ρ_i (g − a_c)·(x_c − x_i)
     let pc = wall_pressure(p, rho * (prm.gravity - c.acc).dot(&(-rij)));
-    let mut t = b * e * (-p_star(prm, p, pc, du) * dw);
+    let be = b * e;
+    let mut t = be * (-p_star(prm, p, pc, du) * dw);
     if no_slip {
-        let reg = 0.01 * prm.kernel.h * prm.kernel.h;
-        t += (vi - c.vel) * (2.0 * prm.mu * r * dw / (r * r + reg));
+        // Morris' term with the corrected gradient, as between water particles
+        t += (vi - c.vel) * (2.0 * prm.mu * dw / r * e.dot(&be));
     }
     Some(t * c.vol)
 }
@@ -65,7 +66,7 @@ pub fn continuity<const D: usize>(
     xi: &Vect<D>,
     vi: &Vect<D>,
 ) -> Real {
-    let Some((rij, r, dw)) = boundary_pair(&prm.kernel, xi, &c.pos) else {
+    let Some((rij, r, dw)) = boundary_pair(prm, xi, &c.pos) else {
         return 0.0;
     };
     let e = rij * (1.0 / r);
@@ -76,7 +77,7 @@ pub fn continuity<const D: usize>(
 /// Coarse particle `c`'s share of M_i ([`correction`]) for water particle i at `xi`.
 #[inline(always)]
 pub fn moment<const D: usize>(prm: &WaterParams<D>, c: &CoarseSource<D>, xi: &Vect<D>) -> Corr<D> {
-    match boundary_pair(&prm.kernel, xi, &c.pos) {
+    match boundary_pair(prm, xi, &c.pos) {
         Some((rij, r, dw)) => correction::share(&(rij / r), r, dw, c.vol),
         None => Corr::<D>::zeros(),
     }

@@ -47,7 +47,7 @@ pub fn correction_sweep<const D: usize>(
         return;
     }
     corr.par_iter_mut().for_each(|b| *b = Corr::<D>::zeros());
-    correction::pair_pass(w, |i| src[i].vol, lists, &prm.kernel, corr);
+    correction::pair_pass(w, |i| src[i].vol, lists, (&prm.kernel, &prm.wrap), corr);
     lists
         .chunks
         .par_iter()

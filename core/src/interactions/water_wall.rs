@@ -18,8 +18,8 @@
 //! Adami, Hu & Adams (2012) balances it.
 
 use super::fine_wall::normal;
-use crate::kernel::WendlandC2;
 use crate::math::{Real, Vect};
+use crate::periodic::Separation;
 use crate::walls::Walls;
 use crate::water::correction::{self, Corr};
 use crate::water::momentum::{p_star, WaterParams};
@@ -55,7 +55,7 @@ impl<const D: usize> WaterAtWall<D> {
             vel,
             rho,
             p,
-            n: normal(&prm.kernel, walls, &pos, wl),
+            n: normal(&prm.kernel, walls, &pos, wl, &prm.wrap),
             no_slip,
             corr,
         }
@@ -65,33 +65,36 @@ impl<const D: usize> WaterAtWall<D> {
     /// (32)–(35) and the no-slip viscous term (None outside the kernel).
     #[inline(always)]
     pub fn momentum(&self, prm: &WaterParams<D>, walls: &Walls<D>, w: usize) -> Option<Vect<D>> {
-        let (rij, r, dw) = boundary_pair(&prm.kernel, &self.pos, &walls.pos[w])?;
+        let (rij, r, dw) = boundary_pair(prm, &self.pos, &walls.pos[w])?;
         let e = rij * (1.0 / r);
         let vw = walls.velocity(w);
         // Eq. (34): U_L − U_R = 2 (U_L − u_w) along n
         let du = 2.0 * self.n.dot(&(vw - self.vel));
         // Eq. (35) without its clip at zero: P_w = P_i + ρ_i g·(x_w − x_i), the
         // hydrostatic extrapolation of Adami et al. (2012), not below zero upwards
-        let pw = wall_pressure(self.p, self.rho * prm.gravity.dot(&(-rij)));
+        let pw = wall_pressure(self.p, self.rho * prm.hydrostatic.dot(&(-rij)));
         let ps = p_star(prm, self.p, pw, du);
-        let mut t = self.corr * e * (-ps * dw);
+        let be = self.corr * e;
+        let mut t = be * (-ps * dw);
         if self.no_slip {
-            let reg = 0.01 * prm.kernel.h * prm.kernel.h;
-            t += (self.vel - vw) * (2.0 * prm.mu * r * dw / (r * r + reg));
+            // Morris' term with the corrected gradient, as between water particles
+            t += (self.vel - vw) * (2.0 * prm.mu * dw / r * e.dot(&be));
         }
         Some(t * walls.volume)
     }
 }
 
-/// A water particle at `xi` and a boundary particle (wall or coarse) at `xj`: x_i − x_j,
-/// r and ∂W/∂r, or None outside the kernel (and at r = 0).
+/// A water particle at `xi` and a boundary particle (wall or coarse) at `xj`: x_i − x_j
+/// (its minimum image across a periodic seam), r and ∂W/∂r, or None outside the
+/// kernel (and at r = 0).
 #[inline(always)]
 pub fn boundary_pair<const D: usize>(
-    kernel: &WendlandC2,
+    prm: &WaterParams<D>,
     xi: &Vect<D>,
     xj: &Vect<D>,
 ) -> Option<(Vect<D>, Real, Real)> {
-    let rij = xi - xj;
+    let kernel = &prm.kernel;
+    let rij = prm.wrap.of(xi - xj);
     let r2 = rij.norm_squared();
     if r2 >= kernel.cutoff * kernel.cutoff || r2 == 0.0 {
         return None;
@@ -125,7 +128,7 @@ pub fn continuity<const D: usize>(
     vi: &Vect<D>,
     w: usize,
 ) -> Real {
-    let Some((rij, r, dw)) = boundary_pair(&prm.kernel, xi, &walls.pos[w]) else {
+    let Some((rij, r, dw)) = boundary_pair(prm, xi, &walls.pos[w]) else {
         return 0.0;
     };
     2.0 * (vi - walls.velocity(w)).dot(&rij) / r * dw * walls.volume
@@ -140,7 +143,7 @@ pub fn moment<const D: usize>(
     xi: &Vect<D>,
     w: usize,
 ) -> Corr<D> {
-    match boundary_pair(&prm.kernel, xi, &walls.pos[w]) {
+    match boundary_pair(prm, xi, &walls.pos[w]) {
         Some((rij, r, dw)) => correction::share(&(rij / r), r, dw, walls.volume),
         None => Corr::<D>::zeros(),
     }

@@ -2,6 +2,7 @@
 //! files its shapes name is [`input`](crate::input)'s work.
 
 mod error;
+mod periodic_check;
 mod text;
 mod types;
 mod validate;
@@ -14,9 +15,10 @@ pub use types::*;
 pub use validate::{unknown_solid, validate_shape};
 
 /// Semantic checks on a deserialised scene: the grains, walls and probes, then the
-/// water. Errors carry the key path.
+/// water, then a periodic axis. Errors carry the key path.
 pub fn validate(s: &Scene) -> Result<(), KeyError> {
     validate::validate_grains(s)?;
-    water_check::validate_water(s)
+    water_check::validate_water(s)?;
+    periodic_check::validate_periodic(s)
 }
 pub use water::*;

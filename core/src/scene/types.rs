@@ -97,6 +97,22 @@ pub struct SimulationSpec {
     /// before any particle is built. 0 (default): 80 % of the machine's available memory.
     #[serde(default)]
     pub memory_budget: f64,
+    /// A periodic axis: the domain repeats between `min` and `max` along it (water
+    /// scenes, e.g. channel flow between plates). Off by default.
+    #[serde(default)]
+    pub periodic: Option<PeriodicSpec>,
+}
+
+/// `simulation.periodic`: the periodic axis and the period's two planes.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PeriodicSpec {
+    /// `"x"`, `"y"` or (3D) `"z"`.
+    pub axis: String,
+    /// The planes bounding one period along the axis (m); max − min is a whole number
+    /// of dp.
+    pub min: f64,
+    pub max: f64,
 }
 
 impl SimulationSpec {

@@ -52,6 +52,7 @@ impl<const D: usize> Stepper<D> {
             self.walls.binned(&world.walls),
             self.coarse_bins.binned(),
             radius,
+            &crate::periodic::Open,
         );
         self.reactions
             .resize_with(self.lists.chunks.len(), Vec::new);

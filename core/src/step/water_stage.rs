@@ -68,10 +68,11 @@ impl<const D: usize> WaterStepper<D> {
     /// Lists with cells of `cell` over the world's domain and Verlet skin `skin`.
     pub fn new(world: &World<D>, cell: Real, skin: Real) -> Self {
         let (lo, hi) = &world.domain;
+        let grid = || CellGrid::periodic(lo, hi, cell, world.periodic);
         WaterStepper {
-            grid: CellGrid::new(lo, hi, cell),
-            walls: WallBins::new(CellGrid::new(lo, hi, cell)),
-            coarse_bins: CoarseBins::new(CellGrid::new(lo, hi, cell)),
+            grid: grid(),
+            walls: WallBins::new(grid()),
+            coarse_bins: CoarseBins::new(grid()),
             lists: NeighborLists::default(),
             at_build: PositionMarks::default(),
             max_disp: Real::INFINITY,
@@ -155,6 +156,9 @@ impl<const D: usize> WaterStepper<D> {
 
     fn rebuild(&mut self, world: &mut World<D>, csrc: &[CoarseSource<D>]) {
         let w = &mut world.water;
+        if let Some(p) = world.periodic {
+            w.pos.par_iter_mut().for_each(|x| p.wrap_point(x));
+        }
         self.grid.bin(&w.pos);
         self.order.clear();
         self.order.extend_from_slice(self.grid.order());
@@ -169,6 +173,7 @@ impl<const D: usize> WaterStepper<D> {
             self.walls.binned(&world.walls),
             self.coarse_bins.binned(),
             self.radius,
+            &world.periodic,
         );
         self.reactions
             .resize_with(self.lists.chunks.len(), Vec::new);
@@ -196,6 +201,8 @@ impl<const D: usize> WaterStepper<D> {
         let prm = WaterParams {
             kernel,
             gravity: world.gravity,
+            hydrostatic: world.hydrostatic_gravity(),
+            wrap: world.periodic,
             dt,
             z: mat.impedance(),
             inv_c: 1.0 / mat.c0,

@@ -31,7 +31,7 @@ pub fn pair_pass<const D: usize>(
     let (pos, vel, src) = (&w.pos[..n], &w.vel[..n], &src[..n]);
     let inv_z = 1.0 / prm.z;
     // the hydrostatic gradient ρ̄ g is taken out of the jump
-    let hyd: Vect<D> = prm.gravity;
+    let hyd: Vect<D> = prm.hydrostatic;
     let slabs = &lists.slabs;
     two_phase(
         slabs,
@@ -43,7 +43,7 @@ pub fn pair_pass<const D: usize>(
                 let mut own = 0.0;
 
                 for js in lists.fine_of(i).chunks(BLOCK) {
-                    block.fill(&xi, js, pos, cut2, 0.0);
+                    block.fill((&xi, js, pos), cut2, 0.0, &prm.wrap);
                     for Pair {
                         j, rij, r, inv_r, ..
                     } in block.pairs(0.0)

@@ -21,6 +21,7 @@ use crate::kernel::WendlandC2;
 use crate::math::{Real, Vect};
 use crate::neighbors::NeighborLists;
 use crate::pair_block::{Pair, PairBlock, BLOCK};
+use crate::periodic::Wrap;
 use crate::slabs::two_phase;
 use nalgebra::SMatrix;
 
@@ -38,7 +39,7 @@ pub fn pair_pass<const D: usize>(
     w: &WaterParticles<D>,
     vol: impl Fn(usize) -> Real + Sync,
     lists: &NeighborLists,
-    kernel: &WendlandC2,
+    (kernel, wrap): (&WendlandC2, &Wrap),
     m: &mut [Corr<D>],
 ) {
     let cut2 = kernel.cutoff * kernel.cutoff;
@@ -51,7 +52,7 @@ pub fn pair_pass<const D: usize>(
             let (xi, vi) = (pos[i], vol(i));
             let mut own = Corr::<D>::zeros();
             for js in lists.fine_of(i).chunks(BLOCK) {
-                block.fill(&xi, js, pos, cut2, 0.0);
+                block.fill((&xi, js, pos), cut2, 0.0, wrap);
                 for Pair {
                     j, rij, r, inv_r, ..
                 } in block.pairs(0.0)

@@ -20,6 +20,7 @@ use crate::kernel::WendlandC2;
 use crate::math::{Real, Vect};
 use crate::neighbors::NeighborLists;
 use crate::pair_block::{Pair, PairBlock, BLOCK};
+use crate::periodic::Wrap;
 use crate::slabs::two_phase;
 
 /// Constants of the water sweeps for one step.
@@ -27,6 +28,12 @@ use crate::slabs::two_phase;
 pub struct WaterParams<const D: usize> {
     pub kernel: WendlandC2,
     pub gravity: Vect<D>,
+    /// The gravity of the hydrostatic state: g without its component along a
+    /// periodic axis, where no hydrostatic gradient can build (a body force there
+    /// drives a flow, seed 001 §2.1).
+    pub hydrostatic: Vect<D>,
+    /// The periodic axis, if any: pairs across it take the minimum image.
+    pub wrap: Wrap,
     pub dt: Real,
     /// Acoustic impedance ρ_w c0.
     pub z: Real,
@@ -83,7 +90,10 @@ pub fn pair_pass<const D: usize>(
     sums: &mut [WaterSums<D>],
 ) {
     let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
-    let reg = 0.01 * prm.kernel.h * prm.kernel.h;
+    // Morris' 0.01h² guards 1/r² at r → 0; the Wendland kernel's ∂W/∂r/r stays finite
+    // there, and the guard would cut the viscous stress by about 1 % at any resolution
+    // (Poiseuille flow, docs/method.md §Water)
+    let reg = 0.0;
     let n = w.len();
     let (pos, vel, src, corr) = (&w.pos[..n], &w.vel[..n], &src[..n], &corr[..n]);
     let slabs = &lists.slabs;
@@ -96,7 +106,7 @@ pub fn pair_pass<const D: usize>(
                 let (xi, vi, si) = (pos[i], vel[i], src[i]);
                 let mut own = Vect::<D>::zeros();
                 for js in lists.fine_of(i).chunks(BLOCK) {
-                    block.fill(&xi, js, pos, cut2, reg);
+                    block.fill((&xi, js, pos), cut2, reg, &prm.wrap);
                     for Pair {
                         j,
                         rij,
@@ -112,7 +122,9 @@ pub fn pair_pass<const D: usize>(
                         // U_L − U_R = −v_i·e + v_j·e
                         let ps = p_star(prm, si.p, sj.p, -vij.dot(&e));
                         let be = (corr[i] + corr[j]) * (e * 0.5);
-                        let t = be * (-ps * dw) + vij * (prm.mu * r * r * dw * inv);
+                        // Morris' x_ij·∇W with the corrected gradient: r ∂W/∂r e·B̄e
+                        let visc = prm.mu * r * r * dw * inv * e.dot(&be);
+                        let t = be * (-ps * dw) + vij * visc;
                         own += t * sj.vol;
                         win[j - base].acc -= t * si.vol;
                     }

@@ -1,6 +1,7 @@
 //! Water particle state: structure of arrays.
 
 use crate::math::{Real, Vect};
+use crate::periodic::Separation;
 use crate::permute::{cycle_apply, PermuteScratch};
 
 /// The water particles (updated Lagrangian, position Verlet like the fine grains).
@@ -82,23 +83,27 @@ impl<const D: usize> WaterParticles<D> {
     }
 
     /// The kernel-weighted (Shepard) average of `value` over the particles within the
-    /// support of `kernel` around `at`, or None if there are none.
-    pub fn shepard(
+    /// support of `kernel` around `at` (`zero` its zero), or None if there are none.
+    pub fn shepard<T>(
         &self,
         kernel: &crate::kernel::WendlandC2,
         at: &Vect<D>,
-        value: impl Fn(usize) -> Real,
-    ) -> Option<Real> {
-        let (mut wsum, mut sum) = (0.0, 0.0);
+        (value, zero): (impl Fn(usize) -> T, T),
+        sep: &impl Separation,
+    ) -> Option<T>
+    where
+        T: std::ops::AddAssign + std::ops::Mul<Real, Output = T>,
+    {
+        let (mut wsum, mut sum) = (0.0, zero);
         for i in 0..self.len() {
-            let r = (self.pos[i] - at).norm();
+            let r = sep.of(self.pos[i] - at).norm();
             if r < kernel.cutoff {
                 let w = kernel.w(r) * self.mass[i] / self.rho[i];
                 wsum += w;
-                sum += w * value(i);
+                sum += value(i) * w;
             }
         }
-        (wsum > 0.0).then(|| sum / wsum)
+        (wsum > 0.0).then(|| sum * (1.0 / wsum))
     }
 
     /// Σ ½ m v².

@@ -5,6 +5,7 @@ use super::v;
 use crate::build_error::BuildError;
 use crate::geometry::Shape;
 use crate::math::{Real, Vect};
+use crate::periodic::Wrap;
 use crate::scene::{ContainerSpec, Scene, ShapeSpec};
 use crate::walls::{Barrier, WallObject, Walls};
 
@@ -14,6 +15,7 @@ pub(super) fn build<const D: usize>(
     scene: &Scene,
     dp: Real,
     vol: Real,
+    periodic: Wrap,
 ) -> Result<Walls<D>, BuildError> {
     let layers = scene.numerics.wall_layers;
     let mut walls = Walls::<D> {
@@ -65,14 +67,21 @@ pub(super) fn build<const D: usize>(
         }
     }
     for c in &scene.containers {
-        container(&mut walls, c, layers as Real * dp, dp);
+        container(&mut walls, c, layers as Real * dp, dp, periodic);
     }
     crate::panels::split_scene_panels(&mut walls, scene);
     Ok(walls)
 }
 
-/// The closed faces of container `c` as boxes of wall particles `t` thick.
-fn container<const D: usize>(walls: &mut Walls<D>, c: &ContainerSpec, t: Real, dp: Real) {
+/// The closed faces of container `c` as boxes of wall particles `t` thick; along a
+/// periodic axis the faces are cut to the period, so that they join across the seam.
+fn container<const D: usize>(
+    walls: &mut Walls<D>,
+    c: &ContainerSpec,
+    t: Real,
+    dp: Real,
+    periodic: Wrap,
+) {
     let (lo, hi) = (v::<D>(&c.min), v::<D>(&c.max));
     let open: Vec<String> = c
         .open
@@ -97,6 +106,9 @@ fn container<const D: usize>(walls: &mut Walls<D>, c: &ContainerSpec, t: Real, d
             for b in 0..a {
                 fmin[b] = lo[b] - t;
                 fmax[b] = hi[b] + t;
+            }
+            if let Some(p) = periodic {
+                (fmin[p.axis], fmax[p.axis]) = (p.lo, p.lo + p.len);
             }
             let shape = Shape::<D>::Box {
                 min: fmin,

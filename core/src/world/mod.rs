@@ -7,6 +7,7 @@ use crate::coarse::build::Coarse;
 use crate::fine::material::FineMaterial;
 use crate::fine::state::FineParticles;
 use crate::math::{Real, Sym, Vect};
+use crate::periodic::{axis_index, Period, Wrap};
 use crate::resolution::Resolution;
 use crate::scene::Scene;
 use crate::walls::Walls;
@@ -61,6 +62,9 @@ pub struct World<const D: usize> {
     pub water_inflows: Vec<Inflow<D>>,
     #[serde(default)]
     pub water_outflows: Vec<Outflow<D>>,
+    /// The periodic axis, if any (`simulation.periodic`).
+    #[serde(default)]
+    pub periodic: Wrap,
 }
 
 fn v<const D: usize>(x: &[f64]) -> Vect<D> {
@@ -90,7 +94,12 @@ impl<const D: usize> World<D> {
             .map(FineMaterial::from_spec)
             .collect();
         let (mut fine, region_counts) = regions::fill(scene, &materials, &up, dp, vol)?;
-        let walls = boundaries::build(scene, dp, vol)?;
+        let periodic: Wrap = scene.simulation.periodic.as_ref().map(|p| Period {
+            axis: axis_index(&p.axis).unwrap_or(0),
+            lo: p.min,
+            len: p.max - p.min,
+        });
+        let walls = boundaries::build(scene, dp, vol, periodic)?;
         let coarse = Coarse::<D>::build(scene, &resolution)?;
 
         // Domain: everything, plus a margin for the flow to spread into.
@@ -105,7 +114,8 @@ impl<const D: usize> World<D> {
             lo = lo.inf(p);
             hi = hi.sup(p);
         }
-        let filled = water_fill::fill(scene, &up, (dp, vol), (lo, hi))?;
+        let g_hyd = hydrostatic(gravity, periodic);
+        let filled = water_fill::fill(scene, &g_hyd, (dp, vol), (lo, hi))?;
         let (water, water_material, water_counts, water_inflows, water_outflows) = match filled {
             Some(f) => (f.water, Some(f.material), f.counts, f.inflows, f.outflows),
             None => (
@@ -125,7 +135,27 @@ impl<const D: usize> World<D> {
             hi = hi.sup(&f.hi);
         }
         let margin = (hi - lo).max() * 0.1 + 8.0 * dp;
-        let domain = (lo.add_scalar(-margin), hi.add_scalar(margin));
+        let mut domain = (lo.add_scalar(-margin), hi.add_scalar(margin));
+        if let Some(p) = periodic {
+            // exactly one period along the axis; the water must lie within it
+            (domain.0[p.axis], domain.1[p.axis]) = (p.lo, p.lo + p.len);
+            if let Some(x) = water
+                .pos
+                .iter()
+                .find(|x| x[p.axis] < p.lo || x[p.axis] >= p.lo + p.len)
+            {
+                return Err(BuildError {
+                    path: "simulation.periodic".into(),
+                    message: format!(
+                        "a water particle at {:?} lies outside the period [{:?}, {:?}) \
+                         along its axis: keep [[water.regions]] within it",
+                        x.as_slice(),
+                        p.lo,
+                        p.lo + p.len
+                    ),
+                });
+            }
+        }
 
         let probes = scene
             .probes
@@ -154,13 +184,30 @@ impl<const D: usize> World<D> {
             water_counts,
             water_inflows,
             water_outflows,
+            periodic,
         })
+    }
+
+    /// The gravity of a hydrostatic state: g without its component along the periodic
+    /// axis, where a body force drives a flow and builds no pressure gradient (seed 001
+    /// §2.1). The water's hydrostatic start, wall pressure and potential energy use it.
+    pub fn hydrostatic_gravity(&self) -> Vect<D> {
+        hydrostatic(self.gravity, self.periodic)
     }
 
     /// Largest sound speed over fine materials.
     pub fn max_c0(&self) -> Real {
         self.materials.iter().map(|m| m.c0).fold(0.0, Real::max)
     }
+}
+
+/// `g` without its component along the periodic axis of `wrap`.
+fn hydrostatic<const D: usize>(g: Vect<D>, wrap: Wrap) -> Vect<D> {
+    let mut h = g;
+    if let Some(p) = wrap {
+        h[p.axis] = 0.0;
+    }
+    h
 }
 
 /// K0 (I − n n) + n n for the vertical unit vector n: the geostatic stress per unit

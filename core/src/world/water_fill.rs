@@ -22,19 +22,25 @@ pub(super) struct Filled<const D: usize> {
     pub outflows: Vec<Outflow<D>>,
 }
 
-/// Fill the water regions of `scene` at spacing `dp` (particle volume `vol`); `reach`
-/// is the box of everything else in the scene (walls, grains), which every inlet must
-/// meet. `None` without `[water]`.
+/// Fill the water regions of `scene` at spacing `dp` (particle volume `vol`) under the
+/// hydrostatic gravity `g` (the scene's, without its component along a periodic
+/// axis); `reach` is the box of everything else in the scene (walls, grains), which
+/// every inlet must meet. `None` without `[water]`.
 pub(super) fn fill<const D: usize>(
     scene: &Scene,
-    up: &Vect<D>,
+    g: &Vect<D>,
     (dp, vol): (Real, Real),
     reach: (Vect<D>, Vect<D>),
 ) -> Result<Option<Filled<D>>, BuildError> {
     let Some(spec) = &scene.water else {
         return Ok(None);
     };
-    let gnorm = v::<D>(&scene.simulation.gravity).norm();
+    let gnorm = g.norm();
+    let up = &if gnorm > 0.0 {
+        -g / gnorm
+    } else {
+        Vect::<D>::zeros()
+    };
     let solids = Solids::<D>::of(scene);
     // every region's lattice points, its top (along `up`) and velocity
     let mut regions = Vec::new();
