@@ -123,6 +123,18 @@ fn series() -> Vec<Series> {
         metric: Metric::WaterWallLoad(0.5 * 1000.0 * 9.81 * 0.25),
         note: "resting tank H = 0.5 m: side-wall load ½ ρ_w g H²",
     });
+    v.push(Series {
+        case: "water_tank_rest",
+        scheme: "water",
+        scene: "hydrostatic_tank.toml",
+        levels: dp_levels(&[0.04, 0.02, 0.01], 0.001, " mm"),
+        common: vec![
+            "simulation.end_time=30.0".into(),
+            "simulation.output_interval=0.5".into(),
+        ],
+        metric: Metric::RestingEnergy(0.25, 1e-8 * 1000.0 * 9.81 * 0.25),
+        note: "resting tank H = 0.5 m: kinetic energy per volume over 25–30 s under 1e-8 ρ_w g H²",
+    });
     let a = 0.05715;
     for (case, scene, fractions) in [
         ("dam_break_2d", "dam_break_2d.toml", [20.0, 40.0, 80.0]),

@@ -206,6 +206,18 @@ fn cases() -> Vec<Case> {
         note: "resting tank H = 0.5 m: side-wall load ½ ρ_w g H² at 3 s",
     });
     v.push(Case {
+        name: "water_tank_rest".into(),
+        scene: "hydrostatic_tank.toml",
+        levels: vec![("dp=20mm".into(), vec!["simulation.dp=0.02".into()])],
+        common: vec![
+            "simulation.end_time=30.0".into(),
+            "simulation.output_interval=0.5".into(),
+        ],
+        metric: Metric::RestingEnergy(0.25, 1e-8 * 1000.0 * 9.81 * 0.25),
+        tolerance: Some(0.0),
+        note: "resting tank H = 0.5 m, settled: kinetic energy per volume over 25–30 s under 1e-8 ρ_w g H²",
+    });
+    v.push(Case {
         name: "dam_break_2d".into(),
         scene: "dam_break_2d.toml",
         levels: vec![("a/40".into(), vec![])],

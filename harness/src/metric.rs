@@ -37,6 +37,10 @@ pub(crate) enum Metric {
     /// at the probe `centre` (y = H/2) against the series solution at t = 5, 10, 20 s
     /// and the end; reference 0.
     Poiseuille(PoiseuilleRef),
+    /// Resting water: the water's kinetic energy per unit volume (J/m³), averaged over
+    /// the last 5 s, against a bound; the error is the excess over the bound relative
+    /// to it (0 below it). (water volume m³ or m²/m, bound J/m³).
+    RestingEnergy(f64, f64),
 }
 
 /// Plates H apart, body acceleration a, kinematic viscosity ν (seed 001 §2.1).
@@ -211,6 +215,16 @@ impl Metric {
             ),
             Metric::DamFront(a) => (dam_front_error(&rep.samples, a), Some(0.0)),
             Metric::Poiseuille(r) => (r.error(&rep.samples), Some(0.0)),
+            Metric::RestingEnergy(volume, bound) => {
+                let tail: Vec<f64> = rep
+                    .samples
+                    .iter()
+                    .filter(|s| s.time >= last.time - 5.0)
+                    .filter_map(|s| s.water.as_ref().map(|w| w.kinetic_energy / volume))
+                    .collect();
+                let mean = (!tail.is_empty()).then(|| tail.iter().sum::<f64>() / tail.len() as f64);
+                (mean, Some(bound))
+            }
             Metric::EarthPressure(r) => {
                 let unit = 0.5 * r.density * 9.81 * r.height * r.height;
                 (
@@ -229,6 +243,7 @@ impl Metric {
                 let (ka, k0) = b.band();
                 Some((ka - v).max(v - k0).max(0.0) / k0)
             }
+            (Metric::RestingEnergy(..), Some(v), Some(b)) => Some((v - b).max(0.0) / b),
             (_, Some(v), Some(0.0)) => Some(v.abs()),
             (_, Some(v), Some(r)) => Some((v - r).abs() / r.abs()),
             _ => None,
