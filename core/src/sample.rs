@@ -38,6 +38,9 @@ pub struct BarrierSample {
     /// Impulse-averaged force on each panel (scene key `panels`; empty without), in
     /// panel order (`crate::panels`). The panels' forces sum to `force`.
     pub panels: Vec<[Real; 3]>,
+    /// The water's part of each panel's force, in panel order (empty without panels).
+    #[serde(default)]
+    pub panels_water: Vec<[Real; 3]>,
     /// The water's part of `force` (pressure and viscous traction), impulse-averaged;
     /// `force − force_water` is the grains' part. Zero without water.
     pub force_water: [Real; 3],

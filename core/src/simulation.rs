@@ -30,6 +30,9 @@ pub struct Simulation<const D: usize> {
     /// The water's part of `impulse`.
     #[serde(default)]
     water_impulse: Vec<Load>,
+    /// The water's part of `panel_impulse`.
+    #[serde(default)]
+    panel_water_impulse: Vec<Load>,
     peak: Vec<Real>,
     interval_start: Real,
     last_dt: Real,
@@ -88,6 +91,7 @@ impl<const D: usize> Simulation<D> {
             panel_impulse: vec![Load::default(); slots],
             body_impulse: vec![Load::default(); bodies],
             water_impulse: vec![Load::default(); nb],
+            panel_water_impulse: vec![Load::default(); slots],
             peak: vec![0.0; nb],
             interval_start: 0.0,
             last_dt: 0.0,
@@ -123,6 +127,9 @@ impl<const D: usize> Simulation<D> {
             for (b, l) in self.water_impulse.iter_mut().zip(&w.step_loads) {
                 b.force += l.force * dt;
                 b.moment += l.moment * dt;
+            }
+            for (p, l) in self.panel_water_impulse.iter_mut().zip(&w.slot_loads) {
+                p.force += l.force * dt;
             }
         }
         for (p, l) in self.panel_impulse.iter_mut().zip(&self.stepper.slot_loads) {
@@ -248,6 +255,7 @@ impl<const D: usize> Simulation<D> {
             .iter_mut()
             .chain(&mut self.body_impulse)
             .chain(&mut self.water_impulse)
+            .chain(&mut self.panel_water_impulse)
         {
             *l = Load::default();
         }
@@ -275,6 +283,17 @@ impl<const D: usize> Simulation<D> {
                     } else {
                         (0..w.walls.panel_count(b))
                             .map(|i| (self.panel_impulse[bar.slot0 + i].force * inv).into())
+                            .collect()
+                    },
+                    panels_water: if bar.panels.is_empty() || w.water_material.is_none() {
+                        Vec::new()
+                    } else {
+                        (0..w.walls.panel_count(b))
+                            .map(|i| {
+                                self.panel_water_impulse
+                                    .get(bar.slot0 + i)
+                                    .map_or([0.0; 3], |l| (l.force * inv).into())
+                            })
                             .collect()
                     },
                     force_water: self
@@ -349,6 +368,12 @@ impl<const D: usize> Simulation<D> {
                         (0..walls.panel_count(b))
                             .map(|i| stepper.slot_loads[bar.slot0 + i].force.into())
                             .collect()
+                    },
+                    panels_water: match (&stepper.water, bar.panels.is_empty()) {
+                        (Some(w), false) => (0..walls.panel_count(b))
+                            .map(|i| w.slot_loads[bar.slot0 + i].force.into())
+                            .collect(),
+                        _ => Vec::new(),
                     },
                     force_water: stepper
                         .water

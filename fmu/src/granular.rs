@@ -316,6 +316,13 @@ impl Model for Granular {
                 bs.force[*k] - bs.force_water[*k]
             }
             Slot::PanelForce(b, p, k) => s.barriers[*b].panels[*p][*k],
+            Slot::PanelForceWater(b, p, k) => {
+                s.barriers[*b].panels_water.get(*p).map_or(0.0, |f| f[*k])
+            }
+            Slot::PanelForceGrains(b, p, k) => {
+                let bs = &s.barriers[*b];
+                bs.panels[*p][*k] - bs.panels_water.get(*p).map_or(0.0, |f| f[*k])
+            }
             Slot::Body(b, q, k) => body_value(s, *b, *q, *k),
             Slot::KineticFine => s.kinetic_energy,
             Slot::KineticCoarse => s.coarse_kinetic_energy,

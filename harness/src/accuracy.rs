@@ -135,6 +135,18 @@ fn series() -> Vec<Series> {
         metric: Metric::RestingEnergy(0.25, 1e-8 * 1000.0 * 9.81 * 0.25),
         note: "resting tank H = 0.5 m: kinetic energy per volume over 25–30 s under 1e-8 ρ_w g H²",
     });
+    v.push(Series {
+        case: "rising_disc",
+        scheme: "water",
+        scene: "boulder_in_water.toml",
+        levels: [10, 20, 40]
+            .iter()
+            .map(|n| (format!("R/{n}"), vec![format!("simulation.dp={}", 0.05 / *n as f64)]))
+            .collect(),
+        common: vec!["simulation.end_time=0.065".into()],
+        metric: Metric::StartingAcceleration(0.05, 500.0 * 9.81 / 1500.0),
+        note: "disc of ρ_w/2 released in still water: mean acceleration over R/10 against (ρ_w − ρ_b) g/(ρ_b + ρ_w)",
+    });
     let a = 0.05715;
     for (case, scene, fractions) in [
         ("dam_break_2d", "dam_break_2d.toml", [20.0, 40.0, 80.0]),

@@ -41,6 +41,36 @@ pub(crate) enum Metric {
     /// the last 5 s, against a bound; the error is the excess over the bound relative
     /// to it (0 below it). (water volume m³ or m²/m, bound J/m³).
     RestingEnergy(f64, f64),
+    /// A body released in still water: its mean acceleration over its first tenth of a
+    /// radius of travel, 2 (R/10)/t², against (ρ_w − ρ_b) g / (ρ_b + C_a ρ_w).
+    /// (radius R m, reference m/s²).
+    StartingAcceleration(f64, f64),
+}
+
+/// The mean acceleration of the first body over its first `radius`/10 of travel from
+/// rest, 2 (R/10)/t² with t interpolated between samples; None if it never got there.
+pub(crate) fn starting_acceleration(
+    samples: &[granmix_core::simulation::Sample],
+    radius: f64,
+) -> Option<f64> {
+    let path: Vec<(f64, f64)> = samples
+        .iter()
+        .filter_map(|s| s.bodies.first().map(|b| (s.time, b.position)))
+        .scan(None, |start: &mut Option<[f64; 3]>, (t, p)| {
+            let p0 = *start.get_or_insert(p);
+            let d =
+                ((p[0] - p0[0]).powi(2) + (p[1] - p0[1]).powi(2) + (p[2] - p0[2]).powi(2)).sqrt();
+            Some((t, d))
+        })
+        .collect();
+    let goal = 0.1 * radius;
+    let k = path.iter().position(|p| p.1 >= goal)?;
+    if k == 0 {
+        return None;
+    }
+    let ((t0, d0), (t1, d1)) = (path[k - 1], path[k]);
+    let t = t0 + (goal - d0) / (d1 - d0) * (t1 - t0);
+    Some(2.0 * goal / (t * t))
 }
 
 /// Plates H apart, body acceleration a, kinematic viscosity ν (seed 001 §2.1).
@@ -215,6 +245,9 @@ impl Metric {
             ),
             Metric::DamFront(a) => (dam_front_error(&rep.samples, a), Some(0.0)),
             Metric::Poiseuille(r) => (r.error(&rep.samples), Some(0.0)),
+            Metric::StartingAcceleration(radius, r) => {
+                (starting_acceleration(&rep.samples, radius), Some(r))
+            }
             Metric::RestingEnergy(volume, bound) => {
                 let tail: Vec<f64> = rep
                     .samples

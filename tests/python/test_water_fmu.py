@@ -23,6 +23,12 @@ def test_water_load_impulse_equals_post_momentum(fmus):
         # no grains in the scene: the whole load is the water's
         assert g.get("barrier.force.x") == f
         grains = max(grains, abs(g.get("barrier.force_grains.x")))
+        # the panels split the same way and sum to the barrier's water load
+        panels = [g.get(f"barrier.panel_{i}.force_water.x") for i in range(3)]
+        assert abs(sum(panels) - f) <= 1e-9 * max(abs(f), 1.0)
+        for i in range(3):
+            assert g.get(f"barrier.panel_{i}.force_grains.x") == 0.0
+            assert g.get(f"barrier.panel_{i}.force.x") == panels[i]
     received = p.get("impulse")
     momentum = m * p.get("velocity")
     assert passed > 1.0, f"impulse {passed} N·s/m: the surge must reach the barrier"

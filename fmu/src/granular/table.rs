@@ -40,6 +40,10 @@ pub enum Slot {
     BarrierForceGrains(usize, usize),
     /// Component `k` of the force on panel `p` of barrier `b`.
     PanelForce(usize, usize, usize),
+    /// The water's part of a panel's load (barrier, panel, axis).
+    PanelForceWater(usize, usize, usize),
+    /// The grains' part of a panel's load (barrier, panel, axis).
+    PanelForceGrains(usize, usize, usize),
     /// Component `k` of the input of driven barrier `b`.
     BarrierInput(usize, usize),
     Body(usize, BodyQ, usize),
@@ -241,6 +245,26 @@ const PANEL: &[Row] = &[Row::output(
     "load on panel {label} of barrier `{name}`, step-averaged, {axis} component",
     |at, k| Slot::PanelForce(at.entity, at.panel, k),
 )];
+
+/// The outputs of every panel in a scene with water: its load split as the barrier's.
+const WATER_PANEL: &[Row] = &[
+    Row::output(
+        "force_water",
+        Comps::Axes,
+        Unit::Force,
+        "the water's part of the load on panel {label} of barrier `{name}`, step-averaged, \
+         {axis} component",
+        |at, k| Slot::PanelForceWater(at.entity, at.panel, k),
+    ),
+    Row::output(
+        "force_grains",
+        Comps::Axes,
+        Unit::Force,
+        "the grains' part of the load on panel {label} of barrier `{name}`, step-averaged, \
+         {axis} component",
+        |at, k| Slot::PanelForceGrains(at.entity, at.panel, k),
+    ),
+];
 
 /// The inputs of a barrier driven by displacement.
 const DISPLACEMENT_INPUT: Row = Row::output(
@@ -514,6 +538,14 @@ impl Builder {
             };
             let prefix = format!("{name}.{label}");
             self.rows(PANEL, &prefix, at, &[("name", name), ("label", label)]);
+            if self.water {
+                self.rows(
+                    WATER_PANEL,
+                    &prefix,
+                    at,
+                    &[("name", name), ("label", label)],
+                );
+            }
         }
         let inputs = match mode {
             Some(BarrierInput::Displacement) => Some(&DISPLACEMENT_INPUT),
