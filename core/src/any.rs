@@ -152,6 +152,11 @@ impl AnySimulation {
     pub fn coarse_steps(&self) -> u64 {
         dispatch!(self, s => s.stepper.coarse.as_ref().map(|c| c.steps).unwrap_or(0))
     }
+    /// Water steps so far, its sub-steps counted (equal to the fine steps unless the
+    /// water sub-steps).
+    pub fn water_steps(&self) -> u64 {
+        dispatch!(self, s => s.stepper.water.as_ref().map(|w| w.steps).unwrap_or(0))
+    }
     pub fn neighbor_builds(&self) -> usize {
         dispatch!(self, s => s.stepper.lists.builds)
     }

@@ -19,4 +19,12 @@ impl Load {
         self.force += o.force;
         self.moment += o.moment;
     }
+
+    /// The load times `s`.
+    pub fn scaled(&self, s: Real) -> Load {
+        Load {
+            force: self.force * s,
+            moment: self.moment * s,
+        }
+    }
 }

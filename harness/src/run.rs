@@ -200,7 +200,7 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
     let fine_pss = n as f64 * sim.steps() as f64 / wall.max(1e-12);
     let pss = fine_pss
         + sim.coarse_count() as f64 * sim.coarse_steps() as f64 / wall.max(1e-12)
-        + sim.water_count() as f64 * sim.steps() as f64 / wall.max(1e-12);
+        + sim.water_count() as f64 * sim.water_steps() as f64 / wall.max(1e-12);
 
     // the sinks count as observation: rows, snapshots and records written, frames built
     sim.timers_mut().add(Stage::Observe, sinks.seconds);
@@ -280,6 +280,7 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         "wall_particles": sim.wall_count(),
         "steps_fine": sim.steps(),
         "steps_coarse": last.steps_coarse,
+        "steps_water": sim.water_steps(),
         "kappa": last.kappa,
         "dt_fine": last.dt_fine,
         "dt_coarse": last.dt_coarse,
@@ -364,8 +365,14 @@ fn print_table(
             sim.coarse_steps()
         );
     } else if sim.water_count() > 0 {
+        // the water's sub-steps, where it takes more than one per fine step
+        let sub = if sim.water_steps() > sim.steps() {
+            format!(" (water: {} sub-steps)", sim.water_steps())
+        } else {
+            String::new()
+        };
         println!(
-            "\n{} fine and {} water particles, {} steps in {:.2} s: {:.3} M particle-steps/s",
+            "\n{} fine and {} water particles, {} steps{sub} in {:.2} s: {:.3} M particle-steps/s",
             n,
             sim.water_count(),
             sim.steps(),

@@ -232,3 +232,17 @@ pub fn gather_reactions<const D: usize>(chunks: &[Vec<(u32, Vect<D>)>], f_fine: 
         }
     }
 }
+
+/// Add the per-chunk `(coarse particle, force)` records of `chunks`, times `scale`, to
+/// `out` (the water's mean force over its sub-steps).
+pub fn add_reactions<const D: usize>(
+    chunks: &[Vec<(u32, Vect<D>)>],
+    out: &mut [Vect<D>],
+    scale: Real,
+) {
+    for c in chunks {
+        for (j, f) in c {
+            out[*j as usize] += *f * scale;
+        }
+    }
+}

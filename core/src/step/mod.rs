@@ -27,6 +27,7 @@ mod neighbours;
 mod params;
 mod water_open;
 mod water_stage;
+mod water_substeps;
 
 pub use landing::{land_on, Stepping};
 pub use params::{choose_step, gravity_ramp, StepParams, StepStats};
@@ -225,8 +226,10 @@ impl<const D: usize> Stepper<D> {
         }
     }
 
-    /// Δt of Eq. (51) for the current state: CFL · h / (c0 + |v|max), the smaller of
-    /// the fine grains' and the water's (whose viscous limit joins in).
+    /// Δt of Eq. (51) for the current state: CFL · h / (c0 + |v|max) of the fine grains
+    /// and the water's Δt_w (whose viscous limit joins in). The smaller of the two,
+    /// unless the scheme is multi-rate and Δt_w fits k ≥ 2 times into the fine Δt:
+    /// then k Δt_w, and the water takes k sub-steps ([`water_substeps`]).
     pub fn stable_dt(&self, world: &World<D>) -> Real {
         let fine = if world.fine.is_empty() {
             Real::INFINITY
@@ -237,6 +240,16 @@ impl<const D: usize> Stepper<D> {
             (Some(w), Some(m)) => w.stable_dt(m, self.params.h, self.params.cfl),
             _ => Real::INFINITY,
         };
+        // multi-rate: where the water's Δt fits twice or more into the fine Δt, the
+        // step is the largest whole multiple of it and the water sub-steps
+        // ([`water_substeps`])
+        let multi = self.params.scheme == crate::scene::TimeStepping::MultiRate;
+        if multi && fine.is_finite() && water.is_finite() {
+            let k = (fine / water).floor();
+            if k >= 2.0 {
+                return k * water;
+            }
+        }
         fine.min(water)
     }
 
@@ -275,19 +288,9 @@ impl<const D: usize> Stepper<D> {
         if self.coarse.is_some() && !(world.fine.is_empty() && self.water.is_none()) {
             self.timed(Stage::Coupling, |s| s.pack_coarse(world, dt));
         }
-        if let Some((w, m)) = self.water.as_mut().zip(world.water_material) {
-            if !world.water_inflows.is_empty() {
-                w.let_in(world, &m, (dt, &self.up), &mut self.timers);
-            }
-        }
         // Eq. (54): x and ρ to the half step
         self.timed(Stage::Drift, |s| s.drift(world, half));
         let rebuilt = self.timed(Stage::Neighbors, |s| s.refresh_lists(world, dt));
-        let water = self.water.as_mut().zip(world.water_material);
-        if let Some((w, m)) = water {
-            w.drift(world, &m, half, &mut self.timers);
-            w.refresh_lists(world, &m, &self.csrc, dt, &mut self.timers);
-        }
         // Eq. (27), cohesive soils only
         let artificial = self
             .params
@@ -295,31 +298,15 @@ impl<const D: usize> Stepper<D> {
             .and_then(|_| self.timed(Stage::ArtificialStress, |s| s.artificial_stress(world)));
         // Eqs. (16), (55) then (15), (24)–(26), (7)–(12), with walls and coarse grains
         self.fine_sweeps(world, dt, artificial);
-        if let Some((w, m)) = self.water.as_mut().zip(world.water_material) {
-            w.sweeps(world, &m, self.kernel, &self.csrc, dt, &mut self.timers);
-            for (total, l) in self.step_loads.iter_mut().zip(&w.step_loads) {
-                total.add(l);
-            }
-            for (total, l) in self.slot_loads.iter_mut().zip(&w.slot_loads) {
-                total.add(l);
-            }
-        }
         // Eq. (56) and the per-chunk stability checks
         self.timed(Stage::Finalize, |s| s.finalize(world, half));
-        if let Some(w) = self.water.as_mut() {
-            w.finalize(world, half, self.params.max_speed, &mut self.timers);
-        }
+        // the water, in κ_w sub-steps; its force on the coarse grains feeds theirs
+        let water_vmax = self.water_substeps(world, dt)?;
         // Eqs. (57)–(60): κ coarse sub-steps
         self.coarse_substeps(world, dt, kappa)?;
         world.time += dt;
         world.steps += 1;
-        let mut vmax = self.guard(world)?;
-        if let Some(w) = self.water.as_mut() {
-            vmax = vmax.max(w.guard(world, self.params.max_speed)?);
-            if !world.water_outflows.is_empty() {
-                w.let_out(world, &mut self.timers);
-            }
-        }
+        let vmax = self.guard(world)?.max(water_vmax);
         Ok(StepStats {
             vmax,
             rebuilt,

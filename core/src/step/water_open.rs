@@ -10,17 +10,17 @@ use crate::world::World;
 use std::time::Instant;
 
 impl<const D: usize> WaterStepper<D> {
-    /// Let water in through the inflows over a step of `dt` (before the drift), and
-    /// rebuild the lists if any came in.
+    /// Let water in through the inflows over a step from `t` to `t + dt` (before the
+    /// drift), and rebuild the lists if any came in.
     pub fn let_in(
         &mut self,
         world: &mut World<D>,
         mat: &WaterMaterial,
-        (dt, up): (Real, &Vect<D>),
+        (t, dt, up): (Real, Real, &Vect<D>),
         timers: &mut StageTimers,
     ) {
         let start = Instant::now();
-        let (t, g) = (world.time, world.gravity.norm());
+        let g = world.gravity.norm();
         let res = (world.resolution.dp, world.resolution.volume);
         let mut added = 0;
         for f in &mut world.water_inflows {

@@ -38,6 +38,9 @@ pub struct WaterStepper<const D: usize> {
     skin: Real,
     /// List radius: kernel cut-off plus skin.
     radius: Real,
+    /// Water steps taken (sub-steps counted).
+    #[serde(default)]
+    pub steps: u64,
     /// Load of the water on each barrier during the last step.
     pub step_loads: Vec<Load>,
     /// The same per barrier panel (`Walls::load_slot`).
@@ -75,6 +78,7 @@ impl<const D: usize> WaterStepper<D> {
             coarse_bins: CoarseBins::new(grid()),
             lists: NeighborLists::default(),
             at_build: PositionMarks::default(),
+            steps: 0,
             max_disp: Real::INFINITY,
             vmax: 0.0,
             skin,
@@ -101,6 +105,17 @@ impl<const D: usize> WaterStepper<D> {
     /// Largest stable Δt of the water (acoustic and viscous limits).
     pub fn stable_dt(&self, mat: &WaterMaterial, h: Real, cfl: Real) -> Real {
         mat.stable_dt(h, cfl, self.vmax)
+    }
+
+    /// Sub-steps κ_w = ⌈Δt/Δt_w⌉ the water needs within a step of `dt` (1 where Δt
+    /// is within its stable Δt).
+    pub fn substeps(&self, mat: &WaterMaterial, h: Real, cfl: Real, dt: Real) -> usize {
+        let dw = self.stable_dt(mat, h, cfl);
+        if dt <= dw * (1.0 + 1e-9) {
+            1
+        } else {
+            (dt / dw).ceil() as usize
+        }
     }
 
     /// Bytes of scratch memory held (lists, buffers, grids).
@@ -180,8 +195,10 @@ impl<const D: usize> WaterStepper<D> {
         self.max_disp = 0.0;
     }
 
-    /// The two sweeps of a step of `dt`: v_{n+1}, then dρ/dt with v_{n+1}; the water's
-    /// barrier loads of the step into `step_loads` and `slot_loads`.
+    /// The two sweeps of sub-step `s` of `k`, from `t0` to `t0 + dt`: v_{n+1}, then
+    /// dρ/dt with v_{n+1}; the water's barrier loads of the sub-step into `step_loads`
+    /// and `slot_loads`, and its force on the coarse particles, averaged over the `k`
+    /// sub-steps, into their `f_water`.
     #[allow(clippy::too_many_arguments)]
     pub fn sweeps(
         &mut self,
@@ -189,9 +206,11 @@ impl<const D: usize> WaterStepper<D> {
         mat: &WaterMaterial,
         kernel: WendlandC2,
         csrc: &[CoarseSource<D>],
-        dt: Real,
+        (t0, dt): (Real, Real),
+        (s, k): (usize, usize),
         t: &mut StageTimers,
     ) {
+        self.steps += 1;
         let n = world.water.len();
         let nbs = world.walls.load_slots().max(1);
         self.vel_new.resize(n, Vect::<D>::zeros());
@@ -208,7 +227,7 @@ impl<const D: usize> WaterStepper<D> {
             inv_c: 1.0 / mat.c0,
             eta: mat.limiter,
             mu: mat.mu,
-            keep: mat.velocity_kept(world.time, dt),
+            keep: mat.velocity_kept(t0, dt),
         };
         let no_slip = mat.wall == WallSlip::NoSlip;
         self.corr.resize(n, Corr::<D>::identity());
@@ -246,12 +265,20 @@ impl<const D: usize> WaterStepper<D> {
         });
         std::mem::swap(&mut world.water.vel, &mut self.vel_new);
         // the inlets move their water at the inflow speed
-        let mid = world.time + 0.5 * dt;
+        let mid = t0 + 0.5 * dt;
         for f in &world.water_inflows {
             f.drive(&world.water.pos, &mut world.water.vel, mid);
         }
         if !csrc.is_empty() {
-            fine_coarse::gather_reactions(&self.reactions, &mut world.coarse.particles.f_water);
+            let f = &mut world.coarse.particles.f_water;
+            if k == 1 {
+                fine_coarse::gather_reactions(&self.reactions, f);
+            } else {
+                if s == 0 {
+                    f.iter_mut().for_each(|x| *x = Vect::<D>::zeros());
+                }
+                fine_coarse::add_reactions(&self.reactions, f, 1.0 / k as Real);
+            }
         }
         crate::panels::sum_slots(
             &world.walls,

@@ -1,0 +1,90 @@
+//! The water's part of a step, as κ_w sub-steps of Δt/κ_w: the multi-rate scheme of
+//! seed 000 Eqs. (51)–(53), read for the water. When the water's stable Δt (acoustic
+//! and viscous, [`WaterMaterial::stable_dt`]) fits k ≥ 2 times into the fine grains'
+//! Δt_f, the step is k Δt_w (at most Δt_f) and the water takes κ_w = k sub-steps of
+//! its own Δt_w; the cost per unit time falls from N_f + N_w particle-steps per Δt_w
+//! to N_f/k + N_w. Otherwise both take one step of min(Δt_f, Δt_w).
+//!
+//! The coarse particles stay at their half-step positions over the sub-steps (as the
+//! fine sweeps see them), and they receive the water's force averaged over the
+//! sub-steps, so that the impulse they receive equals the water's to round-off; the
+//! barrier loads are averaged the same way.
+//!
+//! [`WaterMaterial::stable_dt`]: crate::water::material::WaterMaterial::stable_dt
+
+use super::Stepper;
+use crate::guard::Blowup;
+use crate::load::Load;
+use crate::math::Real;
+use crate::world::World;
+
+impl<const D: usize> Stepper<D> {
+    /// The water's κ_w sub-steps of a step of `dt` (inflow, drift, lists, sweeps,
+    /// finalize, guard and outflow each); the water's loads into the step's totals.
+    /// Returns the water's largest speed (0 without water).
+    pub(super) fn water_substeps(
+        &mut self,
+        world: &mut World<D>,
+        dt: Real,
+    ) -> Result<Real, Blowup> {
+        let Stepper {
+            water,
+            timers,
+            csrc,
+            up,
+            kernel,
+            params,
+            step_loads,
+            slot_loads,
+            ..
+        } = self;
+        let Some((w, m)) = water.as_mut().zip(world.water_material) else {
+            return Ok(0.0);
+        };
+        let k = w.substeps(&m, params.h, params.cfl, dt);
+        let (dt_w, share) = (dt / k as Real, 1.0 / k as Real);
+        let half = 0.5 * dt_w;
+        // the sub-steps' mean loads (k > 1)
+        let mut mean: Option<(Vec<Load>, Vec<Load>)> = None;
+        let mut vmax: Real = 0.0;
+        for s in 0..k {
+            let t0 = world.time + s as Real * dt_w;
+            if !world.water_inflows.is_empty() {
+                w.let_in(world, &m, (t0, dt_w, &*up), timers);
+            }
+            w.drift(world, &m, half, timers);
+            w.refresh_lists(world, &m, csrc, dt_w, timers);
+            w.sweeps(world, &m, *kernel, csrc, (t0, dt_w), (s, k), timers);
+            if k > 1 {
+                let (step, slot) = mean.get_or_insert_with(|| {
+                    (
+                        vec![Load::default(); w.step_loads.len()],
+                        vec![Load::default(); w.slot_loads.len()],
+                    )
+                });
+                for (a, l) in step.iter_mut().zip(&w.step_loads) {
+                    a.add(&l.scaled(share));
+                }
+                for (a, l) in slot.iter_mut().zip(&w.slot_loads) {
+                    a.add(&l.scaled(share));
+                }
+            }
+            w.finalize(world, half, params.max_speed, timers);
+            vmax = vmax.max(w.guard(world, params.max_speed)?);
+            if !world.water_outflows.is_empty() {
+                w.let_out(world, timers);
+            }
+        }
+        if let Some((step, slot)) = mean {
+            w.step_loads = step;
+            w.slot_loads = slot;
+        }
+        for (total, l) in step_loads.iter_mut().zip(&w.step_loads) {
+            total.add(l);
+        }
+        for (total, l) in slot_loads.iter_mut().zip(&w.slot_loads) {
+            total.add(l);
+        }
+        Ok(vmax)
+    }
+}
