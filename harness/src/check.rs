@@ -21,6 +21,15 @@ pub fn check(scene: &Path, set: &[String], exact: bool) -> Result<()> {
     let loaded = load(scene, set)?;
     let s = &loaded.scene.simulation;
     println!("{}: valid {}D scene", scene.display(), s.dimension);
+    if let Some(p) = &s.periodic {
+        println!(
+            "  periodic along {} with period {} m ([{}, {}])",
+            p.axis,
+            p.max - p.min,
+            p.min,
+            p.max
+        );
+    }
     let e = estimate(&loaded.scene);
     let b = budget(&loaded.scene);
     if exact && e.bytes <= b.bytes {
