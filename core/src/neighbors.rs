@@ -229,9 +229,7 @@ impl<const D: usize> CellGrid<D> {
             }
         }
     }
-}
 
-impl<const D: usize> CellGrid<D> {
     /// The stencil of a periodic grid: every one of the 3^D cells around `x`, the
     /// periodic axis' neighbours taken modulo the period (the forward half is not
     /// contiguous across the seam, so the lists filter j > i themselves).

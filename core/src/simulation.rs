@@ -170,13 +170,23 @@ impl<const D: usize> Simulation<D> {
             .map(|p| {
                 let mut v = observe::probe(&w.fine, &self.stepper.kernel, &p.position);
                 if let Some(m) = &w.water_material {
-                    let (water, kernel, at) = (&w.water, &self.stepper.kernel, &p.position);
-                    let pressure = |i: usize| m.pressure(water.rho[i]);
-                    v.water_pressure = water.shepard(kernel, at, (pressure, 0.0), &w.periodic);
-                    let vel = |i: usize| water.vel[i];
-                    v.water_velocity = water
-                        .shepard(kernel, at, (vel, Vect::<D>::zeros()), &w.periodic)
-                        .map(|u| std::array::from_fn(|k| if k < D { u[k] } else { 0.0 }));
+                    // pressure and velocity in one pass: (p, v_x, v_y, v_z)
+                    let water = &w.water;
+                    let value = |i: usize| {
+                        let mut q = nalgebra::Vector4::<Real>::zeros();
+                        q[0] = m.pressure(water.rho[i]);
+                        for k in 0..D {
+                            q[k + 1] = water.vel[i][k];
+                        }
+                        q
+                    };
+                    let zero = nalgebra::Vector4::zeros();
+                    let at = &p.position;
+                    let kernel = &self.stepper.kernel;
+                    if let Some(q) = water.shepard(kernel, at, (value, zero), &w.periodic) {
+                        v.water_pressure = Some(q[0]);
+                        v.water_velocity = Some([q[1], q[2], q[3]]);
+                    }
                 }
                 (p.name.clone(), v)
             })
@@ -289,11 +299,7 @@ impl<const D: usize> Simulation<D> {
                         Vec::new()
                     } else {
                         (0..w.walls.panel_count(b))
-                            .map(|i| {
-                                self.panel_water_impulse
-                                    .get(bar.slot0 + i)
-                                    .map_or([0.0; 3], |l| (l.force * inv).into())
-                            })
+                            .map(|i| (self.panel_water_impulse[bar.slot0 + i].force * inv).into())
                             .collect()
                     },
                     force_water: self

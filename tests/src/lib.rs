@@ -85,6 +85,18 @@ pub fn run_text(text: &str, name: &str, on_sample: impl FnMut(&Sample)) -> AnySi
     sim
 }
 
+/// The message with which a scene written in the test is refused, when it is loaded
+/// (`bad.toml` in the message) or built; the test fails if it is accepted.
+pub fn refusal(text: &str) -> String {
+    match load_scene_str(text, "bad.toml", &[]) {
+        Err(e) => e.to_string(),
+        Ok(l) => match AnySimulation::new(&l) {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!("accepted:\n{text}"),
+        },
+    }
+}
+
 /// Relative error |a − b| / |b|.
 pub fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()

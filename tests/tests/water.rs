@@ -2,9 +2,8 @@
 //! 2D dam break against Martin & Moyce (1952), exact momentum exchange between water
 //! particles, and bad `[water]` input.
 
-use granmix_core::input::load_scene_str;
 use granmix_core::AnySimulation;
-use granmix_tests::{build_text, load, rel, run, run_built};
+use granmix_tests::{build_text, load, refusal, rel, run, run_built};
 
 const RHO: f64 = 1000.0;
 const G: f64 = 9.81;
@@ -294,29 +293,18 @@ fn water_pairs_conserve_momentum() {
     assert!(least < 0.9 * ke[0], "kinetic energy {ke:?}");
 }
 
-fn bad(text: &str) -> String {
-    let err = match load_scene_str(text, "bad.toml", &[]) {
-        Err(e) => e.to_string(),
-        Ok(l) => match AnySimulation::new(&l) {
-            Err(e) => e.to_string(),
-            Ok(_) => panic!("accepted:\n{text}"),
-        },
-    };
-    err
-}
-
 /// A negative viscosity and a sound speed below the expected flow speed (given, or
 /// derived from the water's height) are refused with the key and its line.
 #[test]
 fn bad_water_input_names_key_and_line() {
     let tank = std::fs::read_to_string(granmix_tests::scene_path("hydrostatic_tank.toml")).unwrap();
-    let e = bad(&tank.replace("viscosity = 1.0e-3", "viscosity = -1.0e-3"));
+    let e = refusal(&tank.replace("viscosity = 1.0e-3", "viscosity = -1.0e-3"));
     assert!(
         e.contains("bad.toml:") && e.contains("`water.viscosity`") && e.contains("≥ 0"),
         "{e}"
     );
     // √(2 g H) = 3.13 m/s for H = 0.5 m
-    let e = bad(&tank.replace(
+    let e = refusal(&tank.replace(
         "viscosity = 1.0e-3",
         "viscosity = 1.0e-3\nsound_speed = 2.0",
     ));
@@ -325,7 +313,7 @@ fn bad_water_input_names_key_and_line() {
         "{e}"
     );
     assert!(e.contains("bad.toml:1"), "{e}");
-    let e = bad(&tank.replace(
+    let e = refusal(&tank.replace(
         "viscosity = 1.0e-3",
         "viscosity = 1.0e-3\nsound_speed = 20.0\nspeed_scale = 30.0",
     ));
@@ -333,7 +321,7 @@ fn bad_water_input_names_key_and_line() {
         e.contains("`water.sound_speed`") && e.contains("300"),
         "{e}"
     );
-    let e = bad(&tank.replace(
+    let e = refusal(&tank.replace(
         "[[water.regions]]\nname = \"water\"",
         "[[water.regionz]]\nname = \"water\"",
     ));
@@ -523,7 +511,7 @@ fn hydrograph_inflow_and_outflow() {
 /// with a wrong direction are refused with the key.
 #[test]
 fn bad_inflows_name_the_key() {
-    let e = bad(&CHANNEL.replace(
+    let e = refusal(&CHANNEL.replace(
         "min = [0.0, 0.0], max = [0.05, 0.1]",
         "min = [5.0, 5.0], max = [5.05, 5.1]",
     ));
@@ -532,14 +520,14 @@ fn bad_inflows_name_the_key() {
         "{e}"
     );
     assert!(e.contains("channel") || e.contains("bad.toml:"), "{e}");
-    let e = bad(&CHANNEL.replace("max = [0.05, 0.1]", "max = [0.01, 0.1]"));
+    let e = refusal(&CHANNEL.replace("max = [0.05, 0.1]", "max = [0.01, 0.1]"));
     assert!(
         e.contains("`water.inflows[0].shape`") && e.contains("three particle"),
         "{e}"
     );
-    let e = bad(&CHANNEL.replace("direction = \"+x\"", "direction = \"+z\""));
+    let e = refusal(&CHANNEL.replace("direction = \"+x\"", "direction = \"+z\""));
     assert!(e.contains("`water.inflows[0].direction`"), "{e}");
-    let e = bad(&CHANNEL.replace(
+    let e = refusal(&CHANNEL.replace(
         "speed = 0.5",
         "speed = 0.5\nhydrograph = { type = \"gumbel\", a = 1.0, beta = 0.2, mu = 0.3 }",
     ));
@@ -558,6 +546,6 @@ fn memory_budget_counts_the_water() {
         "dp = 0.01                  # 2500 water particles",
         "dp = 0.0001\nmemory_budget = 1073741824.0",
     );
-    let e = bad(&text);
+    let e = refusal(&text);
     assert!(e.contains("memory budget") && e.contains("water"), "{e}");
 }

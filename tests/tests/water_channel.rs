@@ -3,9 +3,8 @@
 //! transient series solution of Morris, Fox & Zhu (1997), and the plates' load against
 //! the wall shear of the same solution.
 
-use granmix_core::input::load_scene_str;
 use granmix_core::AnySimulation;
-use granmix_tests::{load, rel};
+use granmix_tests::{load, refusal, rel};
 
 const A: f64 = 1e-4;
 const H: f64 = 0.1;
@@ -84,16 +83,6 @@ fn poiseuille_flow_follows_the_series_solution() {
     }
 }
 
-fn refused(text: &str) -> String {
-    match load_scene_str(text, "bad.toml", &[]) {
-        Err(e) => e.to_string(),
-        Ok(l) => match AnySimulation::new(&l) {
-            Err(e) => e.to_string(),
-            Ok(_) => panic!("accepted:\n{text}"),
-        },
-    }
-}
-
 /// A period that is not a whole number of spacings, one under three list radii, an
 /// axis the scene lacks, grains in a periodic scene, a container closed across the
 /// axis, and water outside the period are refused, naming the key.
@@ -139,7 +128,7 @@ fn bad_periodic_input_names_the_key() {
             "water only",
         ),
     ] {
-        let e = refused(&text);
+        let e = refusal(&text);
         assert!(e.contains(key) && e.contains(words), "{key}: {e}");
     }
 }

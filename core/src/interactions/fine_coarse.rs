@@ -226,11 +226,7 @@ pub fn gather_reactions<const D: usize>(chunks: &[Vec<(u32, Vect<D>)>], f_fine: 
     for f in f_fine.iter_mut() {
         *f = Vect::<D>::zeros();
     }
-    for c in chunks {
-        for (j, f) in c {
-            f_fine[*j as usize] += *f;
-        }
-    }
+    add_reactions(chunks, f_fine, 1.0);
 }
 
 /// Add the per-chunk `(coarse particle, force)` records of `chunks`, times `scale`, to

@@ -210,7 +210,6 @@ impl<const D: usize> WaterStepper<D> {
         (s, k): (usize, usize),
         t: &mut StageTimers,
     ) {
-        self.steps += 1;
         let n = world.water.len();
         let nbs = world.walls.load_slots().max(1);
         self.vel_new.resize(n, Vect::<D>::zeros());
@@ -271,14 +270,11 @@ impl<const D: usize> WaterStepper<D> {
         }
         if !csrc.is_empty() {
             let f = &mut world.coarse.particles.f_water;
-            if k == 1 {
-                fine_coarse::gather_reactions(&self.reactions, f);
-            } else {
-                if s == 0 {
-                    f.iter_mut().for_each(|x| *x = Vect::<D>::zeros());
-                }
-                fine_coarse::add_reactions(&self.reactions, f, 1.0 / k as Real);
+            if s == 0 {
+                f.iter_mut().for_each(|x| *x = Vect::<D>::zeros());
             }
+            // the mean over the k sub-steps
+            fine_coarse::add_reactions(&self.reactions, f, 1.0 / k as Real);
         }
         crate::panels::sum_slots(
             &world.walls,

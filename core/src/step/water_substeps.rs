@@ -55,6 +55,7 @@ impl<const D: usize> Stepper<D> {
             w.drift(world, &m, half, timers);
             w.refresh_lists(world, &m, csrc, dt_w, timers);
             w.sweeps(world, &m, *kernel, csrc, (t0, dt_w), (s, k), timers);
+            w.steps += 1;
             if k > 1 {
                 let (step, slot) = mean.get_or_insert_with(|| {
                     (
