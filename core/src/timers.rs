@@ -18,11 +18,12 @@ pub enum Stage {
     WaterNeighbors,
     WaterMomentum,
     WaterContinuity,
+    SoilWater,
     Observe,
 }
 
 impl Stage {
-    pub const ALL: [Stage; 14] = [
+    pub const ALL: [Stage; 15] = [
         Stage::Drift,
         Stage::Neighbors,
         Stage::ArtificialStress,
@@ -36,6 +37,7 @@ impl Stage {
         Stage::WaterNeighbors,
         Stage::WaterMomentum,
         Stage::WaterContinuity,
+        Stage::SoilWater,
         Stage::Observe,
     ];
     pub fn name(self) -> &'static str {
@@ -53,6 +55,7 @@ impl Stage {
             Stage::WaterNeighbors => "water_neighbors",
             Stage::WaterMomentum => "water_momentum",
             Stage::WaterContinuity => "water_continuity",
+            Stage::SoilWater => "soil_water",
             Stage::Observe => "observe",
         }
     }
@@ -61,7 +64,7 @@ impl Stage {
 /// Accumulated seconds per stage.
 #[derive(Clone, Debug, Default)]
 pub struct StageTimers {
-    secs: [f64; 14],
+    secs: [f64; 15],
 }
 
 impl StageTimers {

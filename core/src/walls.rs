@@ -27,6 +27,9 @@ pub struct WallObject<const D: usize> {
     /// Driven by a co-simulation partner: `velocity` is set through [`Walls::drive`] and
     /// kept across steps instead of following `prescribed`.
     pub driven: bool,
+    /// Water passes through it (`permeable = true`): only the grains see it.
+    #[serde(default)]
+    pub permeable: bool,
 }
 
 /// A barrier: a wall object whose load is summed every step.
@@ -81,6 +84,10 @@ impl<const D: usize> Walls<D> {
     #[inline(always)]
     pub fn load_slot(&self, b: usize, w: usize) -> usize {
         self.barriers[b].slot0 + self.panel.get(w).map_or(0, |&p| p as usize)
+    }
+    /// True when water passes through any wall object.
+    pub fn any_permeable(&self) -> bool {
+        self.objects.iter().any(|o| o.permeable)
     }
     /// True when any wall object moves.
     pub fn any_moving(&self) -> bool {

@@ -72,6 +72,8 @@ fn bitwise_identical_across_thread_counts() {
         ("dam_break_3d.toml", vec!["simulation.dp=0.0057"], 150),
         // water across a periodic seam
         ("poiseuille_2d.toml", vec!["simulation.dp=0.00125"], 300),
+        // soil and water: seepage, buoyancy, a permeable sieve
+        ("seepage_column.toml", vec![], 300),
     ] {
         let a = run_with_threads(1, scene, &set, steps);
         let b = run_with_threads(2, scene, &set, steps);

@@ -10,6 +10,7 @@ mod contact_restitution;
 mod determinism;
 mod fmu_fmi_crate;
 mod memory_budget;
+mod saturated;
 mod scene_errors;
 mod scenes_smoke;
 mod slope_stability;

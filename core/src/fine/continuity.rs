@@ -48,6 +48,10 @@ pub struct ContinuityParams<'a, const D: usize> {
     pub geostatic_pressure: &'a [Real],
     /// Factor on `geostatic` while gravity is ramped up (1 otherwise).
     pub geostatic_scale: Real,
+    /// Per particle: the factor on `geostatic` of a soil the water pushes, its weight
+    /// less the water's vertical force over the weight `geostatic` holds (seepage
+    /// changes the gradient a soil rests at); empty: 1 for all.
+    pub weight: &'a [Real],
     /// Unit vector opposite to gravity (zero without gravity).
     pub up: Vect<D>,
     /// Pressure of the jump term of Eq. (19).
@@ -85,16 +89,16 @@ pub struct Rates<const D: usize> {
 }
 
 impl<const D: usize> Rates<D> {
-    /// The rates of particle i (record `si`, material index `mat`) from its fine–fine
-    /// pair sums.
+    /// The rates of particle i (record `si`, material index `mat`, factor `weight` of
+    /// [`ContinuityParams::weight`]) from its fine–fine pair sums.
     #[inline(always)]
     pub fn from_sums(
         prm: &ContinuityParams<'_, D>,
         si: &Source,
-        mat: usize,
+        (mat, weight): (usize, Real),
         sum: &ContinuitySums<D>,
     ) -> Self {
-        let geo = prm.geostatic[mat].scale(prm.geostatic_scale);
+        let geo = prm.geostatic[mat].scale(prm.geostatic_scale * weight);
         // Ψ of Eq. (26) summed: σ_i − σ_j (σ = σˢ − P I) minus the geostatic gradient
         // −(r_ij·up) geo
         let mut diff = si.dev.scale(sum.w).sub(&sum.wdev);

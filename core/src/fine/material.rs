@@ -1,5 +1,6 @@
 //! Derived constants of the Drucker–Prager soil (Eqs. 4–8, 22 of seed 000).
 
+use super::pores::Pores;
 use crate::math::Real;
 use crate::scene::MaterialSpec;
 
@@ -27,6 +28,20 @@ pub struct FineMaterial {
     pub phi: Real,
     /// Cohesion c (Pa).
     pub cohesion: Real,
+    /// Porosity and permeability (None: water passes the soil freely).
+    #[serde(default)]
+    pub pores: Option<Pores>,
+}
+
+impl FineMaterial {
+    /// The density whose weight the skeleton carries: ρ' = ρ_d − (1 − n) ρ_w for a
+    /// saturated soil under water of density `rho_w`, else ρ0.
+    pub fn skeleton_density(&self, rho_w: Option<Real>) -> Real {
+        match (self.pores, rho_w) {
+            (Some(p), Some(rw)) if p.saturated => p.submerged_density(self.rho0, rw),
+            _ => self.rho0,
+        }
+    }
 }
 
 fn dp_alpha(angle_rad: Real) -> Real {
@@ -53,6 +68,7 @@ impl FineMaterial {
             k0: 1.0 - phi.sin(),
             phi,
             cohesion: m.cohesion,
+            pores: Pores::of(m),
         }
     }
 }

@@ -7,5 +7,6 @@ pub mod material;
 pub mod momentum;
 pub mod pair_sums;
 pub mod plasticity;
+pub mod pores;
 pub mod source;
 pub mod state;

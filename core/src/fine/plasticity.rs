@@ -143,6 +143,10 @@ mod tests {
             friction_angle: phi,
             cohesion: c,
             dilation_angle: 0.0,
+            porosity: None,
+            permeability: None,
+            grain_size: None,
+            saturated: false,
         })
     }
 

@@ -50,7 +50,8 @@ pub fn continuity_sweep<const D: usize>(
                     let (xi, vi) = (pos[i], vel[i]);
                     // the pair sums, left zero for the next step
                     let sum = std::mem::replace(&mut sums[k].continuity, ContinuitySums::zero());
-                    let mut rates = Rates::from_sums(prm, &src[i], mat, &sum);
+                    let weight = prm.weight.get(i).copied().unwrap_or(1.0);
+                    let mut rates = Rates::from_sums(prm, &src[i], (mat, weight), &sum);
                     let (drho, grad) = (&mut rates.drho, &mut rates.grad);
                     for &w in &cl.wall[cl.woff[k] as usize..cl.woff[k + 1] as usize] {
                         fine_wall::continuity(&prm.kernel, walls, &xi, &vi, w as usize, drho, grad);

@@ -8,7 +8,9 @@
 //!   fuse the fine–fine sums with the interactions above, one formula per module;
 //! - [`water_wall`]: water on walls, the fluid form of Eqs. (32)–(35);
 //! - [`water_coarse`]: water on coarse grains, the same law on moving particles;
-//! - [`water_pass`]: the water sweeps' particle passes.
+//! - [`water_pass`]: the water sweeps' particle passes;
+//! - [`soil_water`]: soil and water, the seepage and pore-pressure forces of seed 001
+//!   Eqs. (8)–(10).
 
 pub mod barrier_load;
 pub mod contact;
@@ -16,6 +18,7 @@ pub mod continuity_pass;
 pub mod fine_coarse;
 pub mod fine_wall;
 pub mod momentum_pass;
+pub mod soil_water;
 #[cfg(test)]
 mod symmetric_tests;
 pub mod wall_contact;

@@ -3,7 +3,8 @@
 //! fine particle, the walls ([`fine_wall`](super::fine_wall), Eqs. 32–35, with their
 //! barrier loads, [`barrier_load`](super::barrier_load)) and the coarse grains
 //! ([`fine_coarse`](super::fine_coarse), Eqs. 48–50) to the pair sums and integrates
-//! (Eq. 55). The interactions are fused into the one pass so that a particle's record
+//! (Eq. 55), with the water's force on a soil ([`soil_water`](super::soil_water),
+//! seed 001 Eqs. 8–10) where there is one. The interactions are fused into the one pass so that a particle's record
 //! is read once; each interaction's formula lives in its own module.
 
 use super::barrier_load;
@@ -41,6 +42,7 @@ pub fn momentum_sweep<const D: usize>(
     coarse: CoarseSide<'_, D>,
     jump: &JumpDiffusion<'_, D>,
     sums: &mut [PairSums<D>],
+    water: &[Vect<D>],
 ) {
     let (csrc, coupling, tension) = (coarse.src, coarse.coupling, coarse.tension);
     let nbs = walls.load_slots().max(1);
@@ -99,6 +101,10 @@ pub fn momentum_sweep<const D: usize>(
                             react.push((j, a * (-p.mass[i])));
                         }
                     }
+                }
+                if let Some(f) = water.get(i) {
+                    // the water's seepage and pore-pressure force (soil_water)
+                    acc += f / p.mass[i];
                 }
                 *vo = integrate(p, prm, i, acc, &sum.hourglass, &mut hout[k]);
             }

@@ -53,6 +53,7 @@ fn material(name: &str, rho0: Real, e: Real) -> FineMaterial {
         k0: 1.0 - phi.sin(),
         phi,
         cohesion: 0.0,
+        pores: None,
     }
 }
 
@@ -172,6 +173,7 @@ fn continuity_params<'a, const D: usize>(
         geostatic,
         geostatic_pressure: pgeo,
         geostatic_scale: 1.0,
+        weight: &[],
         up,
         jump,
         uniform: uniform_acoustics(mats),
@@ -254,6 +256,7 @@ fn momentum<const D: usize>(
         side,
         &JumpDiffusion::new(cprm),
         &mut sums,
+        &[],
     );
     (vel_new, hg, sums)
 }

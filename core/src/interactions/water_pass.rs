@@ -69,7 +69,9 @@ pub fn correction_sweep<const D: usize>(
 
 /// v_{n+1} = v_n + Δt (dv/dt + g) into `vel_new`, and the walls' reactions per chunk
 /// into `loads` (`max(1, load slots)` per chunk). `sums` is zero on entry and left
-/// with zero `acc`; `corr` holds B ([`correction_sweep`]).
+/// with zero `acc`; `corr` holds B ([`correction_sweep`]); `body` each particle's
+/// seepage acceleration of the last sub-step (empty: none), which the walls'
+/// pressure extrapolation carries with gravity.
 #[allow(clippy::too_many_arguments)]
 pub fn momentum_sweep<const D: usize>(
     w: &WaterParticles<D>,
@@ -79,7 +81,7 @@ pub fn momentum_sweep<const D: usize>(
     coarse: WaterCoarse<'_, D>,
     lists: &NeighborLists,
     prm: &WaterParams<D>,
-    no_slip: bool,
+    (no_slip, body): (bool, &[Vect<D>]),
     vel_new: &mut [Vect<D>],
     loads: &mut [Load],
     sums: &mut [WaterSums<D>],
@@ -108,8 +110,12 @@ pub fn momentum_sweep<const D: usize>(
                 let (w0, w1) = (cl.woff[k] as usize, cl.woff[k + 1] as usize);
                 if w1 > w0 {
                     let wl = &cl.wall[w0..w1];
-                    let at =
+                    let mut at =
                         WaterAtWall::new(prm, walls, (xi, vi, rho, src[i].p), wl, no_slip, corr[i]);
+                    if let Some(b) = body.get(i) {
+                        // the seepage drag of the last sub-step joins gravity
+                        at.hyd += b;
+                    }
                     for &wp in wl {
                         if let Some(t) = at.momentum(prm, walls, wp as usize) {
                             let a = t * scale;
@@ -141,10 +147,11 @@ pub fn continuity_sweep<const D: usize>(
     csrc: &[CoarseSource<D>],
     lists: &NeighborLists,
     prm: &WaterParams<D>,
+    body: &[Vect<D>],
     drho: &mut [Real],
     sums: &mut [WaterSums<D>],
 ) {
-    continuity::pair_pass(w, src, lists, prm, sums);
+    continuity::pair_pass(w, src, lists, prm, body, sums);
     lists
         .chunks
         .par_iter()

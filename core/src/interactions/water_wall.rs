@@ -37,6 +37,9 @@ pub struct WaterAtWall<const D: usize> {
     pub no_slip: bool,
     /// Kernel gradient correction B_i ([`correction`](crate::water::correction)).
     pub corr: Corr<D>,
+    /// The acceleration the resting pressure gradient balances, ∇p = ρ a: the
+    /// hydrostatic gravity, plus a soil's seepage drag on i where there is one.
+    pub hyd: Vect<D>,
 }
 
 impl<const D: usize> WaterAtWall<D> {
@@ -56,6 +59,7 @@ impl<const D: usize> WaterAtWall<D> {
             rho,
             p,
             n: normal(&prm.kernel, walls, &pos, wl, &prm.wrap),
+            hyd: prm.hydrostatic,
             no_slip,
             corr,
         }
@@ -72,7 +76,7 @@ impl<const D: usize> WaterAtWall<D> {
         let du = 2.0 * self.n.dot(&(vw - self.vel));
         // Eq. (35) without its clip at zero: P_w = P_i + ρ_i g·(x_w − x_i), the
         // hydrostatic extrapolation of Adami et al. (2012), not below zero upwards
-        let pw = wall_pressure(self.p, self.rho * prm.hydrostatic.dot(&(-rij)));
+        let pw = wall_pressure(self.p, self.rho * self.hyd.dot(&(-rij)));
         let ps = p_star(prm, self.p, pw, du);
         let be = self.corr * e;
         let mut t = be * (-ps * dw);

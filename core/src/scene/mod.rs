@@ -3,6 +3,7 @@
 
 mod error;
 mod periodic_check;
+mod pores_check;
 mod text;
 mod types;
 mod validate;
@@ -15,10 +16,11 @@ pub use types::*;
 pub use validate::{unknown_solid, validate_shape};
 
 /// Semantic checks on a deserialised scene: the grains, walls and probes, then the
-/// water, then a periodic axis. Errors carry the key path.
+/// water, then the soils' pores, then a periodic axis. Errors carry the key path.
 pub fn validate(s: &Scene) -> Result<(), KeyError> {
     validate::validate_grains(s)?;
     water_check::validate_water(s)?;
+    pores_check::validate_pores(s)?;
     periodic_check::validate_periodic(s)
 }
 pub use water::*;

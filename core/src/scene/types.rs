@@ -284,6 +284,22 @@ pub struct MaterialSpec {
     /// Dilation angle ψ (degrees). Default 0.
     #[serde(default)]
     pub dilation_angle: f64,
+    /// Porosity n, in (0, 1): the pore fraction of the soil's volume (its `density`
+    /// is the dry bulk density, (1 − n) times the grains'). Needed with any key below.
+    #[serde(default)]
+    pub porosity: Option<f64>,
+    /// Intrinsic permeability k (m²) of the seepage force f = (μ/k)(u_w − u_s), seed
+    /// 001 Eq. (10). Give it or `grain_size`; without either, water passes the soil
+    /// freely.
+    #[serde(default)]
+    pub permeability: Option<f64>,
+    /// Mean grain diameter d (m): k from Kozeny–Carman, k = n³ d² / (180 (1 − n)²).
+    #[serde(default)]
+    pub grain_size: Option<f64>,
+    /// Fill the soil's pores with water particles at start-up, at the hydrostatic pore
+    /// pressure below the region's top. Default false.
+    #[serde(default)]
+    pub saturated: bool,
 }
 
 /// Initial stress of a region.
@@ -400,6 +416,10 @@ pub struct WallSpec {
     /// axis but its thinnest, ascending). Default: one panel.
     #[serde(default)]
     pub panels: Option<Vec<usize>>,
+    /// Water passes through it; grains (fine and coarse) do not: a screen, a sieve
+    /// under a soil column, a permeable barrier. Default false.
+    #[serde(default)]
+    pub permeable: bool,
 }
 
 /// Which FMU inputs drive an input-driven barrier.

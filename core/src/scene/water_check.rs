@@ -135,11 +135,13 @@ pub(super) fn validate_water(s: &Scene) -> Check {
             ),
         );
     }
-    if w.regions.is_empty() && w.inflows.is_empty() {
+    let saturated = s.materials.iter().any(|m| m.saturated);
+    if w.regions.is_empty() && w.inflows.is_empty() && !saturated {
         return fail(
             "water.regions",
             "[water] needs at least one [[water.regions]] entry saying where the water \
-             starts, or a [[water.inflows]] entry letting it in",
+             starts, a [[water.inflows]] entry letting it in, or a saturated soil \
+             (`saturated = true` in [[materials]])",
         );
     }
     validate_open_boundaries(s)?;

@@ -109,6 +109,12 @@ pub struct WallBins<const D: usize> {
     binned: bool,
     /// Each wall object's displacement at the last build.
     disp_at_build: Vec<Vect<D>>,
+    /// The water's bins: permeable walls are left out.
+    #[serde(default)]
+    water: bool,
+    /// The wall positions the lists see when some are left out (those far away).
+    #[serde(skip)]
+    masked: Vec<Vect<D>>,
 }
 
 impl<const D: usize> WallBins<D> {
@@ -117,6 +123,16 @@ impl<const D: usize> WallBins<D> {
             grid,
             binned: false,
             disp_at_build: Vec::new(),
+            water: false,
+            masked: Vec::new(),
+        }
+    }
+
+    /// The bins of the water's lists, which leave permeable walls out.
+    pub fn for_water(grid: CellGrid<D>) -> Self {
+        WallBins {
+            water: true,
+            ..Self::new(grid)
         }
     }
 
@@ -128,7 +144,11 @@ impl<const D: usize> WallBins<D> {
     /// The binned walls of `walls`, for the lists.
     pub fn binned<'a>(&'a self, walls: &'a Walls<D>) -> Binned<'a, D> {
         Binned {
-            pos: &walls.pos,
+            pos: if self.masked.is_empty() {
+                &walls.pos
+            } else {
+                &self.masked
+            },
             grid: &self.grid,
         }
     }
@@ -141,8 +161,25 @@ impl<const D: usize> WallBins<D> {
             .iter()
             .zip(&self.disp_at_build)
             .any(|(o, d)| o.displacement != *d);
-        if !self.binned || moved {
-            self.grid.bin(&walls.pos);
+        // a restored state has no mask yet
+        let unmasked = self.water && walls.any_permeable() && self.masked.len() != walls.len();
+        if !self.binned || moved || unmasked {
+            if self.water && walls.any_permeable() {
+                // a permeable wall's particles lie far away for the water's lists
+                let far = Vect::<D>::repeat(1e30);
+                self.masked.clear();
+                self.masked
+                    .extend(walls.pos.iter().zip(&walls.object).map(|(x, &o)| {
+                        if walls.objects[o as usize].permeable {
+                            far
+                        } else {
+                            *x
+                        }
+                    }));
+                self.grid.bin(&self.masked);
+            } else {
+                self.grid.bin(&walls.pos);
+            }
             self.binned = true;
         }
         self.disp_at_build.clear();

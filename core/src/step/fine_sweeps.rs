@@ -87,6 +87,7 @@ impl<const D: usize> Stepper<D> {
             geostatic: &self.geostatic,
             geostatic_pressure: &self.geostatic_pressure,
             geostatic_scale: self.g_scale,
+            weight: self.soil_water.as_ref().map_or(&[], |s| &s.weight[..]),
             up: self.up,
             jump: self.params.continuity_jump,
             uniform: self.uniform,
@@ -141,6 +142,7 @@ impl<const D: usize> Stepper<D> {
                 side,
                 &JumpDiffusion::new(&cprm),
                 &mut self.pair_sums,
+                self.soil_water.as_ref().map_or(&[], |s| &s.force[..]),
             )
         });
         world.fine.hourglass = hourglass;

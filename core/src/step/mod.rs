@@ -25,12 +25,14 @@ mod fine_sweeps;
 pub mod landing;
 mod neighbours;
 mod params;
+mod soil_water_stage;
 mod water_open;
 mod water_stage;
 mod water_substeps;
 
 pub use landing::{land_on, Stepping};
 pub use params::{choose_step, gravity_ramp, StepParams, StepStats};
+pub use soil_water_stage::SoilWater;
 pub use water_stage::WaterStepper;
 
 /// Scratch memory and stage assembly for the fine step.
@@ -101,6 +103,10 @@ pub struct Stepper<const D: usize> {
     /// Water: its stages' lists and scratch (None without water).
     #[serde(default)]
     pub water: Option<WaterStepper<D>>,
+    /// Soil and water: the coupling's scratch (None without water or a soil with
+    /// pores).
+    #[serde(default)]
+    pub soil_water: Option<SoilWater<D>>,
 }
 
 impl<const D: usize> Stepper<D> {
@@ -112,10 +118,12 @@ impl<const D: usize> Stepper<D> {
         } else {
             Vect::<D>::zeros()
         };
+        // a saturated soil's skeleton carries its submerged weight
+        let rho_w = world.water_material.map(|w| w.rho0);
         let geostatic = world
             .materials
             .iter()
-            .map(|m| geostatic_tensor::<D>(&up, m.k0).scale(m.rho0 * g))
+            .map(|m| geostatic_tensor::<D>(&up, m.k0).scale(m.skeleton_density(rho_w) * g))
             .collect();
         let hourglass = if params.hourglass > 0.0 {
             world
@@ -172,6 +180,13 @@ impl<const D: usize> Stepper<D> {
         if water.is_none() {
             skipped.push(("water".into(), "scene has no water".into()));
         }
+        let soil_water = SoilWater::new(world, &kernel);
+        if soil_water.is_none() {
+            skipped.push((
+                "soil_water".into(),
+                "needs water and a soil with `permeability` or `grain_size`".into(),
+            ));
+        }
         let nb = world.walls.barriers.len();
         Stepper {
             fine_grid: CellGrid::new(&world.domain.0, &world.domain.1, cell),
@@ -209,6 +224,7 @@ impl<const D: usize> Stepper<D> {
             reactions: Vec::new(),
             coarse_vol: world.resolution.volume,
             water,
+            soil_water,
         }
     }
 
@@ -244,13 +260,18 @@ impl<const D: usize> Stepper<D> {
         // step is the largest whole multiple of it and the water sub-steps
         // ([`water_substeps`])
         let multi = self.params.scheme == crate::scene::TimeStepping::MultiRate;
+        // the soil's side of the seepage drag is explicit
+        let seep = self
+            .soil_water
+            .as_ref()
+            .map_or(Real::INFINITY, |s| s.dt_max);
         if multi && fine.is_finite() && water.is_finite() {
-            let k = (fine / water).floor();
+            let k = (fine.min(seep) / water).floor();
             if k >= 2.0 {
                 return k * water;
             }
         }
-        fine.min(water)
+        fine.min(water).min(seep)
     }
 
     /// Bytes of scratch memory held by the stepper (lists, buffers, grids).
@@ -291,6 +312,9 @@ impl<const D: usize> Stepper<D> {
         // Eq. (54): x and ρ to the half step
         self.timed(Stage::Drift, |s| s.drift(world, half));
         let rebuilt = self.timed(Stage::Neighbors, |s| s.refresh_lists(world, dt));
+        // the water, in κ_w sub-steps, with the fine grains at the half step; its force
+        // on the coarse grains feeds theirs, on a soil the fine sweeps
+        let water_vmax = self.water_substeps(world, dt)?;
         // Eq. (27), cohesive soils only
         let artificial = self
             .params
@@ -300,8 +324,7 @@ impl<const D: usize> Stepper<D> {
         self.fine_sweeps(world, dt, artificial);
         // Eq. (56) and the per-chunk stability checks
         self.timed(Stage::Finalize, |s| s.finalize(world, half));
-        // the water, in κ_w sub-steps; its force on the coarse grains feeds theirs
-        let water_vmax = self.water_substeps(world, dt)?;
+        self.add_water_loads();
         // Eqs. (57)–(60): κ coarse sub-steps
         self.coarse_substeps(world, dt, kappa)?;
         world.time += dt;

@@ -4,6 +4,7 @@
 //! continuity sweep with v_{n+1}, and x, ρ to the end of the step with the guard.
 
 use super::build_marks::{CoarseBins, PositionMarks, WallBins};
+use super::soil_water_stage::SeepStep;
 use crate::guard::{check, Blowup, ChunkFailure, Family};
 use crate::interactions::fine_coarse::{self, CoarseSource};
 use crate::interactions::water_pass::{
@@ -53,6 +54,10 @@ pub struct WaterStepper<const D: usize> {
     sums: Vec<WaterSums<D>>,
     #[serde(skip)]
     corr: Vec<Corr<D>>,
+    /// Each particle's acceleration from a soil's seepage force in the last sub-step
+    /// (empty without a soil).
+    #[serde(skip)]
+    body: Vec<Vect<D>>,
 
     #[serde(skip)]
     chunk_loads: Vec<Load>,
@@ -74,7 +79,7 @@ impl<const D: usize> WaterStepper<D> {
         let grid = || CellGrid::periodic(lo, hi, cell, world.periodic);
         WaterStepper {
             grid: grid(),
-            walls: WallBins::new(grid()),
+            walls: WallBins::for_water(grid()),
             coarse_bins: CoarseBins::new(grid()),
             lists: NeighborLists::default(),
             at_build: PositionMarks::default(),
@@ -89,12 +94,18 @@ impl<const D: usize> WaterStepper<D> {
             vel_new: Vec::new(),
             sums: Vec::new(),
             corr: Vec::new(),
+            body: Vec::new(),
             chunk_loads: Vec::new(),
             permute: PermuteScratch::default(),
             order: Vec::new(),
             failures: Vec::new(),
             reactions: Vec::new(),
         }
+    }
+
+    /// The cells the water was binned in at the last list build.
+    pub fn grid(&self) -> &CellGrid<D> {
+        &self.grid
     }
 
     /// Largest water speed at the end of the last step.
@@ -198,7 +209,8 @@ impl<const D: usize> WaterStepper<D> {
     /// The two sweeps of sub-step `s` of `k`, from `t0` to `t0 + dt`: v_{n+1}, then
     /// dρ/dt with v_{n+1}; the water's barrier loads of the sub-step into `step_loads`
     /// and `slot_loads`, and its force on the coarse particles, averaged over the `k`
-    /// sub-steps, into their `f_water`.
+    /// sub-steps, into their `f_water`. With a soil (`seep`), the seepage drag is
+    /// applied to v_{n+1} before the continuity sweep reads it.
     #[allow(clippy::too_many_arguments)]
     pub fn sweeps(
         &mut self,
@@ -208,6 +220,7 @@ impl<const D: usize> WaterStepper<D> {
         csrc: &[CoarseSource<D>],
         (t0, dt): (Real, Real),
         (s, k): (usize, usize),
+        seep: Option<SeepStep<'_, D>>,
         t: &mut StageTimers,
     ) {
         let n = world.water.len();
@@ -256,12 +269,26 @@ impl<const D: usize> WaterStepper<D> {
                 },
                 &self.lists,
                 &prm,
-                no_slip,
+                (no_slip, &self.body),
                 &mut self.vel_new,
                 &mut self.chunk_loads,
                 &mut self.sums,
             )
         });
+        if seep.is_none() {
+            self.body.clear();
+        }
+        if let Some(mut seep) = seep {
+            let src = &self.src;
+            t.time(Stage::SoilWater, || {
+                seep.apply(
+                    &mut self.vel_new,
+                    |i| (src[i].rho, src[i].vol),
+                    dt,
+                    &mut self.body,
+                )
+            });
+        }
         std::mem::swap(&mut world.water.vel, &mut self.vel_new);
         // the inlets move their water at the inflow speed
         let mid = t0 + 0.5 * dt;
@@ -292,6 +319,7 @@ impl<const D: usize> WaterStepper<D> {
                 csrc,
                 &self.lists,
                 &prm,
+                &self.body,
                 &mut drho,
                 &mut self.sums,
             )

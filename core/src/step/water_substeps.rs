@@ -16,12 +16,13 @@ use super::Stepper;
 use crate::guard::Blowup;
 use crate::load::Load;
 use crate::math::Real;
+use crate::timers::Stage;
 use crate::world::World;
 
 impl<const D: usize> Stepper<D> {
     /// The water's κ_w sub-steps of a step of `dt` (inflow, drift, lists, sweeps,
-    /// finalize, guard and outflow each); the water's loads into the step's totals.
-    /// Returns the water's largest speed (0 without water).
+    /// finalize, guard and outflow each); the water's loads of the step kept for
+    /// [`add_water_loads`](Self::add_water_loads). Returns the water's largest speed (0 without water).
     pub(super) fn water_substeps(
         &mut self,
         world: &mut World<D>,
@@ -34,8 +35,9 @@ impl<const D: usize> Stepper<D> {
             up,
             kernel,
             params,
-            step_loads,
-            slot_loads,
+            soil_water,
+            src,
+            fine_grid,
             ..
         } = self;
         let Some((w, m)) = water.as_mut().zip(world.water_material) else {
@@ -47,14 +49,30 @@ impl<const D: usize> Stepper<D> {
         // the sub-steps' mean loads (k > 1)
         let mut mean: Option<(Vec<Load>, Vec<Load>)> = None;
         let mut vmax: Real = 0.0;
+        // with a soil the water's particles stay put in memory over the sub-steps (its
+        // drag is kept per particle): water comes in and lists are rebuilt before the
+        // first, for the whole step, and water leaves after the last
+        let mut seep = soil_water.as_mut().filter(|_| !world.fine.is_empty());
         for s in 0..k {
             let t0 = world.time + s as Real * dt_w;
-            if !world.water_inflows.is_empty() {
-                w.let_in(world, &m, (t0, dt_w, &*up), timers);
+            let block = seep.is_some();
+            let first = !block || s == 0;
+            if !world.water_inflows.is_empty() && first {
+                let span = if block { dt } else { dt_w };
+                w.let_in(world, &m, (t0, span, &*up), timers);
             }
             w.drift(world, &m, half, timers);
-            w.refresh_lists(world, &m, csrc, dt_w, timers);
-            w.sweeps(world, &m, *kernel, csrc, (t0, dt_w), (s, k), timers);
+            if first {
+                let span = if block { dt } else { dt_w };
+                w.refresh_lists(world, &m, csrc, span, timers);
+            }
+            if let Some(sw) = seep.as_mut().filter(|_| s == 0) {
+                timers.time(Stage::SoilWater, || {
+                    sw.freeze(world, src, (fine_grid, w.grid()), kernel, m.mu)
+                });
+            }
+            let step = seep.as_mut().map(|sw| sw.step(share));
+            w.sweeps(world, &m, *kernel, csrc, (t0, dt_w), (s, k), step, timers);
             w.steps += 1;
             if k > 1 {
                 let (step, slot) = mean.get_or_insert_with(|| {
@@ -72,6 +90,12 @@ impl<const D: usize> Stepper<D> {
             }
             w.finalize(world, half, params.max_speed, timers);
             vmax = vmax.max(w.guard(world, params.max_speed)?);
+            if !world.water_outflows.is_empty() && seep.is_none() {
+                w.let_out(world, timers);
+            }
+        }
+        if let Some(sw) = seep {
+            timers.time(Stage::SoilWater, || sw.gather(world, &m, w.grid(), kernel));
             if !world.water_outflows.is_empty() {
                 w.let_out(world, timers);
             }
@@ -80,12 +104,20 @@ impl<const D: usize> Stepper<D> {
             w.step_loads = step;
             w.slot_loads = slot;
         }
-        for (total, l) in step_loads.iter_mut().zip(&w.step_loads) {
-            total.add(l);
-        }
-        for (total, l) in slot_loads.iter_mut().zip(&w.slot_loads) {
-            total.add(l);
-        }
         Ok(vmax)
+    }
+
+    /// The water's loads of the step added to the step's totals (after the fine
+    /// sweeps, which set them).
+    pub(super) fn add_water_loads(&mut self) {
+        let Some(w) = &self.water else {
+            return;
+        };
+        for (total, l) in self.step_loads.iter_mut().zip(&w.step_loads) {
+            total.add(l);
+        }
+        for (total, l) in self.slot_loads.iter_mut().zip(&w.slot_loads) {
+            total.add(l);
+        }
     }
 }

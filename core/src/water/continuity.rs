@@ -18,12 +18,16 @@ use crate::neighbors::NeighborLists;
 use crate::pair_block::{Pair, PairBlock, BLOCK};
 use crate::slabs::two_phase;
 
-/// The water–water continuity terms, each pair once, into `sums[..].drho`.
+/// The water–water continuity terms, each pair once, into `sums[..].drho`. `body`
+/// holds each particle's acceleration from a soil's seepage force (empty: none),
+/// which the equilibrium pressure gradient carries besides gravity:
+/// ∇p = ρ (g + a_seep) under steady seepage, so the jump is taken relative to it.
 pub fn pair_pass<const D: usize>(
     w: &WaterParticles<D>,
     src: &[WaterSource],
     lists: &NeighborLists,
     prm: &WaterParams<D>,
+    body: &[Vect<D>],
     sums: &mut [WaterSums<D>],
 ) {
     let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
@@ -51,7 +55,12 @@ pub fn pair_pass<const D: usize>(
                         let sj = src[j];
                         let dw = prm.kernel.dw_within(r);
                         let u = (vi - vel[j]).dot(&rij) * inv_r;
-                        let jump = (si.p - sj.p - 0.5 * (si.rho + sj.rho) * hyd.dot(&rij)) * inv_z;
+                        let g = if body.is_empty() {
+                            hyd
+                        } else {
+                            hyd + (body[i] + body[j]) * 0.5
+                        };
+                        let jump = (si.p - sj.p - 0.5 * (si.rho + sj.rho) * g.dot(&rij)) * inv_z;
                         own += (u + jump) * dw * sj.vol;
                         win[j - base].drho += (u - jump) * dw * si.vol;
                     }

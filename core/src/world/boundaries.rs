@@ -63,6 +63,7 @@ pub(super) fn build<const D: usize>(
             );
             if let Some(o) = walls.objects.last_mut() {
                 o.driven = w.input.is_some();
+                o.permeable = w.permeable;
             }
         }
     }
@@ -166,6 +167,7 @@ fn add_object<const D: usize>(
         displacement: Vect::<D>::zeros(),
         shape: Some(shape),
         driven: false,
+        permeable: false,
     });
     for p in pts {
         walls.pos.push(p);

@@ -115,7 +115,8 @@ impl<const D: usize> World<D> {
             hi = hi.sup(p);
         }
         let g_hyd = hydrostatic(gravity, periodic);
-        let filled = water_fill::fill(scene, &g_hyd, (dp, vol), (lo, hi))?;
+        let pores = pore_water(scene, &materials, &fine, &region_counts, &up, dp);
+        let filled = water_fill::fill(scene, &g_hyd, (dp, vol), (lo, hi), &pores)?;
         let (water, water_material, water_counts, water_inflows, water_outflows) = match filled {
             Some(f) => (f.water, Some(f.material), f.counts, f.inflows, f.outflows),
             None => (
@@ -208,6 +209,43 @@ fn hydrostatic<const D: usize>(g: Vect<D>, wrap: Wrap) -> Vect<D> {
         h[p.axis] = 0.0;
     }
     h
+}
+
+/// The pore water of the saturated soil regions: one water particle on each of their
+/// soil particles, and each region's top.
+fn pore_water<const D: usize>(
+    scene: &Scene,
+    materials: &[FineMaterial],
+    fine: &crate::fine::state::FineParticles<D>,
+    counts: &[(String, usize)],
+    up: &Vect<D>,
+    dp: Real,
+) -> Vec<water_fill::PoreWater<D>> {
+    let mut out = Vec::new();
+    let mut start = 0;
+    for (r, (name, n)) in scene.regions.iter().zip(counts) {
+        let range = start..start + n;
+        start += n;
+        let m = scene.materials.iter().position(|m| m.name == r.material);
+        let saturated = m
+            .and_then(|m| materials[m].pores)
+            .is_some_and(|p| p.saturated);
+        if !saturated {
+            continue;
+        }
+        let pos = fine.pos[range].to_vec();
+        let top = pos
+            .iter()
+            .map(|p| p.dot(up))
+            .fold(Real::NEG_INFINITY, Real::max)
+            + 0.5 * dp;
+        out.push(water_fill::PoreWater {
+            name: name.clone(),
+            pos,
+            top,
+        });
+    }
+    out
 }
 
 /// K0 (I − n n) + n n for the vertical unit vector n: the geostatic stress per unit

@@ -19,7 +19,9 @@ pub(super) fn fill<const D: usize>(
     vol: Real,
 ) -> Result<(FineParticles<D>, Vec<(String, usize)>), BuildError> {
     let gnorm = v::<D>(&scene.simulation.gravity).norm();
-    let solids = Solids::<D>::of(scene);
+    // a saturated soil starts at the effective stress of its submerged weight
+    let rho_w = scene.water.as_ref().map_or(1000.0, |w| w.density);
+    let solids = Solids::<D>::of(scene, false);
     let inside_solid = |p: &Vect<D>| solids.holds(p, dp);
     let mut fine = FineParticles::<D>::default();
     let mut region_counts = Vec::new();
@@ -66,7 +68,7 @@ pub(super) fn fill<const D: usize>(
             let stress = match r.initial_stress {
                 InitialStress::Zero => Sym::ZERO,
                 InitialStress::Geostatic => {
-                    let sv = -m.rho0 * gnorm * (top - p.dot(up));
+                    let sv = -m.skeleton_density(Some(rho_w)) * gnorm * (top - p.dot(up));
                     geostatic_tensor::<D>(up, m.k0).scale(sv)
                 }
             };
@@ -78,14 +80,16 @@ pub(super) fn fill<const D: usize>(
 }
 
 /// Solids that displace particles at start-up: walls and barriers (not planes, whose
-/// patch is not a solid) and bodies (buried boulders).
+/// patch is not a solid; for water not the permeable ones) and bodies (buried
+/// boulders).
 pub(super) struct Solids<const D: usize>(Vec<(Shape<D>, Option<Pose>)>);
 
 impl<const D: usize> Solids<D> {
-    pub(super) fn of(scene: &Scene) -> Self {
+    pub(super) fn of(scene: &Scene, water: bool) -> Self {
         let mut solids: Vec<(Shape<D>, Option<Pose>)> = Vec::new();
         for w in scene.walls.iter().chain(&scene.barriers) {
-            if !matches!(w.shape, ShapeSpec::Plane { .. }) {
+            let passes = water && w.permeable;
+            if !matches!(w.shape, ShapeSpec::Plane { .. }) && !passes {
                 solids.push((Shape::<D>::from_spec(&w.shape, &scene.assets), None));
             }
         }

@@ -7,7 +7,7 @@ use super::v;
 use crate::build_error::BuildError;
 use crate::geometry::Shape;
 use crate::math::{Real, Vect};
-use crate::scene::{Hydrograph, Scene, ShapeSpec};
+use crate::scene::{Hydrograph, Scene, ShapeSpec, WaterSpec};
 use crate::water::boundary::{Inflow, InflowSpeed, Outflow};
 use crate::water::material::WaterMaterial;
 use crate::water::state::WaterParticles;
@@ -22,18 +22,35 @@ pub(super) struct Filled<const D: usize> {
     pub outflows: Vec<Outflow<D>>,
 }
 
+/// The pore water of a saturated soil region: its particles' positions, its name and
+/// its top (along `up`), below which the pore pressure is hydrostatic.
+pub(super) struct PoreWater<const D: usize> {
+    pub name: String,
+    pub pos: Vec<Vect<D>>,
+    pub top: Real,
+}
+
 /// Fill the water regions of `scene` at spacing `dp` (particle volume `vol`) under the
 /// hydrostatic gravity `g` (the scene's, without its component along a periodic
-/// axis); `reach` is the box of everything else in the scene (walls, grains), which
-/// every inlet must meet. `None` without `[water]`.
+/// axis), then the pores of its saturated soils (`pores`, one water particle on each
+/// soil particle); `reach` is the box of everything else in the scene (walls,
+/// grains), which every inlet must meet. `None` without `[water]` or pores to fill;
+/// pores without `[water]` take its defaults.
 pub(super) fn fill<const D: usize>(
     scene: &Scene,
     g: &Vect<D>,
     (dp, vol): (Real, Real),
     reach: (Vect<D>, Vect<D>),
+    pores: &[PoreWater<D>],
 ) -> Result<Option<Filled<D>>, BuildError> {
-    let Some(spec) = &scene.water else {
-        return Ok(None);
+    let defaults: WaterSpec;
+    let spec = match &scene.water {
+        Some(s) => s,
+        None if pores.is_empty() => return Ok(None),
+        None => {
+            defaults = toml::from_str("").expect("every [water] key has a default");
+            &defaults
+        }
     };
     let gnorm = g.norm();
     let up = &if gnorm > 0.0 {
@@ -41,7 +58,7 @@ pub(super) fn fill<const D: usize>(
     } else {
         Vect::<D>::zeros()
     };
-    let solids = Solids::<D>::of(scene);
+    let solids = Solids::<D>::of(scene, true);
     // every region's lattice points, its top (along `up`) and velocity
     let mut regions = Vec::new();
     let mut speed: Real = 0.0;
@@ -72,6 +89,17 @@ pub(super) fn fill<const D: usize>(
             .max((2.0 * gnorm * (top - bottom)).sqrt())
             .max(vel.norm());
         regions.push((r.name.clone(), pts, top, vel));
+    }
+    for r in pores {
+        let bottom = r
+            .pos
+            .iter()
+            .map(|p| p.dot(up))
+            .fold(Real::INFINITY, Real::min)
+            - 0.5 * dp;
+        speed = speed.max((2.0 * gnorm * (r.top - bottom)).sqrt());
+        let name = format!("pores of {}", r.name);
+        regions.push((name, r.pos.clone(), r.top, Vect::<D>::zeros()));
     }
     // the inlets must meet the scene, the water regions included
     let mut reach = reach;
@@ -112,8 +140,17 @@ pub(super) fn fill<const D: usize>(
     let mat = WaterMaterial::from_spec(spec, c0, scale);
     let mut water = WaterParticles::<D>::default();
     let mut counts = Vec::new();
+    // with pores, the water stands at each column's surface, pores and free water
+    // together; without, at each region's top
+    let surface = (!pores.is_empty()).then(|| {
+        let pts: Vec<&Vect<D>> = regions.iter().flat_map(|r| r.1.iter()).collect();
+        column_surfaces(&pts, up, dp)
+    });
+    let mut at = 0;
     for (name, pts, top, vel) in regions {
         for p in &pts {
+            let top = surface.as_ref().map_or(top, |s| s[at]);
+            at += 1;
             let rho = if spec.hydrostatic_start {
                 mat.density(mat.hydrostatic_pressure(gnorm, top - p.dot(up)))
             } else {
@@ -143,6 +180,40 @@ pub(super) fn fill<const D: usize>(
         inflows,
         outflows,
     }))
+}
+
+/// The water surface above each of `pts` (along `up`): the top of the run of water
+/// particles, spaced at most 1.5 dp apart, that holds it in its vertical column of
+/// width dp, plus dp/2.
+fn column_surfaces<const D: usize>(pts: &[&Vect<D>], up: &Vect<D>, dp: Real) -> Vec<Real> {
+    use std::collections::HashMap;
+    // columns keyed by the horizontal cell of each point
+    let key = |p: &Vect<D>| -> [i64; 3] {
+        let h = *p - up * p.dot(up);
+        let mut k = [0i64; 3];
+        for (a, v) in h.iter().enumerate() {
+            k[a] = (v / dp).floor() as i64;
+        }
+        k
+    };
+    let mut cols: HashMap<[i64; 3], Vec<(Real, usize)>> = HashMap::new();
+    for (i, p) in pts.iter().enumerate() {
+        cols.entry(key(p)).or_default().push((p.dot(up), i));
+    }
+    let mut out = vec![0.0; pts.len()];
+    for col in cols.values_mut() {
+        col.sort_by(|a, b| b.0.total_cmp(&a.0));
+        let mut top = col[0].0;
+        let mut last = col[0].0;
+        for &(z, i) in col.iter() {
+            if last - z > 1.5 * dp {
+                top = z;
+            }
+            last = z;
+            out[i] = top + 0.5 * dp;
+        }
+    }
+    out
 }
 
 /// The largest speed of an inflow: its constant speed, or the hydrograph's peak.

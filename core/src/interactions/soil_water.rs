@@ -1,0 +1,457 @@
+//! Soil and water: the seepage force and the pore-pressure force of seed 001
+//! Eqs. (8)–(10), between the fine grains (a soil with [`Pores`]) and the water.
+//!
+//! The pore water is a continuum over the whole volume (seed 001): its particles carry
+//! the water's mass ρ_w V and the superficial (Darcy) velocity, so a soil at rest
+//! passes the discharge q = u_w = (k/μ)(ρ_w g − ∇p) (Darcy). Porosity does not enter
+//! the water's continuity; it enters the soil's mass, ρ_d = (1 − n) ρ_grain, and the
+//! buoyancy of its grains, (1 − n) ∇p (docs/method.md §Saturated soil).
+//!
+//! - Seepage, Eqs. (8) and (10): the pair (soil j, water i) exchanges the force
+//!   V_i V_j (μ/k_j)(u_i − u_j) W_ij, equal and opposite. Over the water's sub-steps
+//!   of a step the soil's positions and velocities are frozen, so the water's drag
+//!   is linear in its own velocity, −(a_i u_i − b_i)/ρ_i with a_i = Σ_j V_j (μ/k_j)
+//!   W_ij and b_i = Σ_j V_j (μ/k_j) W_ij u_j ([`Seepage`]); it is taken implicitly
+//!   (backward Euler, stable for any k). The soil receives the exact opposite of
+//!   the water's impulse, from the sub-steps' mean of V_i and V_i u_i
+//!   ([`WaterDrag`]).
+//! - Pore pressure, Eq. (9)'s second term, splits into its hydrostatic part and
+//!   the excess over it. On the grains the hydrostatic part is their buoyancy,
+//!   −(1 − n) ρ_w g per unit volume, taken as far as water surrounds the particle
+//!   (Σ V_i W_ij against its sum in full, [`full_sum`], at most 1). The excess part the seepage
+//!   force already carries: the water's own balance makes f = −∇p_e at steady
+//!   seepage, so the grains receive ρ_w g i under a gradient i (Terzaghi). Adding the
+//!   whole −(1 − n)∇p to f, as Eq. (9) reads, counts the excess twice ((2 − n) ρ_w g
+//!   i; measured in docs/method.md §Saturated soil), and its mixture-theory reading,
+//!   n f − (1 − n)∇p, loses lift where the soil's edge smooths ∇p but not f (the
+//!   column's lift 4 % low). The buoyancy has no reaction on the water: the pore
+//!   water, over the whole volume, weighs (1 − n) ρ_w g more per unit volume than
+//!   the real one, which balances it. The pore pressure at each soil particle is
+//!   interpolated from the water, exact for a linear field even where the water's
+//!   support is cut (walls, free surface), for the outputs.
+//!
+//! The soil's Drucker–Prager model then works on effective stress: its stress is σ'
+//! and the pore pressure enters its momentum only through these forces.
+//!
+//! [`Pores`]: crate::fine::pores::Pores
+
+use crate::fine::material::FineMaterial;
+use crate::kernel::WendlandC2;
+use crate::math::{Real, Vect};
+use crate::neighbors::CellGrid;
+use nalgebra::SMatrix;
+
+/// A soil particle as the water sees it over a step: at the middle of the step.
+#[derive(Clone, Copy, Debug)]
+pub struct SoilPoint<const D: usize> {
+    pub pos: Vect<D>,
+    /// Velocity at the start of the step.
+    pub vel: Vect<D>,
+    pub vol: Real,
+    /// μ/k (Pa·s/m²); 0 for a soil the water passes freely.
+    pub drag: Real,
+    /// 1 − n, the grains' share of the volume (0 without pores).
+    pub solid: Real,
+}
+
+/// Σ V W over the lattice of spacing `dp`: its least value at any point of the unit
+/// cell (sampled at quarter spacings), and its value at a lattice point. The least is
+/// the kernel sum a water particle inside a soil meets at least (1 for a continuum;
+/// 0.99–1.03 for the Wendland C2 kernel at h = 1.3 dp in 2D as the point moves off
+/// the lattice); the value at a lattice point is what a particle of a family meets
+/// of its own family in full support.
+pub fn lattice_sum<const D: usize>(k: &WendlandC2, dp: Real) -> (Real, Real) {
+    let n = (k.cutoff / dp).ceil() as i64 + 1;
+    let vol = dp.powi(D as i32);
+    let sum_at = |off: [Real; 3]| {
+        let mut sum = 0.0;
+        let mut cell = [0i64; 3];
+        let count = (2 * n + 1).pow(D as u32);
+        for c in 0..count {
+            let mut rest = c;
+            for a in cell.iter_mut().take(D) {
+                *a = rest % (2 * n + 1) - n;
+                rest /= 2 * n + 1;
+            }
+            let r2: Real = (0..D)
+                .map(|a| ((cell[a] as Real + off[a]) * dp).powi(2))
+                .sum();
+            if r2 < k.cutoff * k.cutoff {
+                sum += k.w(r2.sqrt()) * vol;
+            }
+        }
+        sum
+    };
+    let mut least = Real::INFINITY;
+    for c in 0..4usize.pow(D as u32) {
+        let mut off = [0.0; 3];
+        let mut rest = c;
+        for o in off.iter_mut().take(D) {
+            *o = (rest % 4) as Real * 0.25;
+            rest /= 4;
+        }
+        least = least.min(sum_at(off));
+    }
+    (least, sum_at([0.0; 3]))
+}
+
+/// Σ V W at `x` over the particles at `pos` (volumes `vol`) binned in `grid`: the
+/// kernel sum of a family at a point, the point's own particle included.
+pub fn kernel_sum<const D: usize>(
+    x: &Vect<D>,
+    pos: &[Vect<D>],
+    vol: impl Fn(usize) -> Real,
+    grid: &CellGrid<D>,
+    k: &WendlandC2,
+) -> Real {
+    let cut2 = k.cutoff * k.cutoff;
+    let mut s = 0.0;
+    grid.for_each_near(x, |j| {
+        let j = j as usize;
+        let r2 = (x - pos[j]).norm_squared();
+        if r2 < cut2 {
+            s += k.w(r2.sqrt()) * vol(j);
+        }
+    });
+    s
+}
+
+/// The soil's kernel sum in full at a particle whose own family gives `own` there:
+/// the least lattice sum scaled by the particle's own support, `own` over its lattice
+/// value (1 inside, less at a free surface or a wall, where both families are cut
+/// alike), not below a tenth of the least.
+#[inline(always)]
+pub fn full_sum((least, at_point): (Real, Real), own: Real) -> Real {
+    (least * (own / at_point).min(1.0)).max(0.1 * least)
+}
+
+impl<const D: usize> SoilPoint<D> {
+    /// Soil particle of material `m` under water of viscosity `mu`.
+    pub fn of(m: &FineMaterial, mu: Real, pos: Vect<D>, vel: Vect<D>, vol: Real) -> Self {
+        let (drag, solid) = m
+            .pores
+            .map_or((0.0, 0.0), |p| (mu / p.permeability, 1.0 - p.porosity));
+        SoilPoint {
+            pos,
+            vel,
+            vol,
+            drag,
+            solid,
+        }
+    }
+}
+
+/// The water's drag coefficients of a step, seed 001 Eqs. (8), (10): a_i = Σ_j V_j
+/// (μ/k_j) W_ij / s_i (Pa·s/m²) and b_i = Σ_j V_j (μ/k_j) W_ij u_j / s_i, with s_i
+/// the larger of Σ_j V_j W_ij and the soil's sum in full there ([`full_sum`]: the
+/// least lattice sum, cut where the water's own support is cut). Inside a soil, at
+/// its free surface and at walls alike this is the Shepard mean, so the water meets
+/// μ/k exactly wherever it sits on the soil's lattice (the plain sum swings by 4 %
+/// with the offset); where the water leaves the soil the drag tapers with the soil's
+/// presence.
+#[derive(Clone, Copy, Debug)]
+pub struct Seepage<const D: usize> {
+    pub a: Real,
+    pub b: Vect<D>,
+    /// 1/s_i, by which the soil's reaction is weighted too.
+    pub inv: Real,
+}
+
+impl<const D: usize> Seepage<D> {
+    /// The coefficients of a water particle at `x` from the soil particles binned in
+    /// `grid` (positions `soil`), not yet normalised, and the soil's sum Σ_j V_j W_ij
+    /// there (over soils with pores).
+    pub fn raw(
+        x: &Vect<D>,
+        soil: &[SoilPoint<D>],
+        grid: &CellGrid<D>,
+        k: &WendlandC2,
+    ) -> (Self, Real) {
+        let cut2 = k.cutoff * k.cutoff;
+        let mut s = Seepage {
+            a: 0.0,
+            b: Vect::<D>::zeros(),
+            inv: 1.0,
+        };
+        let mut sum = 0.0;
+        grid.for_each_near(x, |j| {
+            let q = &soil[j as usize];
+            if q.drag == 0.0 {
+                return;
+            }
+            let r2 = (x - q.pos).norm_squared();
+            if r2 < cut2 {
+                let vw = q.vol * k.w(r2.sqrt());
+                sum += vw;
+                s.a += q.drag * vw;
+                s.b += q.vel * (q.drag * vw);
+            }
+        });
+        (s, sum)
+    }
+
+    /// The coefficients divided by s = max(`sum`, `full`), `full` the kernel sum a
+    /// soil would give there ([`full_sum`]).
+    pub fn normalised(self, sum: Real, full: Real) -> Self {
+        let inv = 1.0 / sum.max(full);
+        Seepage {
+            a: self.a * inv,
+            b: self.b * inv,
+            inv,
+        }
+    }
+
+    /// [`raw`](Self::raw) then [`normalised`](Self::normalised).
+    pub fn at(
+        x: &Vect<D>,
+        soil: &[SoilPoint<D>],
+        grid: &CellGrid<D>,
+        k: &WendlandC2,
+        full: Real,
+    ) -> Self {
+        let (s, sum) = Self::raw(x, soil, grid, k);
+        s.normalised(sum, full)
+    }
+
+    /// The velocity after the drag over `dt` of a water particle of density `rho`
+    /// whose other forces gave `u`: backward Euler of du/dt = −(a u − b)/ρ.
+    #[inline(always)]
+    pub fn drag(&self, u: Vect<D>, rho: Real, dt: Real) -> Vect<D> {
+        if self.a == 0.0 {
+            return u;
+        }
+        let f = dt / rho;
+        (u + self.b * f) / (1.0 + self.a * f)
+    }
+}
+
+/// One water particle's share of the drag over a step: the means over its sub-steps
+/// of V_i and V_i u_i (u_i after the drag), from which the soil's reaction follows.
+#[derive(Clone, Copy, Debug)]
+pub struct WaterDrag<const D: usize> {
+    pub vol: Real,
+    pub vol_vel: Vect<D>,
+}
+
+impl<const D: usize> Default for WaterDrag<D> {
+    fn default() -> Self {
+        WaterDrag {
+            vol: 0.0,
+            vol_vel: Vect::<D>::zeros(),
+        }
+    }
+}
+
+impl<const D: usize> WaterDrag<D> {
+    /// Add a sub-step of weight `share` (1/k) with volume `vol` and velocity `u`
+    /// (both weighted by the particle's [`Seepage::inv`]).
+    #[inline(always)]
+    pub fn add(&mut self, vol: Real, u: &Vect<D>, share: Real) {
+        self.vol += vol * share;
+        self.vol_vel += u * (vol * share);
+    }
+}
+
+/// The water around a soil particle, for its forces at the end of the water's
+/// sub-steps.
+pub struct WaterAround<'a, const D: usize> {
+    /// Positions at which the seepage was frozen (see [`Seepage`]).
+    pub frozen: &'a [Vect<D>],
+    /// Each particle's share of the drag over the step.
+    pub drag: &'a [WaterDrag<D>],
+    /// Positions, volumes and pressures now.
+    pub pos: &'a [Vect<D>],
+    pub vol: &'a [Real],
+    pub p: &'a [Real],
+    /// −ρ_w g: the buoyancy of water per unit volume (N/m³, upward).
+    pub buoyancy: Vect<D>,
+}
+
+/// The water's force on soil particle `q` over the step (seepage and buoyancy, N),
+/// and the pore pressure at it (Pa; 0 without water). `full` is the kernel sum the
+/// water would give there in full ([`full_sum`] of the soil's own sum).
+pub fn soil_force<const D: usize>(
+    q: &SoilPoint<D>,
+    w: &WaterAround<'_, D>,
+    grid: &CellGrid<D>,
+    k: &WendlandC2,
+    full: Real,
+) -> (Vect<D>, Real) {
+    let cut2 = k.cutoff * k.cutoff;
+    let mut seep = Vect::<D>::zeros();
+    // Σ V W, Σ V p W, Σ V W (x_i − x_j), Σ V ∇W, Σ V p ∇W, Σ V ∇W ⊗ (x_i − x_j)
+    let (mut s0, mut s1) = (0.0, 0.0);
+    let mut t = Vect::<D>::zeros();
+    let (mut g0, mut g1) = (Vect::<D>::zeros(), Vect::<D>::zeros());
+    let mut m = SMatrix::<Real, D, D>::zeros();
+    grid.for_each_near(&q.pos, |i| {
+        let i = i as usize;
+        if q.drag > 0.0 {
+            let r2 = (q.pos - w.frozen[i]).norm_squared();
+            if r2 < cut2 {
+                let d = &w.drag[i];
+                seep += (d.vol_vel - q.vel * d.vol) * (q.drag * k.w(r2.sqrt()));
+            }
+        }
+        let rij = q.pos - w.pos[i];
+        let r2 = rij.norm_squared();
+        if r2 < cut2 {
+            let r = r2.sqrt();
+            let (v, p) = (w.vol[i], w.p[i]);
+            let wv = k.w(r) * v;
+            s0 += wv;
+            s1 += wv * p;
+            t -= rij * wv;
+            if r > 0.0 {
+                // ∇_j W_ji = W'(r) (x_j − x_i)/r
+                let grad = rij * (k.dw(r) / r * v);
+                g0 += grad;
+                g1 += grad * p;
+                m -= grad * rij.transpose();
+            }
+        }
+    });
+    if s0 == 0.0 {
+        return (seep * q.vol, 0.0);
+    }
+    // the pore pressure at the soil particle, exact for a linear field
+    // p_i = p + ∇p·(x_i − x_j):  Σ V W p_i = p S0 + t·∇p  and  Σ V ∇W p_i = p g0 + M ∇p,
+    // solved by eliminating ∇p = M⁻¹ (g1 − p g0); Shepard's where the water is too
+    // sparse for that (S0 ≤ 0.3)
+    let exact = (s0 > 0.3)
+        .then(|| m.try_inverse())
+        .flatten()
+        .and_then(|inv| {
+            let (a0, a1) = (inv * g0, inv * g1);
+            let den = s0 - t.dot(&a0);
+            (den.abs() > 0.1 * s0).then(|| (s1 - t.dot(&a1)) / den)
+        });
+    let p_here = exact.unwrap_or(s1 / s0);
+    // the grains' buoyancy, as far as the water surrounds them
+    let wet = (s0 / full).min(1.0);
+    ((seep + w.buoyancy * (q.solid * wet)) * q.vol, p_here)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Vector2;
+
+    fn lattice(dp: Real, n: i32, lo_y: i32) -> Vec<Vect<2>> {
+        let mut x = Vec::new();
+        for i in -n..=n {
+            for j in lo_y..=n {
+                x.push(Vector2::new(i as Real * dp, j as Real * dp));
+            }
+        }
+        x
+    }
+
+    /// The pore pressure interpolated at a soil particle is exact for a linear field, in
+    /// full support and where the water is cut off by a floor below the particle; the
+    /// buoyancy is (1 − n) ρ_w g V in full water.
+    #[test]
+    fn pore_pressure_is_exact_for_a_linear_field() {
+        let dp = 0.01;
+        let k = WendlandC2::new(1.3 * dp, 2);
+        let grad = Vector2::new(300.0, -9810.0);
+        for lo in [-6, 0] {
+            let pos = lattice(dp, 6, lo);
+            let n = pos.len();
+            let p: Vec<Real> = pos.iter().map(|x| 5000.0 + grad.dot(x)).collect();
+            let vol = vec![dp * dp; n];
+            let mut grid =
+                CellGrid::new(&Vector2::new(-0.1, -0.1), &Vector2::new(0.1, 0.1), k.cutoff);
+            grid.bin(&pos);
+            let drag = vec![WaterDrag::default(); n];
+            let w = WaterAround {
+                frozen: &pos,
+                drag: &drag,
+                pos: &pos,
+                vol: &vol,
+                p: &p,
+                buoyancy: Vector2::new(0.0, 9810.0),
+            };
+            let q = SoilPoint {
+                pos: Vector2::new(0.001, 0.0),
+                vel: Vector2::zeros(),
+                vol: dp * dp,
+                drag: 0.0,
+                solid: 0.6,
+            };
+            let (f, ph) = soil_force(&q, &w, &grid, &k, lattice_sum::<2>(&k, dp).0);
+            // no seepage: the grains' buoyancy, in full where the water surrounds them,
+            // in part on the floor
+            let full = 9810.0 * 0.6 * dp * dp;
+            if lo < 0 {
+                assert!((f - Vector2::new(0.0, full)).norm() < 5e-3 * full, "{f}");
+            } else {
+                assert!(f[0] == 0.0 && f[1] > 0.5 * full && f[1] < full, "{f}");
+            }
+            let p_exact = 5000.0 + grad.dot(&q.pos);
+            assert!(
+                (ph - p_exact).abs() < 1e-9 * p_exact,
+                "{lo}: {ph} {p_exact}"
+            );
+        }
+    }
+
+    /// The soil's reaction is the exact opposite of the water's implicit drag impulse.
+    #[test]
+    fn drag_is_equal_and_opposite() {
+        let dp = 0.01;
+        let k = WendlandC2::new(1.3 * dp, 2);
+        let water = lattice(dp, 3, -3);
+        let soil: Vec<SoilPoint<2>> = lattice(dp, 3, -3)
+            .iter()
+            .enumerate()
+            .map(|(j, x)| SoilPoint {
+                pos: x + Vector2::new(0.3 * dp, 0.2 * dp),
+                vel: Vector2::new(0.01 * j as Real, -0.02),
+                vol: dp * dp,
+                drag: 1e5,
+                solid: 0.6,
+            })
+            .collect();
+        let lo = Vector2::new(-0.1, -0.1);
+        let hi = Vector2::new(0.1, 0.1);
+        let mut sgrid = CellGrid::new(&lo, &hi, k.cutoff);
+        let spos: Vec<_> = soil.iter().map(|s| s.pos).collect();
+        sgrid.bin(&spos);
+        let mut wgrid = CellGrid::new(&lo, &hi, k.cutoff);
+        wgrid.bin(&water);
+        let (rho, dt, vol) = (1000.0, 1e-3, dp * dp);
+        let mut impulse = Vector2::<Real>::zeros();
+        let mut drag = vec![WaterDrag::default(); water.len()];
+        // three sub-steps, each water particle starting from its own velocity
+        for s in 0..3 {
+            for (i, x) in water.iter().enumerate() {
+                let c = Seepage::at(x, &soil, &sgrid, &k, lattice_sum::<2>(&k, dp).0);
+                let u0 = Vector2::new(0.1 * s as Real, 0.05 * i as Real);
+                let u = c.drag(u0, rho, dt);
+                impulse += (u - u0) * (rho * vol);
+                drag[i].add(vol * c.inv, &u, 1.0 / 3.0);
+            }
+        }
+        let p = vec![0.0; water.len()];
+        let vols = vec![vol; water.len()];
+        let w = WaterAround {
+            frozen: &water,
+            drag: &drag,
+            pos: &water,
+            vol: &vols,
+            p: &p,
+            buoyancy: Vector2::zeros(),
+        };
+        let mut reaction = Vector2::<Real>::zeros();
+        for q in &soil {
+            let q = SoilPoint { solid: 0.0, ..*q };
+            reaction += soil_force(&q, &w, &wgrid, &k, 1.0).0 * (3.0 * dt);
+        }
+        assert!(impulse.norm() > 1e-6);
+        assert!(
+            (impulse + reaction).norm() < 1e-12 * impulse.norm().max(1.0),
+            "{impulse} {reaction}"
+        );
+    }
+}

@@ -1,0 +1,229 @@
+//! Saturated soil (VALIDATION.md §12; seed 001 Eqs. 8–10): Darcy's law and the quick
+//! condition in the seepage column (`models/scenes/seepage_column.toml`), a
+//! submerged layer at rest against a barrier (`submerged_layer.toml`), and refused
+//! pore keys.
+
+use granmix_core::simulation::Sample;
+use granmix_tests::{refusal, rel, run};
+
+const G: f64 = 9.81;
+const RHO_W: f64 = 1000.0;
+const MU: f64 = 1e-3;
+/// The column's sand: dry density, porosity, permeability, height, width.
+const RHO_D: f64 = 1600.0;
+const N: f64 = 0.4;
+const K: f64 = 1e-9;
+const L: f64 = 0.2;
+const W: f64 = 0.27;
+/// The piezometers' spacing.
+const DZ: f64 = 0.12;
+
+fn probe<'a>(s: &'a Sample, name: &str) -> &'a granmix_core::sample::ProbeValue {
+    &s.probes.iter().find(|p| p.0 == name).unwrap().1
+}
+
+/// The upward hydraulic gradient between the piezometers, i = Δh/Δz.
+fn gradient(s: &Sample) -> f64 {
+    let p = |n| probe(s, n).water_pressure.unwrap();
+    (p("low") - p("high")) / (RHO_W * G * DZ) - 1.0
+}
+
+/// The discharge through the column relative to the sand: the water's superficial
+/// velocity less the sand's, averaged over the two piezometers.
+fn discharge(s: &Sample) -> f64 {
+    let q = |n| {
+        let p = probe(s, n);
+        p.water_velocity.unwrap()[1] - p.velocity[1]
+    };
+    0.5 * (q("low") + q("high"))
+}
+
+/// The samples of the quasi-steady part of a seepage-column run (t ≥ 0.3 s).
+fn column(set: &[&str]) -> Vec<Sample> {
+    let (samples, end, _) = run("seepage_column.toml", set);
+    assert!(
+        !matches!(end, granmix_core::runner::RunEnd::Blowup(_)),
+        "{end:?}"
+    );
+    samples.into_iter().filter(|s| s.time >= 0.3).collect()
+}
+
+/// Darcy: q = k_h i within 3 % at every sample of the quasi-steady flow, upward
+/// (reservoir 0.15 m above the column's water) and downward (0.15 m below), with
+/// k_h = k ρ_w g / μ. The check fails with the permeability 10 % off.
+#[test]
+fn darcy_discharge_through_the_column() {
+    let kh = K * RHO_W * G / MU;
+    for (set, must_pass) in [
+        (vec![], true),
+        (vec!["water.regions[1].shape.max=[0.1, 0.2]"], true),
+        (vec!["materials[0].permeability=1.1e-9"], false),
+    ] {
+        let mut report = Vec::new();
+        let mut ok = true;
+        for s in column(&set) {
+            let (i, q) = (gradient(&s), discharge(&s));
+            report.push(format!(
+                "t={:.2} i={i:.4} q/(k_h i)={:.4}",
+                s.time,
+                q / (kh * i)
+            ));
+            ok &= i.abs() > 0.1 && rel(q, kh * i) < 0.03;
+        }
+        assert_eq!(ok, must_pass, "{set:?}: {report:#?}");
+    }
+}
+
+/// The mean over the quasi-steady samples of the upward gradient and of the effective
+/// vertical stress the sieve carries (its grain load over the column's width).
+fn base_stress(set: &[&str]) -> (f64, f64) {
+    let s = column(set);
+    let n = s.len() as f64;
+    let i = s.iter().map(gradient).sum::<f64>() / n;
+    let sv = s
+        .iter()
+        .map(|s| {
+            let b = s.barriers.iter().find(|b| b.name == "sieve").unwrap();
+            assert_eq!(b.force_water[1], 0.0, "water passes the sieve");
+            -(b.force[1] - b.force_water[1]) / W
+        })
+        .sum::<f64>()
+        / n;
+    (i, sv)
+}
+
+/// Quick condition: under upward flow the effective vertical stress at the column's
+/// base is (ρ' − ρ_w i) g L with ρ' = ρ_sat − ρ_w (Terzaghi), within 5 % of its value
+/// at rest, at rest and at two heads; the line through the three vanishes at
+/// i_c = ρ'/ρ_w within 5 %. The check fails for a sand of porosity 0.3 (ρ' 10 % less
+/// than the reference takes).
+#[test]
+fn quick_condition_of_the_column() {
+    for (porosity, must_pass) in [("0.4", true), ("0.3", false)] {
+        let rho_sub = RHO_D + N * RHO_W - RHO_W;
+        let s0 = rho_sub * G * L;
+        let n = format!("materials[0].porosity={porosity}");
+        let mut pts = Vec::new();
+        let mut ok = true;
+        for top in ["0.35", "0.42", "0.50"] {
+            let head = format!("water.regions[1].shape.max=[0.1, {top}]");
+            let (i, sv) = base_stress(&[head.as_str(), n.as_str()]);
+            let want = (rho_sub - RHO_W * i) * G * L;
+            ok &= (sv - want).abs() < 0.05 * s0;
+            pts.push((i, sv, want));
+        }
+        // least squares σ' = a + b i
+        let m = pts.len() as f64;
+        let (si, ss) = pts.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0, a.1 + p.1));
+        let (mi, ms) = (si / m, ss / m);
+        let b = pts.iter().map(|p| (p.0 - mi) * (p.1 - ms)).sum::<f64>()
+            / pts.iter().map(|p| (p.0 - mi).powi(2)).sum::<f64>();
+        let ic = mi - ms / b;
+        let ic_want = rho_sub / RHO_W;
+        ok &= rel(ic, ic_want) < 0.05;
+        assert_eq!(
+            ok, must_pass,
+            "n = {porosity}: (i, σ'_v, Terzaghi) {pts:?}; i_c = {ic:.4} vs {ic_want:.4}"
+        );
+    }
+}
+
+/// A saturated layer at rest against a barrier: σ'_v = ρ' g (H − z) within 3 % and the
+/// pore pressure ρ_w g (H − z) within 1 % at mid-depth; the barrier's water load
+/// ½ ρ_w g H² within 2 %, its grain load within [K_a, K0] × ½ ρ' g H². The check fails
+/// for a sand of porosity 0.3 (ρ' 10 % less than the reference takes).
+#[test]
+fn submerged_layer_at_rest() {
+    let h: f64 = 0.3;
+    let phi = 30f64.to_radians();
+    let rho_sub = RHO_D + N * RHO_W - RHO_W;
+    for (porosity, must_pass) in [("0.4", true), ("0.3", false)] {
+        let n = format!("materials[0].porosity={porosity}");
+        let (samples, _, _) = run("submerged_layer.toml", &[n.as_str()]);
+        let last = samples.last().unwrap();
+        let mid = probe(last, "mid");
+        let sv = mid.stress.0[1];
+        let pw = mid.water_pressure.unwrap();
+        let b = last.barriers.iter().find(|b| b.name == "barrier").unwrap();
+        let (water, grains) = (b.force_water[0], b.force[0] - b.force_water[0]);
+        let sv_want = -rho_sub * G * h / 2.0;
+        let pw_want = RHO_W * G * h / 2.0;
+        let water_want = 0.5 * RHO_W * G * h * h;
+        let ka = (1.0 - phi.sin()) / (1.0 + phi.sin());
+        let (lo, hi) = (ka, 1.0 - phi.sin());
+        let grain_ref = 0.5 * rho_sub * G * h * h;
+        let ok = rel(sv, sv_want) < 0.03
+            && rel(pw, pw_want) < 0.01
+            && rel(water, water_want) < 0.02
+            && grains >= lo * grain_ref
+            && grains <= hi * grain_ref;
+        assert_eq!(
+            ok,
+            must_pass,
+            "n = {porosity}: σ'_v {sv:.1} vs {sv_want:.1} Pa, p {pw:.1} vs {pw_want:.1} Pa, \
+             water load {water:.2} vs {water_want:.2} N/m, grain load {grains:.2} in \
+             [{:.2}, {:.2}] N/m",
+            lo * grain_ref,
+            hi * grain_ref
+        );
+    }
+}
+
+/// A porosity outside (0, 1), a negative permeability, a saturated soil without
+/// gravity, pore keys without a porosity, and both `permeability` and `grain_size`
+/// are refused, naming the key.
+#[test]
+fn bad_pore_input_names_the_key() {
+    let scene = std::fs::read_to_string(granmix_tests::scene_path("submerged_layer.toml")).unwrap();
+    for needle in [
+        "porosity = 0.4",
+        "permeability = 1.0e-9",
+        "gravity = [0.0, -9.81]",
+    ] {
+        assert!(scene.contains(needle), "{needle}");
+    }
+    let with = |a: &str, b: &str| scene.replace(a, b);
+    for (text, key, words) in [
+        (
+            with("porosity = 0.4", "porosity = 1.2"),
+            "`materials[0].porosity`",
+            "(0, 1)",
+        ),
+        (
+            with("porosity = 0.4", "porosity = 0.0"),
+            "`materials[0].porosity`",
+            "(0, 1)",
+        ),
+        (
+            with("permeability = 1.0e-9", "permeability = -1.0e-9"),
+            "`materials[0].permeability`",
+            "positive",
+        ),
+        (
+            with("gravity = [0.0, -9.81]", "gravity = [0.0, 0.0]"),
+            "`materials[0].saturated`",
+            "gravity",
+        ),
+        (
+            with("porosity = 0.4\n", ""),
+            "`materials[0].porosity`",
+            "porosity",
+        ),
+        (
+            with(
+                "permeability = 1.0e-9",
+                "permeability = 1.0e-9\ngrain_size = 2e-4",
+            ),
+            "`materials[0].grain_size`",
+            "not both",
+        ),
+        (
+            with("permeability = 1.0e-9\n", ""),
+            "`materials[0].saturated`",
+            "`permeability`",
+        ),
+    ] {
+        let e = refusal(&text);
+        assert!(e.contains(key) && e.contains(words), "{key}: {e}");
+    }
+}
