@@ -12,6 +12,7 @@ pub mod budget;
 pub mod build_error;
 pub mod coarse;
 pub mod cosim;
+pub mod cross_lists;
 pub mod estimate;
 pub mod fine;
 pub mod geometry;

@@ -158,15 +158,10 @@ pub struct Seepage<const D: usize> {
 }
 
 impl<const D: usize> Seepage<D> {
-    /// The coefficients of a water particle at `x` from the soil particles binned in
-    /// `grid` (positions `soil`), not yet normalised, and the soil's sum Σ_j V_j W_ij
-    /// there (over soils with pores).
-    pub fn raw(
-        x: &Vect<D>,
-        soil: &[SoilPoint<D>],
-        grid: &CellGrid<D>,
-        k: &WendlandC2,
-    ) -> (Self, Real) {
+    /// The coefficients of a water particle at `x` from the soil particles `near`
+    /// (indices into `soil`), not yet normalised, and the soil's sum Σ_j V_j W_ij there
+    /// (over soils with pores).
+    pub fn raw(x: &Vect<D>, soil: &[SoilPoint<D>], near: &[u32], k: &WendlandC2) -> (Self, Real) {
         let cut2 = k.cutoff * k.cutoff;
         let mut s = Seepage {
             a: 0.0,
@@ -174,10 +169,10 @@ impl<const D: usize> Seepage<D> {
             inv: 1.0,
         };
         let mut sum = 0.0;
-        grid.for_each_near(x, |j| {
+        for &j in near {
             let q = &soil[j as usize];
             if q.drag == 0.0 {
-                return;
+                continue;
             }
             let r2 = (x - q.pos).norm_squared();
             if r2 < cut2 {
@@ -186,7 +181,7 @@ impl<const D: usize> Seepage<D> {
                 s.a += q.drag * vw;
                 s.b += q.vel * (q.drag * vw);
             }
-        });
+        }
         (s, sum)
     }
 
@@ -205,11 +200,11 @@ impl<const D: usize> Seepage<D> {
     pub fn at(
         x: &Vect<D>,
         soil: &[SoilPoint<D>],
-        grid: &CellGrid<D>,
+        near: &[u32],
         k: &WendlandC2,
         full: Real,
     ) -> Self {
-        let (s, sum) = Self::raw(x, soil, grid, k);
+        let (s, sum) = Self::raw(x, soil, near, k);
         s.normalised(sum, full)
     }
 
@@ -259,65 +254,83 @@ pub struct WaterAround<'a, const D: usize> {
     pub frozen: &'a [Vect<D>],
     /// Each particle's share of the drag over the step.
     pub drag: &'a [WaterDrag<D>],
-    /// Positions, volumes and pressures now.
-    pub pos: &'a [Vect<D>],
+    /// Volumes now.
     pub vol: &'a [Real],
-    pub p: &'a [Real],
     /// −ρ_w g: the buoyancy of water per unit volume (N/m³, upward).
     pub buoyancy: Vect<D>,
 }
 
 /// The water's force on soil particle `q` over the step (seepage and buoyancy, N),
-/// and the pore pressure at it (Pa; 0 without water). `full` is the kernel sum the
-/// water would give there in full ([`full_sum`] of the soil's own sum).
+/// from the water particles `near`. `full` is the kernel sum the water would give
+/// there in full ([`full_sum`] of the soil's own sum).
 pub fn soil_force<const D: usize>(
     q: &SoilPoint<D>,
     w: &WaterAround<'_, D>,
-    grid: &CellGrid<D>,
+    near: &[u32],
     k: &WendlandC2,
     full: Real,
-) -> (Vect<D>, Real) {
+) -> Vect<D> {
     let cut2 = k.cutoff * k.cutoff;
     let mut seep = Vect::<D>::zeros();
+    let mut s0 = 0.0;
+    for &i in near {
+        let i = i as usize;
+        let r2 = (q.pos - w.frozen[i]).norm_squared();
+        if r2 < cut2 {
+            let wk = k.w(r2.sqrt());
+            s0 += wk * w.vol[i];
+            if q.drag > 0.0 {
+                let d = &w.drag[i];
+                seep += (d.vol_vel - q.vel * d.vol) * (q.drag * wk);
+            }
+        }
+    }
+    // the grains' buoyancy, as far as the water surrounds them
+    let wet = (s0 / full).min(1.0);
+    (seep + w.buoyancy * (q.solid * wet)) * q.vol
+}
+
+/// The pore pressure at `x` from the water particles `near` (positions `pos`,
+/// volumes `vol`, pressures `p`), exact for a linear field even where the water's
+/// support is cut (walls, free surface); Shepard's where the water is too sparse for
+/// that; None without water within the kernel.
+pub fn pore_pressure<const D: usize>(
+    x: &Vect<D>,
+    (pos, vol, p): (&[Vect<D>], &[Real], &[Real]),
+    near: &[u32],
+    k: &WendlandC2,
+) -> Option<Real> {
+    let cut2 = k.cutoff * k.cutoff;
     // Σ V W, Σ V p W, Σ V W (x_i − x_j), Σ V ∇W, Σ V p ∇W, Σ V ∇W ⊗ (x_i − x_j)
     let (mut s0, mut s1) = (0.0, 0.0);
     let mut t = Vect::<D>::zeros();
     let (mut g0, mut g1) = (Vect::<D>::zeros(), Vect::<D>::zeros());
     let mut m = SMatrix::<Real, D, D>::zeros();
-    grid.for_each_near(&q.pos, |i| {
+    for &i in near {
         let i = i as usize;
-        if q.drag > 0.0 {
-            let r2 = (q.pos - w.frozen[i]).norm_squared();
-            if r2 < cut2 {
-                let d = &w.drag[i];
-                seep += (d.vol_vel - q.vel * d.vol) * (q.drag * k.w(r2.sqrt()));
-            }
-        }
-        let rij = q.pos - w.pos[i];
+        let rij = x - pos[i];
         let r2 = rij.norm_squared();
         if r2 < cut2 {
             let r = r2.sqrt();
-            let (v, p) = (w.vol[i], w.p[i]);
+            let (v, pi) = (vol[i], p[i]);
             let wv = k.w(r) * v;
             s0 += wv;
-            s1 += wv * p;
+            s1 += wv * pi;
             t -= rij * wv;
             if r > 0.0 {
                 // ∇_j W_ji = W'(r) (x_j − x_i)/r
                 let grad = rij * (k.dw(r) / r * v);
                 g0 += grad;
-                g1 += grad * p;
+                g1 += grad * pi;
                 m -= grad * rij.transpose();
             }
         }
-    });
-    if s0 == 0.0 {
-        return (seep * q.vol, 0.0);
     }
-    // the pore pressure at the soil particle, exact for a linear field
+    if s0 == 0.0 {
+        return None;
+    }
     // p_i = p + ∇p·(x_i − x_j):  Σ V W p_i = p S0 + t·∇p  and  Σ V ∇W p_i = p g0 + M ∇p,
-    // solved by eliminating ∇p = M⁻¹ (g1 − p g0); Shepard's where the water is too
-    // sparse for that (S0 ≤ 0.3)
+    // solved by eliminating ∇p = M⁻¹ (g1 − p g0), where S0 > 0.3
     let exact = (s0 > 0.3)
         .then(|| m.try_inverse())
         .flatten()
@@ -326,10 +339,7 @@ pub fn soil_force<const D: usize>(
             let den = s0 - t.dot(&a0);
             (den.abs() > 0.1 * s0).then(|| (s1 - t.dot(&a1)) / den)
         });
-    let p_here = exact.unwrap_or(s1 / s0);
-    // the grains' buoyancy, as far as the water surrounds them
-    let wet = (s0 / full).min(1.0);
-    ((seep + w.buoyancy * (q.solid * wet)) * q.vol, p_here)
+    Some(exact.unwrap_or(s1 / s0))
 }
 
 #[cfg(test)]
@@ -360,16 +370,11 @@ mod tests {
             let n = pos.len();
             let p: Vec<Real> = pos.iter().map(|x| 5000.0 + grad.dot(x)).collect();
             let vol = vec![dp * dp; n];
-            let mut grid =
-                CellGrid::new(&Vector2::new(-0.1, -0.1), &Vector2::new(0.1, 0.1), k.cutoff);
-            grid.bin(&pos);
             let drag = vec![WaterDrag::default(); n];
             let w = WaterAround {
                 frozen: &pos,
                 drag: &drag,
-                pos: &pos,
                 vol: &vol,
-                p: &p,
                 buoyancy: Vector2::new(0.0, 9810.0),
             };
             let q = SoilPoint {
@@ -379,7 +384,9 @@ mod tests {
                 drag: 0.0,
                 solid: 0.6,
             };
-            let (f, ph) = soil_force(&q, &w, &grid, &k, lattice_sum::<2>(&k, dp).0);
+            let near: Vec<u32> = (0..n as u32).collect();
+            let f = soil_force(&q, &w, &near, &k, lattice_sum::<2>(&k, dp).0);
+            let ph = pore_pressure(&q.pos, (&pos, &vol, &p), &near, &k).unwrap();
             // no seepage: the grains' buoyancy, in full where the water surrounds them,
             // in part on the floor
             let full = 9810.0 * 0.6 * dp * dp;
@@ -413,20 +420,14 @@ mod tests {
                 solid: 0.6,
             })
             .collect();
-        let lo = Vector2::new(-0.1, -0.1);
-        let hi = Vector2::new(0.1, 0.1);
-        let mut sgrid = CellGrid::new(&lo, &hi, k.cutoff);
-        let spos: Vec<_> = soil.iter().map(|s| s.pos).collect();
-        sgrid.bin(&spos);
-        let mut wgrid = CellGrid::new(&lo, &hi, k.cutoff);
-        wgrid.bin(&water);
         let (rho, dt, vol) = (1000.0, 1e-3, dp * dp);
         let mut impulse = Vector2::<Real>::zeros();
         let mut drag = vec![WaterDrag::default(); water.len()];
         // three sub-steps, each water particle starting from its own velocity
         for s in 0..3 {
             for (i, x) in water.iter().enumerate() {
-                let c = Seepage::at(x, &soil, &sgrid, &k, lattice_sum::<2>(&k, dp).0);
+                let near: Vec<u32> = (0..soil.len() as u32).collect();
+                let c = Seepage::at(x, &soil, &near, &k, lattice_sum::<2>(&k, dp).0);
                 let u0 = Vector2::new(0.1 * s as Real, 0.05 * i as Real);
                 let u = c.drag(u0, rho, dt);
                 impulse += (u - u0) * (rho * vol);
@@ -438,15 +439,14 @@ mod tests {
         let w = WaterAround {
             frozen: &water,
             drag: &drag,
-            pos: &water,
             vol: &vols,
-            p: &p,
             buoyancy: Vector2::zeros(),
         };
         let mut reaction = Vector2::<Real>::zeros();
         for q in &soil {
             let q = SoilPoint { solid: 0.0, ..*q };
-            reaction += soil_force(&q, &w, &wgrid, &k, 1.0).0 * (3.0 * dt);
+            let near: Vec<u32> = (0..water.len() as u32).collect();
+            reaction += soil_force(&q, &w, &near, &k, 1.0) * (3.0 * dt);
         }
         assert!(impulse.norm() > 1e-6);
         assert!(

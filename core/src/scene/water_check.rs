@@ -135,13 +135,17 @@ pub(super) fn validate_water(s: &Scene) -> Check {
             ),
         );
     }
-    let saturated = s.materials.iter().any(|m| m.saturated);
-    if w.regions.is_empty() && w.inflows.is_empty() && !saturated {
+    // a soil with pores may hold the water (saturated) or be its dry counterpart
+    let pores = s
+        .materials
+        .iter()
+        .any(|m| m.saturated || m.porosity.is_some());
+    if w.regions.is_empty() && w.inflows.is_empty() && !pores {
         return fail(
             "water.regions",
             "[water] needs at least one [[water.regions]] entry saying where the water \
-             starts, a [[water.inflows]] entry letting it in, or a saturated soil \
-             (`saturated = true` in [[materials]])",
+             starts, a [[water.inflows]] entry letting it in, or a soil with pores \
+             (`porosity`, `saturated = true` in [[materials]])",
         );
     }
     validate_open_boundaries(s)?;

@@ -180,7 +180,7 @@ impl<const D: usize> Stepper<D> {
         if water.is_none() {
             skipped.push(("water".into(), "scene has no water".into()));
         }
-        let soil_water = SoilWater::new(world, &kernel);
+        let soil_water = SoilWater::new(world, &kernel, params.skin);
         if soil_water.is_none() {
             skipped.push((
                 "soil_water".into(),

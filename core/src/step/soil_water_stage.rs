@@ -7,10 +7,12 @@
 //!
 //! [`interactions::soil_water`]: crate::interactions::soil_water
 
+use crate::cross_lists::CrossLists;
 use crate::fine::material::FineMaterial;
 use crate::fine::source::Source;
 use crate::interactions::soil_water::{
-    full_sum, kernel_sum, lattice_sum, soil_force, Seepage, SoilPoint, WaterAround, WaterDrag,
+    full_sum, kernel_sum, lattice_sum, pore_pressure, soil_force, Seepage, SoilPoint, WaterAround,
+    WaterDrag,
 };
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Vect};
@@ -28,9 +30,25 @@ pub struct SoilWater<const D: usize> {
     /// ([`lattice_sum`]).
     #[serde(default = "ones")]
     norm: (Real, Real),
-    /// Per soil particle: its own family's kernel sum at the middle of the step.
+    /// Per soil particle: its own family's kernel sum (at the lists' build).
     #[serde(skip)]
     own: Vec<Real>,
+    /// Per water particle near a soil: its own family's kernel sum (at the lists'
+    /// build; 0 away from soils).
+    #[serde(skip)]
+    own_water: Vec<Real>,
+    /// Water–soil pairs within the kernel cut-off plus 1.5 skins: valid until either
+    /// family rebuilds its lists (each moves at most a skin from its place at the
+    /// other's build, and half a skin after its own).
+    #[serde(skip)]
+    lists: CrossLists,
+    /// Cells of the soil for the lists' build, `radius` wide.
+    #[serde(skip)]
+    grid: Option<CellGrid<D>>,
+    radius: Real,
+    /// The families' list builds and particle counts at the last build of `lists`.
+    #[serde(skip)]
+    built_at: Option<[usize; 4]>,
     #[serde(skip)]
     soil: Vec<SoilPoint<D>>,
     #[serde(skip)]
@@ -41,14 +59,9 @@ pub struct SoilWater<const D: usize> {
     frozen: Vec<Vect<D>>,
     #[serde(skip)]
     vol: Vec<Real>,
-    #[serde(skip)]
-    p: Vec<Real>,
     /// Per fine particle: the water's force over the last step (N).
     #[serde(skip)]
     pub force: Vec<Vect<D>>,
-    /// Per fine particle: the pore pressure at the end of the last step (Pa).
-    #[serde(skip)]
-    pub pore_pressure: Vec<Real>,
     /// Per fine particle: the factor on its geostatic gradient under the water's force
     /// ([`ContinuityParams::weight`]).
     ///
@@ -105,7 +118,7 @@ impl<'a, const D: usize> SeepStep<'a, D> {
 
 impl<const D: usize> SoilWater<D> {
     /// The coupling of a world with water and a soil with pores (None otherwise).
-    pub fn new(world: &World<D>, kernel: &WendlandC2) -> Option<Self> {
+    pub fn new(world: &World<D>, kernel: &WendlandC2, skin: Real) -> Option<Self> {
         let w = world.water_material?;
         let dt_max = world
             .materials
@@ -116,27 +129,32 @@ impl<const D: usize> SoilWater<D> {
             dt_max,
             norm: lattice_sum::<D>(kernel, world.resolution.dp),
             own: Vec::new(),
+            own_water: Vec::new(),
+            lists: CrossLists::default(),
+            grid: None,
+            radius: kernel.cutoff + 1.5 * skin,
+            built_at: None,
             soil: Vec::new(),
             coef: Vec::new(),
             drag: Vec::new(),
             frozen: Vec::new(),
             vol: Vec::new(),
-            p: Vec::new(),
             force: Vec::new(),
-            pore_pressure: Vec::new(),
             weight: Vec::new(),
         })
     }
 
     /// Freeze the soil at the middle of the step (positions of `world.fine` after the
     /// drift, velocities at the start, volumes from `src`) and take every water
-    /// particle's drag coefficients at its present position, with `grids` the cells
-    /// the fine grains and the water were binned in.
+    /// particle's drag coefficients at its present position. The water–soil lists are
+    /// rebuilt when either family rebuilt its own (`builds`: the fine grains' and the
+    /// water's list builds so far), with `water_grid` the cells the water was binned
+    /// in at its last build.
     pub fn freeze(
         &mut self,
         world: &World<D>,
         src: &[Source],
-        (fine_grid, water_grid): (&CellGrid<D>, &CellGrid<D>),
+        (builds, water_grid): ([usize; 2], &CellGrid<D>),
         kernel: &WendlandC2,
         mu: Real,
     ) {
@@ -146,30 +164,59 @@ impl<const D: usize> SoilWater<D> {
             let m: &FineMaterial = &mats[f.material[i] as usize];
             SoilPoint::of(m, mu, f.pos[i], f.vel[i], src[i].vol)
         }));
-        let (soil, norm) = (&self.soil, self.norm);
-        // each soil particle's own support, for its buoyancy after the sub-steps
+        let w = &world.water;
+        let now = [builds[0], builds[1], f.len(), w.len()];
+        if self.built_at != Some(now) {
+            self.build_lists(world, src, water_grid, kernel);
+            self.built_at = Some(now);
+        }
+        let (soil, norm, lists, own) = (&self.soil, self.norm, &self.lists, &self.own_water);
+        self.coef.clear();
+        self.coef
+            .par_extend(w.pos.par_iter().enumerate().map(|(i, x)| {
+                let (s, sum) = Seepage::raw(x, soil, lists.a_to_b.of(i), kernel);
+                // amid soil: the Shepard mean against the soil's sum in full
+                s.normalised(sum, full_sum(norm, own[i]))
+            }));
+        self.frozen.clear();
+        self.frozen.extend_from_slice(&w.pos);
+        self.drag.clear();
+        self.drag.resize(w.len(), WaterDrag::default());
+    }
+
+    /// The water–soil lists, and each family's own kernel sum where they meet.
+    fn build_lists(
+        &mut self,
+        world: &World<D>,
+        src: &[Source],
+        water_grid: &CellGrid<D>,
+        kernel: &WendlandC2,
+    ) {
+        let (f, w) = (&world.fine, &world.water);
+        let (lo, hi) = &world.domain;
+        let radius = self.radius;
+        let grid = self
+            .grid
+            .get_or_insert_with(|| CellGrid::new(lo, hi, radius));
+        self.lists.build(&w.pos, &f.pos, grid, radius);
+        let grid = &*grid;
+        let soil = &self.soil;
         self.own.clear();
         self.own.par_extend(soil.par_iter().map(|q| {
             if q.solid == 0.0 {
                 return 0.0;
             }
-            kernel_sum(&q.pos, &f.pos, |j| src[j].vol, fine_grid, kernel)
+            kernel_sum(&q.pos, &f.pos, |j| src[j].vol, grid, kernel)
         }));
-        let w = &world.water;
-        self.coef.clear();
-        self.coef.par_extend(w.pos.par_iter().map(|x| {
-            let (s, sum) = Seepage::raw(x, soil, fine_grid, kernel);
-            if s.a == 0.0 {
-                return s;
-            }
-            // amid soil: the Shepard mean against the soil's sum in full
-            let own = kernel_sum(x, &w.pos, |j| w.mass[j] / w.rho[j], water_grid, kernel);
-            s.normalised(sum, full_sum(norm, own))
-        }));
-        self.frozen.clear();
-        self.frozen.extend_from_slice(&world.water.pos);
-        self.drag.clear();
-        self.drag.resize(world.water.len(), WaterDrag::default());
+        let lists = &self.lists;
+        self.own_water.clear();
+        self.own_water
+            .par_extend(w.pos.par_iter().enumerate().map(|(i, x)| {
+                if lists.a_to_b.of(i).is_empty() {
+                    return 0.0;
+                }
+                kernel_sum(x, &w.pos, |j| w.mass[j] / w.rho[j], water_grid, kernel)
+            }));
     }
 
     /// The sub-steps' view of the coupling.
@@ -182,42 +229,30 @@ impl<const D: usize> SoilWater<D> {
     }
 
     /// After the water's sub-steps: every soil particle's force from the water (the
-    /// opposite of the drag, and the pore pressure) and its pore pressure, the water
-    /// binned in `water_grid` (within half a skin of its binning).
-    pub fn gather(
-        &mut self,
-        world: &World<D>,
-        mat: &WaterMaterial,
-        water_grid: &CellGrid<D>,
-        kernel: &WendlandC2,
-    ) {
+    /// opposite of the drag, and its buoyancy) and its pore pressure.
+    pub fn gather(&mut self, world: &World<D>, mat: &WaterMaterial, kernel: &WendlandC2) {
         let w = &world.water;
         self.vol.clear();
         self.vol
             .extend(w.mass.iter().zip(&w.rho).map(|(m, r)| m / r));
-        self.p.clear();
-        self.p.extend(w.rho.iter().map(|&r| mat.pressure(r)));
         let around = WaterAround {
             frozen: &self.frozen,
             drag: &self.drag,
-            pos: &w.pos,
             vol: &self.vol,
-            p: &self.p,
             buoyancy: world.hydrostatic_gravity() * (-mat.rho0),
         };
-        let (norm, own) = (self.norm, &self.own);
+        let (norm, own, lists) = (self.norm, &self.own, &self.lists);
         let n = self.soil.len();
         self.force.resize(n, Vect::<D>::zeros());
-        self.pore_pressure.resize(n, 0.0);
         self.soil
             .par_chunks(CHUNK)
             .zip(self.force.par_chunks_mut(CHUNK))
-            .zip(self.pore_pressure.par_chunks_mut(CHUNK))
             .enumerate()
-            .for_each(|(c, ((q, f), pp))| {
+            .for_each(|(c, (q, f))| {
                 for k in 0..q.len() {
-                    let full = full_sum(norm, own[c * CHUNK + k]);
-                    (f[k], pp[k]) = soil_force(&q[k], &around, water_grid, kernel, full);
+                    let j = c * CHUNK + k;
+                    let full = full_sum(norm, own[j]);
+                    f[k] = soil_force(&q[k], &around, lists.b_to_a.of(j), kernel, full);
                 }
             });
         // the vertical gradient a soil rests at: its weight less the water's lift
@@ -238,5 +273,28 @@ impl<const D: usize> SoilWater<D> {
             }
             (m.rho0 * g - self.force[i].dot(&up) / self.soil[i].vol) / held
         }));
+    }
+
+    /// The pore pressure at every fine particle now (Pa; None where no water is
+    /// within its kernel), from the water–soil lists of the last step.
+    pub fn pore_pressures(
+        &self,
+        world: &World<D>,
+        mat: &WaterMaterial,
+        kernel: &WendlandC2,
+    ) -> Vec<Option<Real>> {
+        let w = &world.water;
+        let vol: Vec<Real> = w.mass.iter().zip(&w.rho).map(|(m, r)| m / r).collect();
+        let p: Vec<Real> = w.rho.iter().map(|&r| mat.pressure(r)).collect();
+        let fresh = self
+            .built_at
+            .is_some_and(|b| b[2] == world.fine.len() && b[3] == w.len());
+        (0..world.fine.len())
+            .into_par_iter()
+            .map(|j| {
+                let near = if fresh { self.lists.b_to_a.of(j) } else { &[] };
+                pore_pressure(&world.fine.pos[j], (&w.pos, &vol, &p), near, kernel)
+            })
+            .collect()
     }
 }

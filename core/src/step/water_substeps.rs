@@ -37,7 +37,7 @@ impl<const D: usize> Stepper<D> {
             params,
             soil_water,
             src,
-            fine_grid,
+            lists,
             ..
         } = self;
         let Some((w, m)) = water.as_mut().zip(world.water_material) else {
@@ -68,7 +68,8 @@ impl<const D: usize> Stepper<D> {
             }
             if let Some(sw) = seep.as_mut().filter(|_| s == 0) {
                 timers.time(Stage::SoilWater, || {
-                    sw.freeze(world, src, (fine_grid, w.grid()), kernel, m.mu)
+                    let builds = [lists.builds, w.lists.builds];
+                    sw.freeze(world, src, (builds, w.grid()), kernel, m.mu)
                 });
             }
             let step = seep.as_mut().map(|sw| sw.step(share));
@@ -95,7 +96,7 @@ impl<const D: usize> Stepper<D> {
             }
         }
         if let Some(sw) = seep {
-            timers.time(Stage::SoilWater, || sw.gather(world, &m, w.grid(), kernel));
+            timers.time(Stage::SoilWater, || sw.gather(world, &m, kernel));
             if !world.water_outflows.is_empty() {
                 w.let_out(world, timers);
             }

@@ -107,6 +107,10 @@ pub(super) fn fill<const D: usize>(
         reach = (reach.0.inf(x), reach.1.sup(x));
     }
     let inflows = inflows::<D>(scene, reach)?;
+    if regions.is_empty() && inflows.is_empty() {
+        // a dry soil with pores and no water anywhere: a scene without water
+        return Ok(None);
+    }
     for f in &inflows {
         let (bottom, top) = f.extent_along(up);
         speed = speed
