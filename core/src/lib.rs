@@ -30,6 +30,7 @@ pub mod pair_block;
 pub mod panels;
 pub mod periodic;
 pub mod permute;
+pub mod pore_field;
 pub mod resolution;
 mod restore;
 pub mod riemann;

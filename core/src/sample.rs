@@ -146,7 +146,7 @@ pub struct Frame {
 }
 
 /// One particle as every bulk sink sees it (the particle channel, recordings, VTK
-/// snapshots): 44 bytes, 3D layout (z = 0 in 2D), single precision. Fine particles
+/// snapshots): 52 bytes, 3D layout (z = 0 in 2D), single precision. Fine particles
 /// carry their material index in `group`, coarse-grain particles their body index;
 /// coarse particles have no pressure or plastic strain (0), water no plastic strain;
 /// `family` says which ([`FAMILY_FINE`], [`FAMILY_COARSE`], [`FAMILY_WATER`]). `#[repr(C)]` with an
@@ -175,6 +175,13 @@ pub struct ParticleRecord {
     pub group: u32,
     /// The particle's family: [`FAMILY_FINE`], [`FAMILY_COARSE`] or [`FAMILY_WATER`].
     pub family: u32,
+    /// Pore pressure (Pa): for a fine particle the water's pressure interpolated at it
+    /// (0 without water near), for water its own; 0 for coarse grains.
+    pub pore_pressure: f32,
+    /// `pore_pressure` less the hydrostatic pressure below the water surface of the
+    /// particle's vertical column, ρ_w g (z_s − z) (Pa); 0 for coarse grains and where
+    /// no water is near.
+    pub excess_pore_pressure: f32,
 }
 
 /// [`ParticleRecord::family`] of a fine-grain particle.

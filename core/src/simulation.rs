@@ -6,6 +6,7 @@ use crate::guard::Blowup;
 use crate::load::Load;
 use crate::math::{to3, Real, Vect};
 use crate::observe::{self, RunoutSpec};
+use crate::pore_field::PoreField;
 use crate::resolution::Resolution;
 pub use crate::sample::{
     BarrierSample, BodySample, Frame, ParticleRecord, ProbeValue, Sample, WaterSample,
@@ -396,6 +397,8 @@ impl<const D: usize> Simulation<D> {
     /// state is untouched, so publishing cannot change results.
     pub fn fill_particles(&self, out: &mut [ParticleRecord]) {
         use rayon::prelude::*;
+        let pores = self.pore_field();
+        let pores = &pores;
         let (nf, nc) = self.particle_counts();
         let (fine_out, coarse_out) = out.split_at_mut(nf.min(out.len()));
         let (coarse_out, water_out) = coarse_out.split_at_mut(nc.min(coarse_out.len()));
@@ -404,12 +407,12 @@ impl<const D: usize> Simulation<D> {
             .with_min_len(4096)
             .take(self.world.water.len())
             .enumerate()
-            .for_each(|(i, o)| *o = self.water_record(i));
+            .for_each(|(i, o)| *o = self.water_record(i, pores));
         fine_out
             .par_iter_mut()
             .with_min_len(4096)
             .enumerate()
-            .for_each(|(i, o)| *o = self.fine_record(i));
+            .for_each(|(i, o)| *o = self.fine_record(i, pores));
         coarse_out
             .par_iter_mut()
             .with_min_len(4096)
@@ -418,9 +421,19 @@ impl<const D: usize> Simulation<D> {
             .for_each(|(i, o)| *o = self.coarse_record(i));
     }
 
+    /// Pore pressures of the present state for the records ([`PoreField`]).
+    fn pore_field(&self) -> PoreField {
+        PoreField::of(
+            &self.world,
+            self.stepper.soil_water.as_ref(),
+            &self.stepper.kernel,
+        )
+    }
+
     /// The record of fine particle `i`.
-    fn fine_record(&self, i: usize) -> ParticleRecord {
+    fn fine_record(&self, i: usize, pores: &PoreField) -> ParticleRecord {
         let f = &self.world.fine;
+        let [pore, excess] = pores.fine.get(i).copied().unwrap_or_default();
         ParticleRecord {
             position: arr(&f.pos[i]),
             velocity: arr(&f.vel[i]),
@@ -429,6 +442,8 @@ impl<const D: usize> Simulation<D> {
             id: f.id[i],
             group: f.material[i] as u32,
             family: crate::sample::FAMILY_FINE,
+            pore_pressure: pore,
+            excess_pore_pressure: excess,
         }
     }
 
@@ -443,11 +458,13 @@ impl<const D: usize> Simulation<D> {
             id: i as u32,
             group: c.body[i],
             family: crate::sample::FAMILY_COARSE,
+            pore_pressure: 0.0,
+            excess_pore_pressure: 0.0,
         }
     }
 
     /// The record of water particle `i`.
-    fn water_record(&self, i: usize) -> ParticleRecord {
+    fn water_record(&self, i: usize, pores: &PoreField) -> ParticleRecord {
         let w = &self.world.water;
         let p = self
             .world
@@ -461,6 +478,8 @@ impl<const D: usize> Simulation<D> {
             id: w.id[i],
             group: 0,
             family: crate::sample::FAMILY_WATER,
+            pore_pressure: p as f32,
+            excess_pore_pressure: pores.water.get(i).copied().unwrap_or_default(),
         }
     }
 
@@ -478,16 +497,19 @@ impl<const D: usize> Simulation<D> {
     pub fn frame(&self) -> Frame {
         let (f, w) = (&self.world.fine, &self.world);
         let (nf, nc) = self.particle_counts();
+        let pores = self.pore_field();
         Frame {
             time: w.time,
-            fine: (0..nf).map(|i| self.fine_record(i)).collect(),
+            fine: (0..nf).map(|i| self.fine_record(i, &pores)).collect(),
             density: f.rho.iter().map(|&r| r as f32).collect(),
             stress: f.stress.iter().map(|s| s.0.map(|x| x as f32)).collect(),
             coarse: (0..nc).map(|i| self.coarse_record(i)).collect(),
             coarse_fine_force: w.coarse.particles.f_fine.iter().map(arr).collect(),
             wall_pos: w.walls.pos.iter().map(arr).collect(),
             wall_object: w.walls.object.clone(),
-            water: (0..w.water.len()).map(|i| self.water_record(i)).collect(),
+            water: (0..w.water.len())
+                .map(|i| self.water_record(i, &pores))
+                .collect(),
             water_density: w.water.rho.iter().map(|&r| r as f32).collect(),
         }
     }

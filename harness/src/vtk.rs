@@ -122,6 +122,13 @@ impl VtkSeries {
         a.push("density", "Float32", 1, &bytes_f32(&frame.density));
         let eps: Vec<f32> = fine.iter().map(|p| p.plastic_strain).collect();
         a.push("plastic_strain", "Float32", 1, &bytes_f32(&eps));
+        if !frame.water.is_empty() {
+            // the stress above is effective; the water's part is the pore pressure
+            let pore: Vec<f32> = fine.iter().map(|p| p.pore_pressure).collect();
+            a.push("pore_pressure", "Float32", 1, &bytes_f32(&pore));
+            let excess: Vec<f32> = fine.iter().map(|p| p.excess_pore_pressure).collect();
+            a.push("excess_pore_pressure", "Float32", 1, &bytes_f32(&excess));
+        }
         let stress: Vec<u8> = frame
             .stress
             .iter()
@@ -183,6 +190,8 @@ impl VtkSeries {
             let pressure: Vec<f32> = water.iter().map(|p| p.pressure).collect();
             a.push("pressure", "Float32", 1, &bytes_f32(&pressure));
             a.push("density", "Float32", 1, &bytes_f32(&frame.water_density));
+            let excess: Vec<f32> = water.iter().map(|p| p.excess_pore_pressure).collect();
+            a.push("excess_pressure", "Float32", 1, &bytes_f32(&excess));
             let ids: Vec<u8> = water.iter().flat_map(|p| p.id.to_le_bytes()).collect();
             a.push("id", "UInt32", 1, &ids);
             let pos: Vec<[f32; 3]> = water.iter().map(|p| p.position).collect();

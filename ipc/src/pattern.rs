@@ -9,14 +9,14 @@ use crate::publisher::FrameInfo;
 /// Coarse-grain records at the end of every pattern frame.
 pub const PATTERN_COARSE: usize = 7;
 
-/// Word `w` (0..11, in layout order) of record `i` in frame `k`, as raw bits.
+/// Word `w` (0..13, in layout order) of record `i` in frame `k`, as raw bits.
 #[inline(always)]
 pub fn pattern_word(k: u64, i: usize, w: u32) -> u32 {
     let h = (i as u32)
         .wrapping_mul(2_654_435_761)
         .wrapping_add((k as u32).wrapping_mul(40_503))
         .wrapping_add(w.wrapping_mul(97));
-    if w < 8 {
+    if !(8..11).contains(&w) {
         // a finite float in [0.5, 2) with a random sign and mantissa
         (h & 0x807F_FFFF) | 0x3F00_0000
     } else {
@@ -35,6 +35,8 @@ pub fn pattern_record(k: u64, i: usize) -> ParticleRecord {
         id: pattern_word(k, i, 8),
         group: pattern_word(k, i, 9),
         family: pattern_word(k, i, 10),
+        pore_pressure: f(11),
+        excess_pore_pressure: f(12),
     }
 }
 

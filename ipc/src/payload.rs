@@ -6,9 +6,9 @@
 use iceoryx2::prelude::ZeroCopySend;
 
 /// Layout version of [`FrameHeader`] and [`ParticleRecord`], also a service attribute.
-pub const SCHEMA_VERSION: u32 = 2;
+pub const SCHEMA_VERSION: u32 = 3;
 
-/// One particle: 44 bytes, fine particles first, then coarse-grain particles, then
+/// One particle: 52 bytes, fine particles first, then coarse-grain particles, then
 /// water; the one particle record of granmix
 /// ([`granmix_core::sample::ParticleRecord`]), its family in `family`.
 pub use granmix_core::sample::{ParticleRecord, FAMILY_COARSE, FAMILY_FINE, FAMILY_WATER};
@@ -68,6 +68,8 @@ pub fn append_record(out: &mut Vec<u8>, r: &ParticleRecord) {
     out.extend_from_slice(&r.id.to_le_bytes());
     out.extend_from_slice(&r.group.to_le_bytes());
     out.extend_from_slice(&r.family.to_le_bytes());
+    out.extend_from_slice(&r.pore_pressure.to_le_bytes());
+    out.extend_from_slice(&r.excess_pore_pressure.to_le_bytes());
 }
 
 #[cfg(test)]
@@ -77,7 +79,7 @@ mod tests {
 
     #[test]
     fn layouts_have_no_padding() {
-        assert_eq!(size_of::<ParticleRecord>(), 44);
+        assert_eq!(size_of::<ParticleRecord>(), 52);
         assert_eq!(align_of::<ParticleRecord>(), 4);
         assert_eq!(size_of::<FrameHeader>(), 56);
         assert_eq!(align_of::<FrameHeader>(), 8);
@@ -89,10 +91,14 @@ mod tests {
             id: 9,
             group: 10,
             family: FAMILY_WATER,
+            pore_pressure: 11.0,
+            excess_pore_pressure: 12.0,
         };
         let b = record_bytes(&[r]);
-        assert_eq!(b.len(), 44);
+        assert_eq!(b.len(), 52);
         assert_eq!(&b[36..40], &10u32.to_le_bytes());
         assert_eq!(&b[40..44], &2u32.to_le_bytes());
+        assert_eq!(&b[44..48], &11f32.to_le_bytes());
+        assert_eq!(&b[48..52], &12f32.to_le_bytes());
     }
 }

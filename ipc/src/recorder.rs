@@ -9,7 +9,7 @@
 //! | `/energy` | `granmix.Energies` | JSON (JSON Schema) | sample |
 //!
 //! Message log times are simulation time in ns. The PointCloud's data are the
-//! [`ParticleRecord`] bytes themselves (stride 44), so `/particles` and `/water` hold
+//! [`ParticleRecord`] bytes themselves (stride 52), so `/particles` and `/water` hold
 //! exactly what the particle channel carries. The scene goes in as the attachment `scene.toml` and
 //! the metadata record `granmix`. The protobuf schemas are foxglove's own descriptors
 //! (from the `foxglove` crate).
@@ -171,6 +171,8 @@ fn point_fields() -> Vec<PackedElementField> {
         f("id", 32, NumericType::Uint32),
         f("group", 36, NumericType::Uint32),
         f("family", 40, NumericType::Uint32),
+        f("pore_pressure", 44, NumericType::Float32),
+        f("excess_pore_pressure", 48, NumericType::Float32),
     ]
 }
 

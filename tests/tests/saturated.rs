@@ -227,3 +227,76 @@ fn bad_pore_input_names_the_key() {
         assert!(e.contains(key) && e.contains(words), "{key}: {e}");
     }
 }
+
+/// Terzaghi's consolidation of a loaded layer (`consolidation_layer.toml`): the
+/// settlement of the layer's top against s0 + (s∞ − s0) U(T), U(T) = 1 − Σ 2/M²
+/// exp(−M² T), T = c_v t / H², with c_v = k / (μ (m_v + 1/(ρ_w c0²))) (the scheme's
+/// pore water stores 1/(ρ_w c0²): n/K_w with K_w = n ρ_w c0²), s∞ = Δσ H m_v and
+/// s0 = s∞ (1 − B), B = m_v / (m_v + 1/(ρ_w c0²)); within 5 % at U = 50 % and 90 %.
+/// The check fails with the permeability 50 % high.
+#[test]
+fn terzaghi_consolidation() {
+    let (h, k, mu, e, nu, c0) = (0.1, 7e-11, MU, 2e5, 0.3, 50.0);
+    let bulk = e / (3.0 * (1.0 - 2.0 * nu));
+    let shear = e / (2.0 * (1.0 + nu));
+    let mv = 1.0 / (bulk + 4.0 * shear / 3.0);
+    let storage = 1.0 / (RHO_W * c0 * c0);
+    let cv = k / (mu * (mv + storage));
+    let load = 5000.0 * G * 0.05;
+    let s_inf = load * h * mv;
+    let s0 = s_inf * storage / (mv + storage);
+    let u = |t: f64| {
+        1.0 - (0..200)
+            .map(|m| {
+                let big_m = std::f64::consts::PI * (2 * m + 1) as f64 / 2.0;
+                2.0 / (big_m * big_m) * (-big_m * big_m * cv * t / (h * h)).exp()
+            })
+            .sum::<f64>()
+    };
+    // the times of U = 50 % and 90 % (T = 0.1967, 0.8481)
+    let t_of = |target: f64| {
+        let (mut lo, mut hi) = (0.0, 10.0);
+        for _ in 0..100 {
+            let mid = 0.5 * (lo + hi);
+            if u(mid) < target {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    };
+    let top = |sim: &granmix_core::AnySimulation| {
+        let f = sim.frame();
+        let clay: Vec<f64> = f
+            .fine
+            .iter()
+            .filter(|p| p.group == 0 && (p.position[0] as f64 - 0.15).abs() < 0.05)
+            .map(|p| p.position[1] as f64)
+            .collect();
+        let max = clay.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+        let row: Vec<f64> = clay.into_iter().filter(|y| *y > max - 0.005).collect();
+        row.iter().sum::<f64>() / row.len() as f64
+    };
+    for (perm, must_pass) in [("7.0e-11", true), ("1.05e-10", false)] {
+        let set = format!("materials[0].permeability={perm}");
+        let loaded = granmix_tests::load("consolidation_layer.toml", &[set.as_str()]);
+        let mut sim = granmix_core::AnySimulation::new(&loaded).unwrap();
+        let y0 = top(&sim);
+        let mut report = Vec::new();
+        let mut ok = true;
+        for target in [0.5, 0.9] {
+            let t = t_of(target);
+            sim.advance_to(t).unwrap();
+            let s = y0 - top(&sim);
+            let want = s0 + (s_inf - s0) * target;
+            report.push(format!(
+                "U = {target}: t = {t:.4} s, settlement {:.4} mm vs {:.4} mm",
+                1e3 * s,
+                1e3 * want
+            ));
+            ok &= rel(s, want) < 0.05;
+        }
+        assert_eq!(ok, must_pass, "k = {perm}: {report:#?}");
+    }
+}

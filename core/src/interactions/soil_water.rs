@@ -434,7 +434,6 @@ mod tests {
                 drag[i].add(vol * c.inv, &u, 1.0 / 3.0);
             }
         }
-        let p = vec![0.0; water.len()];
         let vols = vec![vol; water.len()];
         let w = WaterAround {
             frozen: &water,

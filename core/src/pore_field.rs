@@ -1,0 +1,104 @@
+//! Pore pressures for the outputs (VTK, recordings, the particle channel): at every
+//! fine particle the water's pressure interpolated there
+//! ([`soil_water::pore_pressure`](crate::interactions::soil_water::pore_pressure)),
+//! and for fine and water particles the excess over the hydrostatic pressure below
+//! the water surface of their vertical column, ρ_w g (z_s − z).
+
+use crate::kernel::WendlandC2;
+use crate::math::{Real, Vect};
+use crate::step::SoilWater;
+use crate::world::World;
+use std::collections::HashMap;
+
+/// Pore pressure and its excess per fine particle, and the excess per water particle
+/// (Pa, single precision as the records carry them).
+#[derive(Clone, Debug, Default)]
+pub struct PoreField {
+    pub fine: Vec<[f32; 2]>,
+    pub water: Vec<f32>,
+}
+
+impl PoreField {
+    /// The field of the world's present state; empty without water. `coupling` holds
+    /// the water–soil lists of the last step (None: no soil with pores).
+    pub fn of<const D: usize>(
+        world: &World<D>,
+        coupling: Option<&SoilWater<D>>,
+        kernel: &WendlandC2,
+    ) -> Self {
+        let Some(mat) = world.water_material else {
+            return PoreField::default();
+        };
+        let w = &world.water;
+        let g = world.hydrostatic_gravity();
+        let gn = g.norm();
+        let up = if gn > 0.0 {
+            -g / gn
+        } else {
+            Vect::<D>::zeros()
+        };
+        let dp = world.resolution.dp;
+        let surfaces = Surfaces::of(&w.pos, &up, dp);
+        let hydro = |x: &Vect<D>| match surfaces.above(x) {
+            Some(zs) => mat.rho0 * gn * (zs - x.dot(&up)).max(0.0),
+            None => 0.0,
+        };
+        let water = w
+            .pos
+            .iter()
+            .zip(&w.rho)
+            .map(|(x, &r)| (mat.pressure(r) - hydro(x)) as f32)
+            .collect();
+        let fine = match coupling {
+            Some(c) => c
+                .pore_pressures(world, &mat, kernel)
+                .iter()
+                .zip(&world.fine.pos)
+                .map(|(p, x)| match p {
+                    Some(p) => [*p as f32, (p - hydro(x)) as f32],
+                    None => [0.0, 0.0],
+                })
+                .collect(),
+            None => vec![[0.0; 2]; world.fine.len()],
+        };
+        PoreField { fine, water }
+    }
+}
+
+/// The water surface of each vertical column dp wide: its highest water particle
+/// plus dp/2.
+struct Surfaces<const D: usize> {
+    up: Vect<D>,
+    dp: Real,
+    top: HashMap<[i64; 3], Real>,
+}
+
+impl<const D: usize> Surfaces<D> {
+    fn of(pos: &[Vect<D>], up: &Vect<D>, dp: Real) -> Self {
+        let mut s = Surfaces {
+            up: *up,
+            dp,
+            top: HashMap::new(),
+        };
+        for x in pos {
+            let z = x.dot(up) + 0.5 * dp;
+            let t = s.top.entry(s.key(x)).or_insert(Real::NEG_INFINITY);
+            *t = t.max(z);
+        }
+        s
+    }
+
+    fn key(&self, x: &Vect<D>) -> [i64; 3] {
+        let h = x - self.up * x.dot(&self.up);
+        let mut k = [0i64; 3];
+        for (a, v) in h.iter().enumerate() {
+            k[a] = (v / self.dp).floor() as i64;
+        }
+        k
+    }
+
+    /// The surface above `x`, if water stands in its column.
+    fn above(&self, x: &Vect<D>) -> Option<Real> {
+        self.top.get(&self.key(x)).copied()
+    }
+}
