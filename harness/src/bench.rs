@@ -237,6 +237,69 @@ fn cases() -> Vec<Case> {
             "seed 001 §2.1: centreline velocity against Morris et al. (1997), t = 5, 10, 20, 80 s",
     });
     v.push(Case {
+        name: "seepage_column".into(),
+        scene: "seepage_column.toml",
+        levels: vec![("dp=10mm".into(), vec![])],
+        common: vec![],
+        metric: Metric::Darcy(crate::metric_pores::DarcyRef::COLUMN),
+        tolerance: Some(0.03),
+        note: "U-tube permeameter, upward flow i ≈ 0.7: discharge against Darcy q = k_h i (largest error, t ≥ 0.3 s)",
+    });
+    v.push(Case {
+        name: "submerged_layer".into(),
+        scene: "submerged_layer.toml",
+        levels: vec![("H/30".into(), vec![])],
+        common: vec![],
+        metric: Metric::ProbeSigmaYy(-(1600.0 + 0.4 * 1000.0 - 1000.0) * 9.81 * 0.15),
+        tolerance: Some(0.03),
+        note: "saturated layer at rest: effective σ_v at mid-depth against ρ' g H/2",
+    });
+    v.push(Case {
+        name: "consolidation".into(),
+        scene: "consolidation_layer.toml",
+        levels: vec![("H/10".into(), vec![])],
+        common: vec![
+            "simulation.end_time=0.6".into(),
+            "simulation.output_interval=0.001".into(),
+        ],
+        metric: Metric::Consolidation(crate::metric_pores::ConsolidationRef::LAYER),
+        tolerance: Some(0.05),
+        note: "Terzaghi: settlement against the series at U = 50 % and 90 %",
+    });
+    v.push(Case {
+        name: "saturated_collapse_2d".into(),
+        scene: "saturated_collapse_2d.toml",
+        levels: vec![
+            ("saturated".into(), vec![]),
+            ("dry".into(), vec!["materials[0].saturated=false".into()]),
+        ],
+        common: vec![],
+        metric: Metric::RunoutReport,
+        tolerance: None,
+        note: "2D collapse a = 0.5, 5000 grains (+ 5000 pore water): run-out, saturated beside dry",
+    });
+    v.push(Case {
+        name: "speed_saturated_2d".into(),
+        scene: "saturated_collapse_2d.toml",
+        levels: vec![("dp=2mm".into(), vec![])],
+        common: vec![
+            "simulation.end_time=0.15".into(),
+            "simulation.settle_ratio=0.5".into(),
+        ],
+        metric: Metric::Speed,
+        tolerance: None,
+        note: "saturated 2D collapse, 5000 grains + 5000 pore water, first 0.15 s",
+    });
+    v.push(Case {
+        name: "debris_flow_saturated".into(),
+        scene: "debris_flow_saturated.toml",
+        levels: vec![("dp=20mm".into(), vec![])],
+        common: vec![],
+        metric: Metric::Speed,
+        tolerance: None,
+        note: "saturated debris flow with 3 boulders into a barrier, 2D, to rest",
+    });
+    v.push(Case {
         name: "speed_water_2d".into(),
         scene: "dam_break_2d.toml",
         levels: vec![("a/40".into(), vec![])],

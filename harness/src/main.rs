@@ -6,6 +6,7 @@ mod bench_fmi;
 mod bench_ipc;
 mod check;
 mod metric;
+mod metric_pores;
 mod pack;
 mod pattern;
 mod plot;

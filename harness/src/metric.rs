@@ -45,6 +45,13 @@ pub(crate) enum Metric {
     /// radius of travel, 2 (R/10)/t², against (ρ_w − ρ_b) g / (ρ_b + C_a ρ_w).
     /// (radius R m, reference m/s²).
     StartingAcceleration(f64, f64),
+    /// Seepage column: the largest |q/(k_h i) − 1| of the quasi-steady flow; reference 0.
+    Darcy(crate::metric_pores::DarcyRef),
+    /// Loaded layer: the largest relative error of the settlement against Terzaghi's
+    /// series at U = 50 % and 90 %; reference 0.
+    Consolidation(crate::metric_pores::ConsolidationRef),
+    /// The final run-out, reported without a reference.
+    RunoutReport,
 }
 
 /// The mean acceleration of the first body over its first `radius`/10 of travel from
@@ -245,6 +252,9 @@ impl Metric {
             ),
             Metric::DamFront(a) => (dam_front_error(&rep.samples, a), Some(0.0)),
             Metric::Poiseuille(r) => (r.error(&rep.samples), Some(0.0)),
+            Metric::Darcy(r) => (r.error(&rep.samples), Some(0.0)),
+            Metric::Consolidation(r) => (r.error(&rep.samples), Some(0.0)),
+            Metric::RunoutReport => (Some(last.runout), None),
             Metric::StartingAcceleration(radius, r) => {
                 (starting_acceleration(&rep.samples, radius), Some(r))
             }

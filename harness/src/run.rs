@@ -352,7 +352,23 @@ fn print_table(
     out: &Path,
 ) {
     let n = sim.fine_count();
-    if sim.coarse_count() > 0 {
+    if sim.coarse_count() > 0 && sim.water_count() > 0 {
+        // fine and water particle-steps, then with the coarse sub-steps
+        let coarse = sim.coarse_count() as f64 * sim.coarse_steps() as f64 / wall.max(1e-12);
+        println!(
+            "\n{} fine and {} water particles, {} steps ({} water) in {:.2} s: {:.3} M \
+             particle-steps/s ({:.3} M with {} coarse particles × {} sub-steps)",
+            n,
+            sim.water_count(),
+            sim.steps(),
+            sim.water_steps(),
+            wall,
+            (pss - coarse) / 1e6,
+            pss / 1e6,
+            sim.coarse_count(),
+            sim.coarse_steps()
+        );
+    } else if sim.coarse_count() > 0 {
         println!(
             "\n{} fine particles, {} steps in {:.2} s: {:.3} M fine particle-steps/s \
              ({:.3} M with {} coarse particles × {} sub-steps)",

@@ -11,6 +11,7 @@ from fmpy.fmi2 import FMU2Slave
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 SCENE = ROOT / "models" / "scenes" / "fmu_barrier_2d.toml"
 WATER_SCENE = ROOT / "models" / "scenes" / "fmu_water_barrier_2d.toml"
+DEBRIS_SCENE = ROOT / "models" / "scenes" / "debris_flow_saturated.toml"
 STRUCTURES = ROOT / "models" / "structures"
 
 
@@ -33,14 +34,15 @@ def pack(src: pathlib.Path, out: pathlib.Path, *sets: str) -> pathlib.Path:
 
 @pytest.fixture(scope="session")
 def fmus(tmp_path_factory):
-    """Every FMU the tests use: the granular scene (fixed and impact), the water scene
-    and each structure."""
+    """Every FMU the tests use: the granular scene (fixed and impact), the water scene,
+    the saturated debris flow and each structure."""
     d = tmp_path_factory.mktemp("fmus")
     out = {
         "barrier": pack(SCENE, d / "barrier.fmu"),
         "impact": pack(SCENE, d / "impact.fmu", "regions[0].velocity=[2.0, 0.0]"),
         "panels": pack(SCENE, d / "panels.fmu", "barriers[0].panels=[4]"),
         "water": pack(WATER_SCENE, d / "water.fmu"),
+        "debris": pack(DEBRIS_SCENE, d / "debris.fmu", 'barriers[0].input="displacement"'),
     }
     for s in sorted(STRUCTURES.glob("*.toml")):
         out[s.stem] = pack(s, d / f"{s.stem}.fmu")
