@@ -276,7 +276,8 @@ impl<const D: usize> SoilWater<D> {
     }
 
     /// The pore pressure at every fine particle now (Pa; None where no water is
-    /// within its kernel), from the water–soil lists of the last step.
+    /// within its kernel), from the water–soil lists of the last step, or from lists
+    /// built here before the first step.
     pub fn pore_pressures(
         &self,
         world: &World<D>,
@@ -289,10 +290,21 @@ impl<const D: usize> SoilWater<D> {
         let fresh = self
             .built_at
             .is_some_and(|b| b[2] == world.fine.len() && b[3] == w.len());
+        let own;
+        let lists = if fresh {
+            &self.lists
+        } else {
+            let (lo, hi) = &world.domain;
+            let mut grid = CellGrid::new(lo, hi, self.radius);
+            let mut l = CrossLists::default();
+            l.build(&w.pos, &world.fine.pos, &mut grid, self.radius);
+            own = l;
+            &own
+        };
         (0..world.fine.len())
             .into_par_iter()
             .map(|j| {
-                let near = if fresh { self.lists.b_to_a.of(j) } else { &[] };
+                let near = lists.b_to_a.of(j);
                 pore_pressure(&world.fine.pos[j], (&w.pos, &vol, &p), near, kernel)
             })
             .collect()
