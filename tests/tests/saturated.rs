@@ -303,8 +303,9 @@ fn terzaghi_consolidation() {
 
 /// The mean excess pore pressure in the ring of soil around a boulder (group `b`)
 /// within three spacings of its surface, on its upstream side (against its velocity)
-/// and its downstream side.
-fn ring_pressures(f: &granmix_core::sample::Frame, b: u32, r: f64, dp: f64) -> (f64, f64) {
+/// and its downstream side, and the boulder's speed less the ring's mean velocity
+/// along the boulder's direction.
+fn ring_pressures(f: &granmix_core::sample::Frame, b: u32, r: f64, dp: f64) -> (f64, f64, f64) {
     let parts: Vec<_> = f.coarse.iter().filter(|p| p.group == b).collect();
     let n = parts.len() as f64;
     let mean = |k: fn(&granmix_core::sample::ParticleRecord) -> [f32; 3]| {
@@ -319,6 +320,7 @@ fn ring_pressures(f: &granmix_core::sample::Frame, b: u32, r: f64, dp: f64) -> (
     let (c, v) = (mean(|p| p.position), mean(|p| p.velocity));
     let speed = (v[0] * v[0] + v[1] * v[1]).sqrt().max(1e-12);
     let (mut up, mut down) = ((0.0, 0), (0.0, 0));
+    let mut ring_v = (0.0, 0);
     for p in &f.fine {
         let d = [p.position[0] as f64 - c[0], p.position[1] as f64 - c[1]];
         let dist = (d[0] * d[0] + d[1] * d[1]).sqrt();
@@ -332,8 +334,14 @@ fn ring_pressures(f: &granmix_core::sample::Frame, b: u32, r: f64, dp: f64) -> (
         };
         side.0 += p.excess_pore_pressure as f64;
         side.1 += 1;
+        ring_v.0 += (p.velocity[0] as f64 * v[0] + p.velocity[1] as f64 * v[1]) / speed;
+        ring_v.1 += 1;
     }
-    (up.0 / up.1.max(1) as f64, down.0 / down.1.max(1) as f64)
+    (
+        up.0 / up.1.max(1) as f64,
+        down.0 / down.1.max(1) as f64,
+        speed - ring_v.0 / ring_v.1.max(1) as f64,
+    )
 }
 
 /// The saturated debris flow (`debris_flow_saturated.toml`) runs stably to rest
@@ -350,10 +358,11 @@ fn saturated_debris_flow_runs_to_rest() {
         sim.advance_to(t).unwrap();
         let f = sim.frame();
         for b in 0..3 {
-            let (up, down) = ring_pressures(&f, b, 0.08, 0.02);
-            assert!(up.is_finite() && down.is_finite());
+            let (up, down, lead) = ring_pressures(&f, b, 0.08, 0.02);
+            assert!(up.is_finite() && down.is_finite() && lead.is_finite());
             report.push(format!(
-                "t = {t} s, boulder {b}: upstream {up:.1} Pa, downstream {down:.1} Pa"
+                "t = {t} s, boulder {b}: upstream {up:.1} Pa, downstream {down:.1} Pa, \
+                 faster than its ring by {lead:.3} m/s"
             ));
         }
     }
