@@ -114,7 +114,13 @@ fn estimate_in<const D: usize>(scene: &Scene) -> Estimate {
         .iter()
         .flat_map(|w| w.regions.iter().map(|r| (r.name.as_str(), &r.shape)))
         .collect();
-    let water = count_regions(scene, &water, &res, &solids, &mut rng, &mut bounds);
+    let mut water = count_regions(scene, &water, &res, &solids, &mut rng, &mut bounds);
+    // a saturated soil's pores hold one water particle per soil particle
+    for (r, (_, n)) in scene.regions.iter().zip(&regions) {
+        if saturated(scene, &r.material) {
+            water.push((format!("pores of {}", r.name), *n));
+        }
+    }
     let walls = count_walls(scene, &mut rng, &mut bounds);
     let (bodies, largest_body_fill) = count_bodies(scene, &res, &solids, &mut rng, &mut bounds);
     let (lo_all, hi_all) = (bounds.lo, bounds.hi);
@@ -544,6 +550,16 @@ pub fn rest_dt(scene: &Scene) -> Real {
         .as_ref()
         .filter(|w| w.viscosity > 0.0)
         .map_or(Real::INFINITY, |w| 0.125 * h * h * w.density / w.viscosity);
+    // the soil's explicit side of the seepage force, ½ ρ_d k / μ
+    let mu = scene.water.as_ref().map_or(1e-3, |w| w.viscosity);
+    let seepage = scene
+        .materials
+        .iter()
+        .filter_map(|m| {
+            crate::fine::pores::Pores::of(m).map(|p| 0.5 * m.density * p.permeability / mu)
+        })
+        .fold(Real::INFINITY, Real::min);
+    let viscous = viscous.min(seepage);
     if c0 > 0.0 {
         (scene.simulation.cfl * h / c0).min(viscous)
     } else {
@@ -551,12 +567,27 @@ pub fn rest_dt(scene: &Scene) -> Real {
     }
 }
 
+/// Whether the material named `name` is a saturated soil.
+fn saturated(scene: &Scene, name: &str) -> bool {
+    scene
+        .materials
+        .iter()
+        .any(|m| m.name == name && m.saturated && m.porosity.is_some())
+}
+
 /// The water's sound speed as the build will choose it: given, 10 × the given speed
-/// scale, or 10 √(2 g H) over the tallest water region (inflows, whose speed also
-/// counts, are left to the build); 0 without water.
+/// scale, or 10 √(2 g H) over the tallest water region and saturated soil region
+/// (inflows, whose speed also counts, are left to the build); 0 without water.
 pub fn water_c0(scene: &Scene) -> Real {
-    let Some(w) = &scene.water else {
-        return 0.0;
+    let defaults: crate::scene::WaterSpec;
+    let pores = scene.regions.iter().any(|r| saturated(scene, &r.material));
+    let w = match &scene.water {
+        Some(w) => w,
+        None if pores => {
+            defaults = toml::from_str("").expect("every [water] key has a default");
+            &defaults
+        }
+        None => return 0.0,
     };
     if let Some(c) = w.sound_speed {
         return c;
@@ -582,7 +613,15 @@ pub fn water_c0(scene: &Scene) -> Real {
     let h = w
         .regions
         .iter()
-        .map(|r| height(&r.shape))
+        .map(|r| &r.shape)
+        .chain(
+            scene
+                .regions
+                .iter()
+                .filter(|r| saturated(scene, &r.material))
+                .map(|r| &r.shape),
+        )
+        .map(height)
         .fold(0.0, Real::max);
     10.0 * (2.0 * gn * h).sqrt()
 }
