@@ -103,7 +103,7 @@ pub fn momentum_sweep<const D: usize>(
                     }
                 }
                 if let Some(f) = water.get(i) {
-                    // the water's seepage and pore-pressure force (soil_water)
+                    // the water's seepage force and the grains' buoyancy (soil_water)
                     acc += f / p.mass[i];
                 }
                 *vo = integrate(p, prm, i, acc, &sum.hourglass, &mut hout[k]);

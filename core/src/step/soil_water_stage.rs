@@ -2,8 +2,8 @@
 //! water's sub-steps the soil is frozen at the middle of the step and each water
 //! particle's drag coefficients are taken; the sub-steps apply the drag implicitly
 //! and keep each particle's share; after them every soil particle gathers the exact
-//! opposite of the water's drag impulse and its pore-pressure force, which its
-//! momentum sweep adds.
+//! opposite of the water's drag impulse and its buoyancy (Eq. 9's pressure term),
+//! which its momentum sweep adds.
 //!
 //! [`interactions::soil_water`]: crate::interactions::soil_water
 
