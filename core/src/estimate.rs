@@ -559,9 +559,8 @@ pub fn rest_dt(scene: &Scene) -> Real {
             crate::fine::pores::Pores::of(m).map(|p| 0.5 * m.density * p.permeability / mu)
         })
         .fold(Real::INFINITY, Real::min);
-    let viscous = viscous.min(seepage);
     if c0 > 0.0 {
-        (scene.simulation.cfl * h / c0).min(viscous)
+        (scene.simulation.cfl * h / c0).min(viscous).min(seepage)
     } else {
         Real::INFINITY
     }

@@ -417,12 +417,6 @@ impl NeighborLists {
         &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize]
     }
 
-    /// The wall particles in the list of particle `i`.
-    pub fn walls_of(&self, i: usize) -> &[u32] {
-        let (cl, k) = (&self.chunks[i / CHUNK], i % CHUNK);
-        &cl.wall[cl.woff[k] as usize..cl.woff[k + 1] as usize]
-    }
-
     /// Bytes held by the lists.
     pub fn bytes(&self) -> usize {
         self.chunks

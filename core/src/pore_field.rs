@@ -7,7 +7,7 @@
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Vect};
 use crate::step::SoilWater;
-use crate::world::World;
+use crate::world::{column_key, World};
 use std::collections::HashMap;
 
 /// Pore pressure and its excess per fine particle, and the excess per water particle
@@ -89,12 +89,7 @@ impl<const D: usize> Surfaces<D> {
     }
 
     fn key(&self, x: &Vect<D>) -> [i64; 3] {
-        let h = x - self.up * x.dot(&self.up);
-        let mut k = [0i64; 3];
-        for (a, v) in h.iter().enumerate() {
-            k[a] = (v / self.dp).floor() as i64;
-        }
-        k
+        column_key(x, &self.up, self.dp)
     }
 
     /// The surface above `x`, if water stands in its column.

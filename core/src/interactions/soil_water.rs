@@ -196,18 +196,6 @@ impl<const D: usize> Seepage<D> {
         }
     }
 
-    /// [`raw`](Self::raw) then [`normalised`](Self::normalised).
-    pub fn at(
-        x: &Vect<D>,
-        soil: &[SoilPoint<D>],
-        near: &[u32],
-        k: &WendlandC2,
-        full: Real,
-    ) -> Self {
-        let (s, sum) = Self::raw(x, soil, near, k);
-        s.normalised(sum, full)
-    }
-
     /// The velocity after the drag over `dt` of a water particle of density `rho`
     /// whose other forces gave `u`: backward Euler of du/dt = −(a u − b)/ρ.
     #[inline(always)]
@@ -427,7 +415,8 @@ mod tests {
         for s in 0..3 {
             for (i, x) in water.iter().enumerate() {
                 let near: Vec<u32> = (0..soil.len() as u32).collect();
-                let c = Seepage::at(x, &soil, &near, &k, lattice_sum::<2>(&k, dp).0);
+                let (c, sum) = Seepage::raw(x, &soil, &near, &k);
+                let c = c.normalised(sum, lattice_sum::<2>(&k, dp).0);
                 let u0 = Vector2::new(0.1 * s as Real, 0.05 * i as Real);
                 let u = c.drag(u0, rho, dt);
                 impulse += (u - u0) * (rho * vol);

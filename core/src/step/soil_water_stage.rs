@@ -18,6 +18,7 @@ use crate::kernel::WendlandC2;
 use crate::math::{Real, Vect};
 use crate::neighbors::{CellGrid, CHUNK};
 use crate::water::material::WaterMaterial;
+use crate::water::source::WaterSource;
 use crate::world::World;
 use rayon::prelude::*;
 
@@ -84,12 +85,12 @@ pub struct SeepStep<'a, const D: usize> {
 
 impl<'a, const D: usize> SeepStep<'a, D> {
     /// The drag over `dt` on the velocities `vel` (after the water's other forces) of
-    /// particles of density `rho` and volume `vol`, and its share kept; each
-    /// particle's acceleration by the drag into `accel`.
+    /// the particles packed in `src` (density and volume at the half step), and its
+    /// share kept; each particle's acceleration by the drag into `accel`.
     pub fn apply(
         &mut self,
         vel: &mut [Vect<D>],
-        rho_vol: impl Fn(usize) -> (Real, Real) + Sync,
+        src: &[WaterSource],
         dt: Real,
         accel: &mut Vec<Vect<D>>,
     ) {
@@ -102,15 +103,15 @@ impl<'a, const D: usize> SeepStep<'a, D> {
             .enumerate()
             .for_each(|(c, (((v, acc), a), d))| {
                 for k in 0..a.len() {
-                    let (rho, vol) = rho_vol(c * CHUNK + k);
-                    let u = a[k].drag(v[k], rho, dt);
+                    let s = &src[c * CHUNK + k];
+                    let u = a[k].drag(v[k], s.rho, dt);
                     acc[k] = if dt > 0.0 {
                         (u - v[k]) / dt
                     } else {
                         Vect::<D>::zeros()
                     };
                     v[k] = u;
-                    d[k].add(vol * a[k].inv, &v[k], share);
+                    d[k].add(s.vol * a[k].inv, &v[k], share);
                 }
             });
     }

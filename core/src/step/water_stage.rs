@@ -279,14 +279,8 @@ impl<const D: usize> WaterStepper<D> {
             self.body.clear();
         }
         if let Some(mut seep) = seep {
-            let src = &self.src;
             t.time(Stage::SoilWater, || {
-                seep.apply(
-                    &mut self.vel_new,
-                    |i| (src[i].rho, src[i].vol),
-                    dt,
-                    &mut self.body,
-                )
+                seep.apply(&mut self.vel_new, &self.src, dt, &mut self.body)
             });
         }
         std::mem::swap(&mut world.water.vel, &mut self.vel_new);

@@ -53,9 +53,9 @@ impl<const D: usize> Stepper<D> {
         // drag is kept per particle): water comes in and lists are rebuilt before the
         // first, for the whole step, and water leaves after the last
         let mut seep = soil_water.as_mut().filter(|_| !world.fine.is_empty());
+        let block = seep.is_some();
         for s in 0..k {
             let t0 = world.time + s as Real * dt_w;
-            let block = seep.is_some();
             let first = !block || s == 0;
             if !world.water_inflows.is_empty() && first {
                 let span = if block { dt } else { dt_w };

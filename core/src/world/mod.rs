@@ -20,6 +20,8 @@ mod boundaries;
 mod regions;
 mod water_fill;
 
+pub(crate) use water_fill::column_key;
+
 /// A body's rotation about a centre.
 type Pose = (Vector3<Real>, Rotation3<Real>);
 

@@ -186,23 +186,26 @@ pub(super) fn fill<const D: usize>(
     }))
 }
 
+/// The vertical column of width dp (along `up`) that holds `x`: its horizontal cell.
+pub(crate) fn column_key<const D: usize>(x: &Vect<D>, up: &Vect<D>, dp: Real) -> [i64; 3] {
+    let h = x - up * x.dot(up);
+    let mut k = [0i64; 3];
+    for (a, v) in h.iter().enumerate() {
+        k[a] = (v / dp).floor() as i64;
+    }
+    k
+}
+
 /// The water surface above each of `pts` (along `up`): the top of the run of water
 /// particles, spaced at most 1.5 dp apart, that holds it in its vertical column of
 /// width dp, plus dp/2.
 fn column_surfaces<const D: usize>(pts: &[&Vect<D>], up: &Vect<D>, dp: Real) -> Vec<Real> {
     use std::collections::HashMap;
-    // columns keyed by the horizontal cell of each point
-    let key = |p: &Vect<D>| -> [i64; 3] {
-        let h = *p - up * p.dot(up);
-        let mut k = [0i64; 3];
-        for (a, v) in h.iter().enumerate() {
-            k[a] = (v / dp).floor() as i64;
-        }
-        k
-    };
     let mut cols: HashMap<[i64; 3], Vec<(Real, usize)>> = HashMap::new();
     for (i, p) in pts.iter().enumerate() {
-        cols.entry(key(p)).or_default().push((p.dot(up), i));
+        cols.entry(column_key(p, up, dp))
+            .or_default()
+            .push((p.dot(up), i));
     }
     let mut out = vec![0.0; pts.len()];
     for col in cols.values_mut() {
