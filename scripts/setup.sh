@@ -4,8 +4,9 @@
 # and nm, which the FMU portability test reads the library with) and a Python venv in
 # .venv with zig (the `ziglang` package: it links the FMU's library against glibc 2.28,
 # see scripts/fmu-link-gcc) and, for the FMU and IPC tests, fmpy, pytest, iceoryx2, mcap
-# and numpy, the granmix study package (python/, editable) and ruff (the Python lint of
-# the test script). Safe to run again.
+# and numpy, the granmix study package (python/, editable, with dask + distributed,
+# bokeh, pandas, pyarrow, matplotlib and tqdm) and ruff (the Python lint of the test
+# script). Safe to run again.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 missing=()
@@ -23,8 +24,10 @@ fi
 if ! .venv/bin/python -c "import ziglang" >/dev/null 2>&1; then
     .venv/bin/pip install --quiet ziglang==0.17.1
 fi
-# the granmix study package (python/), editable: the tests import it from the checkout
-if ! .venv/bin/python -c "import granmix.sweep, distributed, matplotlib" >/dev/null 2>&1; then
+# the granmix study package (python/), editable: the tests import it from the checkout;
+# with its dependencies (bokeh for the Dask dashboard, tqdm for the progress bar)
+if ! .venv/bin/python -c "import granmix.sweep, distributed, matplotlib, bokeh, tqdm" \
+    >/dev/null 2>&1; then
     .venv/bin/pip install --quiet -e python
 fi
 # ruff, pinned: its default rule set changes between releases

@@ -11,7 +11,9 @@
 Random designs draw from ``numpy.random.default_rng(seed)`` in a fixed order, so a study
 gives the same cases on every machine. Each case is keyed by a hash of its full
 specification (study settings, partner files and parameter values), which ``--resume``
-and the result table use to find it again.
+and the result table use to find it again. A design may hold the same values more than
+once (an explicit list with a repeat): the n-th repeat's specification carries
+``repeat = n``, so every case has a key of its own and a row of its own.
 """
 
 from __future__ import annotations
@@ -64,10 +66,18 @@ def cases(study: Study) -> list[Case]:
         rows = _latin_hypercube(study, np.random.default_rng(d.seed))
     base = _fingerprint(study)
     out = []
+    seen: dict[str, int] = {}
     for i, row in enumerate(rows):
         values = tuple(zip(names, row, strict=True))
-        spec = json.dumps({"study": base, "values": values}, sort_keys=True, default=str)
-        out.append(Case(i, values, hashlib.sha256(spec.encode()).hexdigest()[:16]))
+        spec: dict[str, Any] = {"study": base, "values": values}
+        text = json.dumps(spec, sort_keys=True, default=str)
+        repeat = seen.get(text, 0)
+        seen[text] = repeat + 1
+        if repeat:
+            # a repeat of an earlier case: the same specification, counted
+            spec["repeat"] = repeat
+            text = json.dumps(spec, sort_keys=True, default=str)
+        out.append(Case(i, values, hashlib.sha256(text.encode()).hexdigest()[:16]))
     return out
 
 

@@ -6,8 +6,10 @@ partners step first, in the study's order, each fed the latest outputs of its so
 then the granmix FMU, fed the partners' new outputs. The collected outputs are read at
 t = 0 and after every step and reduced over time (``max``, ``min``, ``final``, ``mean``,
 ``integral``, the last two by the trapezoidal rule). A case whose FMU fails (the
-stability guard, a refused input, any FMI error) becomes a ``failed`` row carrying the
-FMU's logged message; it never raises.
+stability guard, a refused input or start value, any FMI error) or that outlasts the
+study's wall-time limit becomes a ``failed`` row carrying the FMU's logged message or
+the reason; it never raises. Every instance a case made is freed and its extracted
+directory removed, whatever happened.
 """
 
 from __future__ import annotations
@@ -57,8 +59,11 @@ class CaseResult:
     setup_time: float = 0.0
     loop_time: float = 0.0
     close_time: float = 0.0
+    #: The machine and the worker that ran the case: ``<hostname>/<worker name>`` on
+    #: Dask, ``<hostname>/serial`` in the client.
     host: str = ""
-    #: ``time`` and every collected output, sampled at t = 0 and after every step.
+    #: ``time`` and every collected output, sampled at t = 0 and after every step (up
+    #: to the failure, for a failed case).
     series: dict[str, list[float]] = field(default_factory=dict)
 
     def row(self) -> dict[str, Any]:
@@ -79,14 +84,28 @@ class CaseResult:
         return out
 
 
-class _Instance:
-    """An FMU instance with variables by name and its log messages kept."""
+_ERROR_CATEGORIES = ("logStatusError", "logStatusFatal")
 
-    def __init__(self, name: str, path: Path, start: dict[str, float]) -> None:
+
+class CaseTimeout(RuntimeError):
+    """A case outlasted the study's wall-time limit."""
+
+
+class _Instance:
+    """An FMU instance with variables by name and its log messages kept.
+
+    Made in two steps so that a caller holds it before anything can fail: the
+    constructor extracts the FMU and loads its library, :meth:`start` instantiates and
+    initialises it. :meth:`close` frees whatever was made and removes the extracted
+    directory."""
+
+    def __init__(self, name: str, path: Path) -> None:
         self.name = name
         md = read_model_description(str(path))
         self.vr = {v.name: v.valueReference for v in md.modelVariables}
-        self.log: list[tuple[str, str]] = []
+        self.log: list[tuple[int, str, str]] = []
+        self.live = False
+        self.fmu: FMU2Slave | None = None
         self.dir = extract(str(path))
         self.callbacks = fmi2CallbackFunctions()
         self.callbacks.logger = fmi2CallbackLoggerTYPE(self._logged)
@@ -100,7 +119,10 @@ class _Instance:
             modelIdentifier=md.coSimulation.modelIdentifier,
             instanceName=name,
         )
-        self.live = False
+
+    def start(self, start: dict[str, float]) -> None:
+        """Instantiate, set the start values ``start`` and initialise."""
+        assert self.fmu is not None
         self.fmu.instantiate(callbacks=self.callbacks)
         self.live = True
         self.fmu.setupExperiment(startTime=0.0)
@@ -111,7 +133,7 @@ class _Instance:
 
     def _logged(self, _env: Any, _name: Any, status: int, category: Any, message: Any) -> None:
         cat = category.decode(errors="replace") if category else ""
-        self.log.append((cat, message.decode(errors="replace") if message else ""))
+        self.log.append((int(status), cat, message.decode(errors="replace") if message else ""))
 
     def ref(self, variable: str) -> int:
         try:
@@ -120,25 +142,36 @@ class _Instance:
             raise KeyError(f"FMU `{self.name}` has no variable `{variable}`") from None
 
     def get(self, variable: str) -> float:
+        assert self.fmu is not None
         return self.fmu.getReal([self.ref(variable)])[0]
 
     def set(self, variable: str, value: float) -> None:
-        self.fmu.setReal([self.ref(variable)], [float(value)])
+        assert self.fmu is not None
+        try:
+            self.fmu.setReal([self.ref(variable)], [float(value)])
+        except Exception as e:
+            raise RuntimeError(f"setting {self.name}.{variable} = {value!r}: {e}") from e
 
     def errors(self) -> str:
-        """The error and fatal messages it logged, newest last."""
-        bad = [m for c, m in self.log if c in ("logStatusError", "logStatusFatal")]
-        return "; ".join(bad)
+        """The error and fatal messages it logged (FMI status fmi2Error or fmi2Fatal, or
+        such a ``logStatus*`` category), oldest first, each after the instance name."""
+        bad = [m for st, c, m in self.log if st in (3, 4) or c in _ERROR_CATEGORIES]
+        return "; ".join(f"{self.name}: {m}" for m in bad if m)
 
     def close(self) -> None:
-        if self.live:
-            # fmpy raises a bare Exception for any FMI status; a failed instance may
-            # refuse to terminate, and is freed all the same
-            with contextlib.suppress(Exception):
-                self.fmu.terminate()
-            with contextlib.suppress(Exception):
-                self.fmu.freeInstance()
-            self.live = False
+        if self.fmu is not None:
+            if self.live:
+                # fmpy raises a bare Exception for any FMI status; a failed instance may
+                # refuse to terminate, and is freed all the same
+                with contextlib.suppress(Exception):
+                    self.fmu.terminate()
+                with contextlib.suppress(Exception):
+                    self.fmu.freeInstance()  # frees the instance, then the library
+                self.live = False
+            else:
+                with contextlib.suppress(Exception):
+                    self.fmu.freeLibrary()
+            self.fmu = None
         shutil.rmtree(self.dir, ignore_errors=True)
 
 
@@ -165,16 +198,27 @@ def _split(variable: str) -> tuple[str, str]:
     return inst, var
 
 
-def run_case(study: Study, case: Case, cache: PackCache, threads: int = 1) -> CaseResult:
-    """Run ``case`` of ``study`` to its end time; never raises for a failing FMU."""
+def run_case(
+    study: Study, case: Case, cache: PackCache, threads: int = 1, host: str | None = None
+) -> CaseResult:
+    """Run ``case`` of ``study`` to its end time, or to the study's wall-time limit;
+    never raises for a failing FMU. ``host`` names the machine and worker (default
+    ``<hostname>/serial``)."""
     os.environ["RAYON_NUM_THREADS"] = str(threads)
     start = time.perf_counter()
     result = CaseResult(
-        case.key, case.index, dict(case.values), "ok", host=socket.gethostname()
+        case.key,
+        case.index,
+        dict(case.values),
+        "ok",
+        host=host or f"{socket.gethostname()}/serial",
     )
     instances: dict[str, _Instance] = {}
     try:
-        _loop(study, case, cache, instances, result)
+        _loop(study, case, cache, instances, result, start)
+    except CaseTimeout as e:
+        result.status = "failed"
+        result.diagnostic = str(e)
     except Exception as e:  # noqa: BLE001 - fmpy raises a bare Exception for every FMI error
         result.status = "failed"
         logged = "; ".join(i.errors() for i in instances.values() if i.errors())
@@ -194,6 +238,7 @@ def _loop(
     cache: PackCache,
     instances: dict[str, _Instance],
     result: CaseResult,
+    start: float,
 ) -> None:
     sets = case.scene_sets(study)
     starts: dict[str, dict[str, float]] = {GRANMIX: {}}
@@ -205,11 +250,26 @@ def _loop(
             starts[inst][var] = case.value(p.name)
     # partners first, in the study's order, then granmix (docs/fmu.md)
     order = [p.name for p in study.partners] + [GRANMIX]
+    limit = study.wall_time_limit
+    h = study.step
+    steps = round(study.end_time / h)
+
+    def check_time(done: int) -> None:
+        spent = time.perf_counter() - start
+        if limit is not None and spent > limit:
+            raise CaseTimeout(
+                f"wall-time limit of {limit:g} s reached: stopped after {spent:.3g} s, "
+                f"at t = {done * h:.6g} s of {study.end_time:g} s ({done} of {steps} steps)"
+            )
+
     began = time.perf_counter()
     sources = {p.name: cache.fmu(p.fmu) for p in study.partners}
     sources[GRANMIX] = cache.fmu(study.scene, sets)
     for name in order:
-        instances[name] = _Instance(name, sources[name], starts[name])
+        # held before it starts, so that a refused start value still frees it
+        instances[name] = _Instance(name, sources[name])
+        instances[name].start(starts[name])
+        check_time(0)
     feeds = {name: [c for c in study.connections if _split(c.target)[0] == name] for name in order}
     watched = sorted({c.source for c in study.connections} | {o.variable for o in study.outputs})
     # the variables each instance's step updates, split once
@@ -219,11 +279,11 @@ def _loop(
     series: dict[str, list[float]] = {"time": [0.0]}
     for v in collected:
         series[v] = [current[v]]
-    h = study.step
-    steps = round(study.end_time / h)
+    result.series = series
     looping = time.perf_counter()
     result.setup_time = looping - began
     for k in range(steps):
+        check_time(k)
         t = k * h
         for name in order:
             inst = instances[name]
@@ -236,7 +296,6 @@ def _loop(
         for v in collected:
             series[v].append(current[v])
     result.loop_time = time.perf_counter() - looping
-    result.series = series
     for o in study.outputs:
         for how in o.reduce:
             result.outputs[f"{o.variable}:{how}"] = reduce(series["time"], series[o.variable], how)

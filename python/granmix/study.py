@@ -9,6 +9,7 @@ A study file is TOML::
     set = ["regions.0.velocity=[2.0, 0.0]"]   # scene overrides of every case (optional)
     step = 0.001                               # communication step (s)
     end_time = 0.2
+    wall_time_limit = 600.0                    # seconds per case (optional)
 
     [[partners]]
     name = "post"
@@ -22,6 +23,7 @@ A study file is TOML::
     name = "friction"
     target = "scene:materials.0.friction_angle" # a scene key (--set path) ...
     values = [25.0, 30.0, 35.0]
+    unit = "deg"                                # for plots (optional; an FMU's own unit else)
 
     [[parameters]]
     name = "stiffness"
@@ -93,6 +95,8 @@ class Parameter:
     target: str
     values: tuple[Any, ...] = ()
     range: tuple[float, float] | None = None
+    #: The unit shown in plots ("" for the FMU's own unit, or none for a scene key).
+    unit: str = ""
 
     @property
     def scene_key(self) -> str | None:
@@ -106,6 +110,8 @@ class Output:
 
     variable: str
     reduce: tuple[str, ...] = ("final",)
+    #: The unit shown in plots ("" for the FMU's own unit).
+    unit: str = ""
 
 
 @dataclass(frozen=True)
@@ -131,6 +137,10 @@ class Study:
     parameters: tuple[Parameter, ...] = ()
     design: Design = field(default_factory=Design)
     outputs: tuple[Output, ...] = ()
+    #: Wall-clock seconds a case may take before it is stopped as a failed row (None:
+    #: no limit). It does not enter the case keys: it decides whether a case finishes,
+    #: not what it computes.
+    wall_time_limit: float | None = None
 
 
 def load_study(path: str | Path) -> Study:
@@ -208,7 +218,7 @@ class _Reader:
         s = self.table(
             doc["study"],
             "study",
-            {"name", "scene", "set", "step", "end_time"},
+            {"name", "scene", "set", "step", "end_time", "wall_time_limit"},
             {"scene", "step", "end_time"},
         )
         sets = s.get("set", [])
@@ -221,6 +231,9 @@ class _Reader:
         end = self.number(s["end_time"], "study.end_time")
         if end < step:
             raise self.fail("study.end_time", f"shorter than one step ({step} s)")
+        limit = None
+        if "wall_time_limit" in s:
+            limit = self.number(s["wall_time_limit"], "study.wall_time_limit")
         partners = self.partners(doc)
         instances = {GRANMIX} | {p.name for p in partners}
         connections = self.connections(doc, instances)
@@ -239,6 +252,7 @@ class _Reader:
             parameters=parameters,
             design=design,
             outputs=outputs,
+            wall_time_limit=limit,
         )
 
     def path(self, v: Any, key: str, must_exist: bool) -> Path:
@@ -283,7 +297,9 @@ class _Reader:
         out: list[Parameter] = []
         for i, t in enumerate(self.tables(doc, "parameters")):
             key = f"parameters[{i}]"
-            t = self.table(t, key, {"name", "target", "values", "range"}, {"name", "target"})
+            t = self.table(
+                t, key, {"name", "target", "values", "range", "unit"}, {"name", "target"}
+            )
             name = t["name"]
             if not isinstance(name, str) or not name or any(p.name == name for p in out):
                 raise self.fail(f"{key}.name", f"expected a new parameter name, found {name!r}")
@@ -313,7 +329,7 @@ class _Reader:
                 rng = (lo, hi)
             if values and rng:
                 raise self.fail(key, "give `values` or `range`, not both")
-            out.append(Parameter(name, target, values, rng))
+            out.append(Parameter(name, target, values, rng, self.unit(t, key)))
         return tuple(out)
 
     def design(self, doc: dict, params: tuple[Parameter, ...]) -> Design:
@@ -360,7 +376,7 @@ class _Reader:
         out: list[Output] = []
         for i, t in enumerate(self.tables(doc, "outputs")):
             key = f"outputs[{i}]"
-            t = self.table(t, key, {"variable", "reduce"}, {"variable"})
+            t = self.table(t, key, {"variable", "reduce", "unit"}, {"variable"})
             var = self.variable(t["variable"], f"{key}.variable", instances)
             red = t.get("reduce", ["final"])
             if not isinstance(red, list) or not red:
@@ -368,8 +384,30 @@ class _Reader:
             for r in red:
                 if r not in REDUCTIONS:
                     raise self.fail(f"{key}.reduce", f"unknown reduction {r!r}; use {REDUCTIONS}")
-            out.append(Output(var, tuple(red)))
+            out.append(Output(var, tuple(red), self.unit(t, key)))
         return tuple(out)
+
+    def unit(self, t: dict, key: str) -> str:
+        u = t.get("unit", "")
+        if not isinstance(u, str):
+            raise self.fail(f"{key}.unit", f"expected a string, found {u!r}")
+        return u
+
+
+def locate_item(text: str, key: str, item: str) -> int | None:
+    """The 1-based line of the array element ``item`` (a string) of ``key`` in study
+    ``text`` (an array written over several lines), else the line of ``key``."""
+    first = locate(text, key)
+    if first is None:
+        return None
+    lines = text.splitlines()
+    quoted = (f'"{item}"', f"'{item}'")
+    for n in range(first - 1, len(lines)):
+        if any(q in lines[n] for q in quoted):
+            return n + 1
+        if n > first - 1 and re.match(r"\s*(\[|[A-Za-z_][\w]*\s*=)", lines[n]):
+            break
+    return first
 
 
 def locate(text: str, key: str) -> int | None:

@@ -3,20 +3,22 @@
 
 Results go to ``<out>/``:
 
+- ``cases/``: every finished case at once, its row and its time series (see
+  :mod:`granmix.store`), so a stopped study loses only the cases in flight;
 - ``results.parquet`` and ``results.csv``: one row per case (parameters, reduced
-  outputs, status, diagnostic, wall time, host), in case order;
+  outputs, status, diagnostic, timings, host), in case order, assembled from ``cases/``;
 - ``series.parquet``: every case's time series (case key, time, collected outputs);
 - ``fmus/``: the pack cache.
 
 A case's result depends only on its specification, so the table is the same serially
-and on any number of workers. With ``resume``, cases whose key already has a row in
-``results.parquet`` are not run again.
+and on any number of workers. With ``resume``, cases of the current design whose row is
+in ``cases/`` are not run again; rows of cases no longer in the design stay out of the
+table.
 """
 
 from __future__ import annotations
 
-import sys
-import time
+import socket
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
@@ -25,51 +27,84 @@ import pandas as pd
 from granmix.design import Case, cases
 from granmix.master import CaseResult, run_case
 from granmix.pack import PackCache
+from granmix.store import RUN_COLUMNS, CaseStore
 from granmix.study import Study
 
-#: Columns that differ between runs of the same case (left out of comparisons).
-RUN_COLUMNS = ("wall_time", "setup_time", "loop_time", "close_time", "host")
+__all__ = [
+    "RUN_COLUMNS",
+    "CaseStore",
+    "Progress",
+    "StudyInterrupted",
+    "pending",
+    "run_dask",
+    "run_serial",
+    "series_table",
+    "table",
+    "write",
+]
 
 
-def _task(study: Study, case: Case, cache_dir: str, threads: int) -> CaseResult:
-    """One case on a worker: its FMUs from the shared pack cache, then the loop."""
-    return run_case(study, case, PackCache(cache_dir), threads)
+class StudyInterrupted(RuntimeError):
+    """The client lost its cluster (the scheduler went away, the futures were
+    cancelled). The cases finished before are stored; ``--resume`` runs the rest."""
+
+
+def _worker_host() -> str:
+    """``<hostname>/<worker name>`` of the Dask worker running this task."""
+    from distributed import get_worker
+
+    try:
+        w = get_worker()
+    except ValueError:
+        return f"{socket.gethostname()}/serial"
+    return f"{socket.gethostname()}/{w.name}"
+
+
+def _task(
+    study: Study, case: Case, cache_dir: str, threads: int, store_dir: str | None
+) -> CaseResult:
+    """One case on a worker: its FMUs from the shared pack cache, then the loop. The
+    worker stores the finished case itself when it sees the study's ``cases/`` directory
+    (a shared file system), so that a case finishing after its client has gone is kept."""
+    r = run_case(study, case, PackCache(cache_dir), threads, _worker_host())
+    if store_dir is not None and Path(store_dir).is_dir():
+        CaseStore(store_dir).put(r)
+    return r
 
 
 class Progress:
-    """A live progress bar on stderr: cases done, failed, elapsed time and ETA."""
+    """A progress bar on stderr (tqdm): cases done, failed, rate and ETA."""
 
     def __init__(self, total: int, enabled: bool = True) -> None:
-        self.total, self.enabled = total, enabled
+        from tqdm import tqdm
+
+        self.total = total
         self.done = self.failed = 0
-        self.start = time.perf_counter()
+        self.bar = tqdm(total=total, unit="case", disable=not enabled or total == 0, leave=True)
 
     def update(self, r: CaseResult) -> None:
         self.done += 1
         self.failed += r.status != "ok"
-        if not self.enabled:
-            return
-        el = time.perf_counter() - self.start
-        eta = el / self.done * (self.total - self.done)
-        filled = round(30 * self.done / self.total)
-        sys.stderr.write(
-            f"\r[{'#' * filled}{'.' * (30 - filled)}] {self.done}/{self.total} cases, "
-            f"{self.failed} failed, {el:.0f} s elapsed, ETA {eta:.0f} s "
-        )
-        if self.done == self.total:
-            sys.stderr.write("\n")
-        sys.stderr.flush()
+        self.bar.set_postfix(failed=self.failed, refresh=False)
+        self.bar.update(1)
+
+    def close(self) -> None:
+        self.bar.close()
 
 
-def pending(study: Study, out: Path, resume: bool) -> tuple[list[Case], pd.DataFrame | None]:
-    """The cases still to run, and the rows kept from an earlier run (``resume``)."""
-    all_cases = cases(study)
-    table = out / "results.parquet"
-    if not (resume and table.is_file()):
-        return all_cases, None
-    old = pd.read_parquet(table)
-    done = set(old["key"])
-    return [c for c in all_cases if c.key not in done], old
+def pending(
+    study: Study, store: CaseStore | Path, resume: bool, retry_failed: bool = False
+) -> tuple[list[Case], list[Case]]:
+    """The cases still to run and those done (``resume``: stored rows that the current
+    study can keep; see :meth:`CaseStore.done`). ``store`` is a :class:`CaseStore` or a
+    study output directory."""
+    if not isinstance(store, CaseStore):
+        store = CaseStore(Path(store) / "cases")
+    design = cases(study)
+    if not resume:
+        return design, []
+    done = store.done(study, design, retry_failed)
+    return [c for c in design if c.key not in done], [c for c in design if c.key in done]
 
 
 def run_serial(
@@ -78,16 +113,39 @@ def run_serial(
     cache_dir: Path,
     threads: int = 1,
     on_result: Callable[[CaseResult], None] | None = None,
+    store: CaseStore | None = None,
 ) -> list[CaseResult]:
-    """Every case of ``todo`` in this process, in order."""
+    """Every case of ``todo`` in this process, in order; each stored in ``store`` the
+    moment it finishes."""
     cache = PackCache(cache_dir)
     out = []
     for c in todo:
         r = run_case(study, c, cache, threads)
+        if store is not None:
+            store.put(r)
         if on_result:
             on_result(r)
         out.append(r)
     return out
+
+
+def _lost(case: Case, error: BaseException) -> CaseResult:
+    """The failed row of a case whose task did not return: its workers died (Dask's
+    KilledWorker, after ``distributed.scheduler.allowed-failures`` retries) or the task
+    raised."""
+    from distributed import KilledWorker
+
+    if isinstance(error, KilledWorker):
+        why = (
+            f"the worker running this case died {error.allowed_failures + 1} time(s) "
+            f"(KilledWorker; last on {error.last_worker.address}): out of memory, "
+            "killed or crashed in an FMU"
+        )
+        host = error.last_worker.address
+    else:
+        why = f"the case's task failed: {type(error).__name__}: {error}"
+        host = ""
+    return CaseResult(case.key, case.index, dict(case.values), "failed", why, host=host)
 
 
 def run_dask(
@@ -97,19 +155,39 @@ def run_dask(
     client: object,
     threads: int = 1,
     on_result: Callable[[CaseResult], None] | None = None,
+    store: CaseStore | None = None,
 ) -> list[CaseResult]:
-    """One task per case on the cluster of ``client`` (a ``distributed.Client``). A
-    worker that dies mid-case has its task run again elsewhere (Dask's own
-    rescheduling); each case's row comes back exactly once."""
+    """One task per case on the cluster of ``client`` (a ``distributed.Client``), each
+    stored in ``store`` the moment it finishes.
+
+    A worker that dies mid-case has its task run again elsewhere (Dask's own
+    rescheduling); a case whose workers keep dying (KilledWorker) or whose task raises
+    becomes a failed row. Each case's row comes back exactly once. A client that loses
+    its cluster raises :class:`StudyInterrupted`."""
     from distributed import as_completed
 
+    store_dir = str(store.dir.resolve()) if store is not None else None
+    by_key = {c.key: c for c in todo}
     futures = [
-        client.submit(_task, study, c, str(cache_dir), threads, key=f"case-{c.key}", pure=False)
+        client.submit(  # type: ignore[attr-defined]
+            _task, study, c, str(cache_dir), threads, store_dir, key=f"case-{c.key}", pure=False
+        )
         for c in todo
     ]
     results: dict[str, CaseResult] = {}
     for fut in as_completed(futures):
-        r = fut.result()
+        case = by_key[fut.key[len("case-") :]]
+        if fut.cancelled():
+            raise StudyInterrupted(f"case {case.index} was cancelled: the cluster is gone")
+        try:
+            r = fut.result()
+        except Exception as e:
+            if fut.cancelled():
+                raise StudyInterrupted(f"case {case.index} was cancelled: {e}") from e
+            r = _lost(case, e)
+        fut.release()
+        if store is not None:
+            store.put(r)
         results[r.key] = r
         if on_result:
             on_result(r)
@@ -117,7 +195,8 @@ def run_dask(
 
 
 def table(results: Iterable[CaseResult], kept: pd.DataFrame | None = None) -> pd.DataFrame:
-    """The result table in case order (rows kept from an earlier run included)."""
+    """The result table of ``results`` in case order (rows ``kept`` from an earlier run
+    included)."""
     df = pd.DataFrame([r.row() for r in results])
     if kept is not None and len(kept):
         df = pd.concat([kept, df], ignore_index=True) if len(df) else kept.copy()
@@ -136,16 +215,8 @@ def series_table(results: Iterable[CaseResult]) -> pd.DataFrame:
 
 
 def write(out: Path, rows: pd.DataFrame, series: pd.DataFrame) -> None:
-    """``results.parquet``, ``results.csv`` and ``series.parquet`` (appended to an
-    earlier run's series when resuming)."""
+    """``results.parquet``, ``results.csv`` and ``series.parquet`` under ``out``."""
     out.mkdir(parents=True, exist_ok=True)
     rows.to_parquet(out / "results.parquet", index=False)
     rows.to_csv(out / "results.csv", index=False)
-    old = out / "series.parquet"
-    if old.is_file() and len(series):
-        kept = pd.read_parquet(old)
-        kept = kept[~kept["key"].isin(set(series["key"]))]
-        series = pd.concat([kept, series], ignore_index=True)
-    elif old.is_file():
-        return
-    series.to_parquet(old, index=False)
+    series.to_parquet(out / "series.parquet", index=False)

@@ -88,7 +88,9 @@ def test_a_blown_up_case_is_a_failed_row_and_the_study_goes_on(tmp_path):
     r = results(tmp_path / "out")
     assert list(r["status"]) == ["ok", "failed", "ok", "failed"]
     bad = r[r["status"] == "failed"]["diagnostic"]
-    assert bad.str.contains("numerical blow-up").all(), list(bad)
+    # the stability guard stops the soil, or the post's motion of the barrier, whichever
+    # passes the bound first; either way the FMU's own message names the bound
+    assert bad.str.contains("numerical blow-up|beyond simulation.max_speed").all(), list(bad)
     assert bad.str.contains("simulation.max_speed").all(), list(bad)
 
 
@@ -96,9 +98,9 @@ def test_resume_runs_only_the_missing_cases(tmp_path, capsys):
     out = tmp_path / "out"
     run(study(tmp_path), "--out", out, "--serial")
     full = results(out)
-    # an interrupted study: rows 1 and 3 never written
-    kept = pd.read_parquet(out / "results.parquet").iloc[[0, 2]]
-    kept.to_parquet(out / "results.parquet", index=False)
+    # an interrupted study: cases 1 and 3 never stored
+    for key in full["key"].iloc[[1, 3]]:
+        (out / "cases" / f"{key}.parquet").unlink()
     capsys.readouterr()
     run(study(tmp_path), "--out", out, "--serial", "--resume")
     assert "4 cases (2 run now)" in capsys.readouterr().out

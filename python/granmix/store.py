@@ -1,0 +1,138 @@
+"""Finished cases on disk, each written the moment it finishes.
+
+``<out>/cases/`` holds two Parquet files per finished case: ``<key>.series.parquet`` (its
+time series) and ``<key>.parquet`` (its row), each written to a temporary file and
+renamed into place, the row last. A case whose row file exists is finished; a client or
+worker stopped at any moment leaves whole files or none. The study's tables
+(``results.parquet``, ``series.parquet``) are assembled from these parts, for the keys of
+the current design only.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import tempfile
+from collections.abc import Iterable
+from pathlib import Path
+
+import pandas as pd
+
+from granmix.design import Case
+from granmix.master import CaseResult
+from granmix.study import Study
+
+#: Columns that differ between runs of the same case (left out of comparisons).
+RUN_COLUMNS = ("wall_time", "setup_time", "loop_time", "close_time", "host")
+_ROW = ".parquet"
+_SERIES = ".series.parquet"
+
+
+def output_columns(study: Study) -> list[str]:
+    """The reduced outputs' columns, ``<instance>.<variable>:<reduction>``, in file order."""
+    return [f"{o.variable}:{r}" for o in study.outputs for r in o.reduce]
+
+
+def columns(study: Study) -> list[str]:
+    """The result table's columns, in order."""
+    return [
+        "key",
+        "case",
+        *(p.name for p in study.parameters),
+        *output_columns(study),
+        "status",
+        "diagnostic",
+        *RUN_COLUMNS,
+    ]
+
+
+class CaseStore:
+    """The finished cases under ``directory`` (one row file and one series file each)."""
+
+    def __init__(self, directory: str | Path) -> None:
+        self.dir = Path(directory)
+
+    def create(self) -> None:
+        self.dir.mkdir(parents=True, exist_ok=True)
+
+    def clear(self) -> None:
+        """Remove every stored case (a study run from scratch)."""
+        if self.dir.is_dir():
+            for p in self.dir.iterdir():
+                if p.name.endswith(_ROW) or ".tmp" in p.name:
+                    p.unlink(missing_ok=True)
+
+    def put(self, r: CaseResult) -> None:
+        """Write case ``r``: its series, then its row, each atomically."""
+        s = pd.DataFrame(r.series) if r.series else pd.DataFrame({"time": []})
+        s.insert(0, "key", r.key)
+        self._write(s, self.dir / f"{r.key}{_SERIES}")
+        self._write(pd.DataFrame([r.row()]), self.dir / f"{r.key}{_ROW}")
+
+    def _write(self, df: pd.DataFrame, path: Path) -> None:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=self.dir)
+        os.close(fd)
+        try:
+            df.to_parquet(tmp, index=False)
+            os.replace(tmp, path)
+        except BaseException:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
+            raise
+
+    def keys(self) -> set[str]:
+        """The keys of every finished case."""
+        if not self.dir.is_dir():
+            return set()
+        return {
+            p.name[: -len(_ROW)]
+            for p in self.dir.iterdir()
+            if p.name.endswith(_ROW)
+            and not p.name.endswith(_SERIES)
+            and not p.name.startswith(".")
+        }
+
+    def row(self, key: str) -> pd.DataFrame:
+        return pd.read_parquet(self.dir / f"{key}{_ROW}")
+
+    def series(self, key: str) -> pd.DataFrame:
+        p = self.dir / f"{key}{_SERIES}"
+        return pd.read_parquet(p) if p.is_file() else pd.DataFrame({"key": [], "time": []})
+
+    def done(self, study: Study, design: Iterable[Case], retry_failed: bool = False) -> set[str]:
+        """The keys of ``design`` with a stored row this ``study`` can keep: a failed row
+        (unless ``retry_failed``), or a finished row with every output the study now
+        collects."""
+        stored = self.keys()
+        wanted = output_columns(study)
+        out = set()
+        for c in design:
+            if c.key not in stored:
+                continue
+            row = self.row(c.key)
+            if row["status"].iloc[0] != "ok":
+                if not retry_failed:
+                    out.add(c.key)
+            elif all(col in row.columns for col in wanted):
+                out.add(c.key)
+        return out
+
+    def assemble(self, study: Study, design: list[Case]) -> tuple[pd.DataFrame, pd.DataFrame]:
+        """The result table and the series table of the stored cases of ``design``, in
+        case order, with the case indices of ``design`` and the study's columns."""
+        stored = self.keys()
+        present = [c for c in design if c.key in stored]
+        cols = columns(study)
+        if not present:
+            return pd.DataFrame(columns=cols), pd.DataFrame(columns=["key", "time"])
+        rows = []
+        for c in present:
+            r = self.row(c.key)
+            r["case"] = c.index
+            rows.append(r)
+        table = pd.concat(rows, ignore_index=True).reindex(columns=cols)
+        variables = [o.variable for o in study.outputs]
+        series = pd.concat(
+            [self.series(c.key) for c in present], ignore_index=True
+        ).reindex(columns=["key", "time", *variables])
+        return table, series
