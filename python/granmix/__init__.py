@@ -5,6 +5,11 @@
   name the file, the key and the line.
 - :mod:`granmix.design` turns a study's design (full grid, explicit list, seeded random
   or Latin hypercube) into cases, each keyed by a hash of its full specification.
+- :mod:`granmix.master` runs one case (the co-simulation master loop) into a row.
+- :mod:`granmix.sweep` runs a study's cases serially or on Dask, and
+  :mod:`granmix.store` keeps each finished case on disk the moment it finishes, so
+  that ``--resume`` runs only the missing ones.
+- :mod:`granmix.cli` is ``granmix-sweep``.
 """
 
 from granmix.design import Case, cases

@@ -133,6 +133,7 @@ def main(argv: list[str] | None = None) -> int:
     with _sigterm_interrupts():
         try:
             if a.serial or not todo:
+                progress.start()
                 results = run_serial(study, todo, cache, a.threads, progress.update, store)
             else:
                 results = _on_dask(study, todo, cache, a, progress, store)
@@ -204,7 +205,10 @@ def _on_dask(
 
     if a.scheduler:
         with Client(a.scheduler) as client:
-            print(f"dashboard: {client.dashboard_link}", file=sys.stderr)
+            services = client.scheduler_info().get("services", {})
+            link = client.dashboard_link if "dashboard" in services else "none"
+            print(f"dashboard: {link}", file=sys.stderr)
+            progress.start()
             return run_dask(
                 study, todo, cache.resolve(), client, a.threads, progress.update, store
             )
@@ -222,6 +226,7 @@ def _on_dask(
             f"dashboard: {link}" if link else "dashboard: none (it needs bokeh >= 3.1)",
             file=sys.stderr,
         )
+        progress.start()
         return run_dask(study, todo, cache.resolve(), client, a.threads, progress.update, store)
 
 

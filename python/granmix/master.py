@@ -113,12 +113,17 @@ class _Instance:
         self.callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
         if addLoggerProxy is not None:
             addLoggerProxy(byref(self.callbacks))
-        self.fmu = FMU2Slave(
-            guid=md.guid,
-            unzipDirectory=self.dir,
-            modelIdentifier=md.coSimulation.modelIdentifier,
-            instanceName=name,
-        )
+        try:
+            self.fmu = FMU2Slave(
+                guid=md.guid,
+                unzipDirectory=self.dir,
+                modelIdentifier=md.coSimulation.modelIdentifier,
+                instanceName=name,
+            )
+        except BaseException:
+            # a library that does not load: nothing to free, the directory to remove
+            shutil.rmtree(self.dir, ignore_errors=True)
+            raise
 
     def start(self, start: dict[str, float]) -> None:
         """Instantiate, set the start values ``start`` and initialise."""
@@ -282,20 +287,22 @@ def _loop(
     result.series = series
     looping = time.perf_counter()
     result.setup_time = looping - began
-    for k in range(steps):
-        check_time(k)
-        t = k * h
-        for name in order:
-            inst = instances[name]
-            for c in feeds[name]:
-                inst.set(_split(c.target)[1], current[c.source])
-            inst.fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
-            for v, var in reads[name]:
-                current[v] = inst.get(var)
-        series["time"].append((k + 1) * h)
-        for v in collected:
-            series[v].append(current[v])
-    result.loop_time = time.perf_counter() - looping
+    try:
+        for k in range(steps):
+            check_time(k)
+            t = k * h
+            for name in order:
+                inst = instances[name]
+                for c in feeds[name]:
+                    inst.set(_split(c.target)[1], current[c.source])
+                inst.fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+                for v, var in reads[name]:
+                    current[v] = inst.get(var)
+            series["time"].append((k + 1) * h)
+            for v in collected:
+                series[v].append(current[v])
+    finally:
+        result.loop_time = time.perf_counter() - looping
     for o in study.outputs:
         for how in o.reduce:
             result.outputs[f"{o.variable}:{how}"] = reduce(series["time"], series[o.variable], how)

@@ -21,6 +21,7 @@ from __future__ import annotations
 import socket
 from collections.abc import Callable, Iterable
 from pathlib import Path
+from typing import Any
 
 import pandas as pd
 
@@ -73,23 +74,33 @@ def _task(
 
 
 class Progress:
-    """A progress bar on stderr (tqdm): cases done, failed, rate and ETA."""
+    """A progress bar on stderr (tqdm): cases done, failed, rate and time left. It shows
+    from :meth:`start` (or the first case done) on, so that what the cluster prints
+    when it starts comes before it."""
 
     def __init__(self, total: int, enabled: bool = True) -> None:
-        from tqdm import tqdm
-
-        self.total = total
+        self.total, self.enabled = total, enabled
         self.done = self.failed = 0
-        self.bar = tqdm(total=total, unit="case", disable=not enabled or total == 0, leave=True)
+        self.bar: Any = None
+
+    def start(self) -> None:
+        if self.bar is None:
+            from tqdm import tqdm
+
+            self.bar = tqdm(
+                total=self.total, unit="case", disable=not self.enabled or self.total == 0
+            )
 
     def update(self, r: CaseResult) -> None:
+        self.start()
         self.done += 1
         self.failed += r.status != "ok"
         self.bar.set_postfix(failed=self.failed, refresh=False)
         self.bar.update(1)
 
     def close(self) -> None:
-        self.bar.close()
+        if self.bar is not None:
+            self.bar.close()
 
 
 def pending(
@@ -178,12 +189,12 @@ def run_dask(
     for fut in as_completed(futures):
         case = by_key[fut.key[len("case-") :]]
         if fut.cancelled():
-            raise StudyInterrupted(f"case {case.index} was cancelled: the cluster is gone")
+            raise StudyInterrupted("lost the cluster (its tasks were cancelled)")
         try:
             r = fut.result()
         except Exception as e:
             if fut.cancelled():
-                raise StudyInterrupted(f"case {case.index} was cancelled: {e}") from e
+                raise StudyInterrupted(f"lost the cluster (its tasks were cancelled: {e})") from e
             r = _lost(case, e)
         fut.release()
         if store is not None:

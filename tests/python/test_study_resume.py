@@ -1,7 +1,7 @@
 """Studies lose no work: an interrupted study keeps every finished case and `--resume`
 runs only the rest; a resume after the study file changed keeps no stale row; a design
 with a repeated case gives every case a row; a study on an external scheduler survives
-its client being killed."""
+its client being killed, and its client survives the scheduler's death."""
 
 import os
 import pathlib
@@ -184,11 +184,17 @@ def test_a_design_with_a_repeated_case_gives_every_case_a_row(tmp_path, capsys):
     assert re.search(r"dashboard: http://\S+/status", capsys.readouterr().err)
 
 
+class Cluster:
+    """A Dask scheduler and worker in processes of their own."""
+
+    def __init__(self, address: str, scheduler: subprocess.Popen) -> None:
+        self.address, self.scheduler = address, scheduler
+
+
 @pytest.fixture
 def external_cluster(tmp_path):
     """`dask scheduler` and `dask worker` (one worker process named `w0`, so that a
-    case waits while another runs) started as processes of their own; yields the
-    scheduler's address."""
+    case waits while another runs) started as processes of their own."""
     info = tmp_path / "scheduler.json"
     procs = [
         subprocess.Popen(
@@ -215,10 +221,11 @@ def external_cluster(tmp_path):
         with Client(scheduler_file=str(info), timeout=60) as client:
             client.wait_for_workers(1, timeout=60)
             address = client.scheduler.address
-        yield address
+        yield Cluster(address, procs[0])
     finally:
         for p in reversed(procs):
-            p.send_signal(signal.SIGINT)
+            if p.poll() is None:
+                p.send_signal(signal.SIGINT)
         for p in reversed(procs):
             try:
                 p.wait(30)
@@ -236,7 +243,7 @@ def test_a_study_on_an_external_scheduler_survives_a_killed_client(
     the serial one, and `host` names the worker of each case."""
     out = tmp_path / "out"
     study = write_study(tmp_path)
-    cli = Cli(study, "--out", out, "--scheduler", external_cluster)
+    cli = Cli(study, "--out", out, "--scheduler", external_cluster.address)
     cli.wait_done(2, 4)
     cli.proc.kill()
     cli.finish()
@@ -249,13 +256,41 @@ def test_a_study_on_an_external_scheduler_survives_a_killed_client(
     )
     assert kept < 4, "the study ended before the client was killed"
     capsys.readouterr()
-    run(study, "--out", out, "--scheduler", external_cluster, "--resume")
+    run(study, "--out", out, "--scheduler", external_cluster.address, "--resume")
     said = capsys.readouterr().out
     assert f"4 cases ({4 - kept} run now)" in said, said
     pd.testing.assert_frame_equal(results(out), results(clean), check_exact=True)
     pd.testing.assert_frame_equal(series(out), series(clean), check_exact=True)
     hosts = set(pd.read_parquet(out / "results.parquet")["host"])
     assert hosts == {f"{socket.gethostname()}/w0"}, hosts
+
+
+def test_a_study_that_loses_its_scheduler_stops_and_resumes(
+    clean, tmp_path, capsys, external_cluster
+):
+    """The scheduler is killed after two cases: the client stops with an error that
+    says how to go on, the finished cases are on disk, and `--resume` (here serially)
+    runs only the rest; the table equals a clean run's."""
+    out = tmp_path / "out"
+    study = write_study(tmp_path)
+    cli = Cli(study, "--out", out, "--scheduler", external_cluster.address)
+    cli.wait_done(2, 4)
+    external_cluster.scheduler.kill()
+    code = cli.finish()
+    finished = cli.done(4)
+    time.sleep(1.0)  # the worker, alone, finishes the case it was running
+    kept = stored(out)
+    assert kept >= finished, (
+        f"the study that lost its scheduler kept {kept} of the {finished} cases it had finished"
+    )
+    err = cli.err.decode()
+    assert code == 1, err
+    assert "lost the cluster" in err and "--resume" in err, err
+    capsys.readouterr()
+    run(study, "--out", out, "--serial", "--resume")
+    said = capsys.readouterr().out
+    assert f"4 cases ({4 - kept} run now)" in said, said
+    pd.testing.assert_frame_equal(results(out), results(clean), check_exact=True)
 
 
 def test_a_resume_after_a_full_run_runs_nothing(clean, tmp_path, capsys):
