@@ -125,8 +125,6 @@ def main(argv: list[str] | None = None) -> int:
             + (f"; {other} stored cases of another design left out" if other else ""),
             file=sys.stderr,
         )
-    else:
-        store.clear()
     store.create()
     progress = Progress(len(todo), enabled=not a.quiet)
     results = []

@@ -55,13 +55,6 @@ class CaseStore:
     def create(self) -> None:
         self.dir.mkdir(parents=True, exist_ok=True)
 
-    def clear(self) -> None:
-        """Remove every stored case (a study run from scratch)."""
-        if self.dir.is_dir():
-            for p in self.dir.iterdir():
-                if p.name.endswith(_ROW) or ".tmp" in p.name:
-                    p.unlink(missing_ok=True)
-
     def put(self, r: CaseResult) -> None:
         """Write case ``r``: its series, then its row, each atomically."""
         s = pd.DataFrame(r.series) if r.series else pd.DataFrame({"time": []})

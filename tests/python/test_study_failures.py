@@ -196,6 +196,26 @@ def test_a_case_over_the_wall_time_limit_is_a_failed_row(tmp_path):
     assert r["diagnostic"].str.contains("wall-time limit of 0.3 s reached").all()
 
 
+def test_resume_keeps_failed_rows_and_retry_failed_runs_them_again(tmp_path, capsys):
+    """Cases stopped by the wall-time limit: `--resume` keeps their failed rows,
+    `--resume --retry-failed` without the limit runs them again to the end."""
+    # 500 steps of about 1 ms each: 5 times the limit
+    text = STUDY.replace("end_time = 0.02", "end_time = 0.5").replace(
+        "values = [25.0, 35.0]", "values = [25.0]"
+    )
+    out = tmp_path / "out"
+    study = write_study(tmp_path, text)
+    run(study, "--out", out, "--serial", "--wall-time-limit", 0.1)
+    assert (pd.read_parquet(out / "results.parquet")["status"] == "failed").all()
+    capsys.readouterr()
+    run(study, "--out", out, "--serial", "--resume")
+    assert "2 cases (0 run now), 2 failed" in capsys.readouterr().out
+    run(study, "--out", out, "--serial", "--resume", "--retry-failed")
+    assert "2 cases (2 run now), 0 failed" in capsys.readouterr().out
+    r = pd.read_parquet(out / "results.parquet")
+    assert (r["status"] == "ok").all() and list(r["case"]) == [0, 1]
+
+
 def test_plots_carry_units_a_title_and_one_curve_per_value_of_the_other_parameter(tmp_path):
     """A 2 × 2 grid: the plot against the friction angle has one line per post
     stiffness (and the other way round), units on both axes (the study's for the scene
@@ -231,6 +251,24 @@ def test_plots_carry_units_a_title_and_one_curve_per_value_of_the_other_paramete
         "friction = 25 deg",
         "friction = 35 deg",
     }
+    # a Latin hypercube: twelve values of the other parameter are a colour scale
+    n = 12
+    lhs = pd.DataFrame(
+        {
+            "friction": [20.0 + i for i in range(n)],
+            "k": [1.0e4 * (1 + (7 * i) % n) for i in range(n)],
+            "granmix.barrier.force.x:max": [float(i) for i in range(n)],
+            "granmix.barrier.force.x:integral": [0.1 * i for i in range(n)],
+            "status": ["ok"] * n,
+        }
+    )
+    fig = dict(figures(s, lhs, units))["granmix.barrier.force.x_max__friction"]
+    ax, bar = fig.axes
+    assert not ax.get_lines() and len(ax.collections) == 1
+    assert bar.get_ylabel() == "k [N/m]"
+    import matplotlib.pyplot as plt
+
+    plt.close("all")
 
 
 def test_variables_lists_the_fmus_variable_names_and_units(tmp_path, capsys):

@@ -120,14 +120,16 @@ def stored(out: pathlib.Path) -> int:
     return sum(1 for p in d.glob("*.parquet") if not p.name.endswith(".series.parquet"))
 
 
-def test_an_interrupted_study_resumes_with_only_the_missing_cases(clean, tmp_path, capsys):
-    """Ctrl-C after two of four cases: the two finished cases are on disk, `--resume`
-    runs only the other two, and the table and the series equal a clean run's."""
+@pytest.mark.parametrize("stop", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_an_interrupted_study_resumes_with_only_the_missing_cases(clean, tmp_path, capsys, stop):
+    """Ctrl-C (or a batch system's SIGTERM) after two of four cases: the two finished
+    cases are on disk, `--resume` runs only the other two, and the table and the series
+    equal a clean run's."""
     out = tmp_path / "out"
     study = write_study(tmp_path)
     cli = Cli(study, "--out", out, "--serial")
     cli.wait_done(2, 4)
-    cli.proc.send_signal(signal.SIGINT)
+    cli.proc.send_signal(stop)
     code = cli.finish()
     finished = cli.done(4)
     assert 2 <= finished < 4, "the study ended before the interrupt"
@@ -137,7 +139,7 @@ def test_an_interrupted_study_resumes_with_only_the_missing_cases(clean, tmp_pat
     assert f"4 cases ({4 - finished} run now)" in said, said
     pd.testing.assert_frame_equal(results(out), results(clean), check_exact=True)
     pd.testing.assert_frame_equal(series(out), series(clean), check_exact=True)
-    # Ctrl-C stops the study with the shell's code for it, and says how to go on
+    # the study stops with the shell's code for Ctrl-C, and says how to go on
     err = cli.err.decode()
     assert code == 128 + signal.SIGINT, err
     assert "--resume" in err and f"{finished} of 4 cases stored" in err, err
@@ -193,8 +195,9 @@ class Cluster:
 
 @pytest.fixture
 def external_cluster(tmp_path):
-    """`dask scheduler` and `dask worker` (one worker process named `w0`, so that a
-    case waits while another runs) started as processes of their own."""
+    """`dask scheduler` and `dask worker` (one worker process named `w0`, without a
+    nanny, so that a case waits while another runs) started as processes of their
+    own."""
     info = tmp_path / "scheduler.json"
     procs = [
         subprocess.Popen(
@@ -211,7 +214,7 @@ def external_cluster(tmp_path):
         procs.append(
             subprocess.Popen(
                 [str(VENV_BIN / "dask"), "worker", "--scheduler-file", str(info)]
-                + ["--nworkers", "1", "--nthreads", "1", "--name", "w0", "--no-dashboard"],
+                + ["--no-nanny", "--nthreads", "1", "--name", "w0", "--no-dashboard"],
                 stdout=subprocess.DEVNULL,
                 stderr=subprocess.DEVNULL,
             )
@@ -223,10 +226,10 @@ def external_cluster(tmp_path):
             address = client.scheduler.address
         yield Cluster(address, procs[0])
     finally:
+        # the worker first: it closes at once when its scheduler is still there
         for p in reversed(procs):
             if p.poll() is None:
                 p.send_signal(signal.SIGINT)
-        for p in reversed(procs):
             try:
                 p.wait(30)
             except subprocess.TimeoutExpired:
