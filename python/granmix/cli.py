@@ -112,6 +112,9 @@ def main(argv: list[str] | None = None) -> int:
         return _print_variables(study, cache)
     store = CaseStore(out / "cases")
     design = cases(study)
+    if a.resume and not store.dir.is_dir() and (out / "results.parquet").is_file():
+        n = store.adopt(out / "results.parquet", out / "series.parquet")
+        print(f"resume: {n} rows of {out / 'results.parquet'} stored in {store.dir}", file=sys.stderr)
     todo, done = pending(study, store, a.resume, a.retry_failed)
     try:
         found = preflight.check(study, todo[0] if todo else design[0], PackCache(cache))

@@ -73,6 +73,22 @@ class CaseStore:
                 os.unlink(tmp)
             raise
 
+    def adopt(self, results: Path, series: Path) -> int:
+        """Store the rows of a study table written before the store existed
+        (``results.parquet``, with its ``series.parquet``), so that ``--resume`` keeps
+        them; returns how many. Rows are kept as they are: their keys decide, as for any
+        stored case, whether the current design has them."""
+        rows = pd.read_parquet(results)
+        s = pd.read_parquet(series) if series.is_file() else pd.DataFrame({"key": []})
+        by_key = dict(tuple(s.groupby("key", sort=False))) if len(s) else {}
+        self.create()
+        for _, row in rows.drop_duplicates("key", keep="last").iterrows():
+            key = str(row["key"])
+            part = by_key.get(key, pd.DataFrame({"key": [], "time": []}))
+            self._write(part.reset_index(drop=True), self.dir / f"{key}{_SERIES}")
+            self._write(row.to_frame().T.infer_objects(), self.dir / f"{key}{_ROW}")
+        return len(rows)
+
     def keys(self) -> set[str]:
         """The keys of every finished case."""
         if not self.dir.is_dir():

@@ -303,3 +303,16 @@ def test_a_resume_after_a_full_run_runs_nothing(clean, tmp_path, capsys):
     assert "4 cases (0 run now)" in capsys.readouterr().out
     pd.testing.assert_frame_equal(results(out), results(clean), check_exact=True)
     pd.testing.assert_frame_equal(series(out), series(clean), check_exact=True)
+
+
+def test_a_resume_keeps_the_rows_of_a_table_written_before_the_store(clean, tmp_path, capsys):
+    """An output directory with only `results.parquet` and `series.parquet` (a study run
+    before cases were stored one by one): `--resume` stores their rows and runs nothing."""
+    out = tmp_path / "out"
+    shutil.copytree(clean, out)
+    shutil.rmtree(out / "cases")
+    capsys.readouterr()
+    run(write_study(tmp_path), "--out", out, "--serial", "--resume")
+    assert "4 cases (0 run now)" in capsys.readouterr().out
+    pd.testing.assert_frame_equal(results(out), results(clean), check_exact=True)
+    pd.testing.assert_frame_equal(series(out), series(clean), check_exact=True)
