@@ -114,7 +114,9 @@ def main(argv: list[str] | None = None) -> int:
     design = cases(study)
     if a.resume and not store.dir.is_dir() and (out / "results.parquet").is_file():
         n = store.adopt(out / "results.parquet", out / "series.parquet")
-        print(f"resume: {n} rows of {out / 'results.parquet'} stored in {store.dir}", file=sys.stderr)
+        print(
+            f"resume: {n} rows of {out / 'results.parquet'} stored in {store.dir}", file=sys.stderr
+        )
     todo, done = pending(study, store, a.resume, a.retry_failed)
     try:
         found = preflight.check(study, todo[0] if todo else design[0], PackCache(cache))
@@ -210,9 +212,7 @@ def _on_dask(
             link = client.dashboard_link if "dashboard" in services else "none"
             print(f"dashboard: {link}", file=sys.stderr)
             progress.start()
-            return run_dask(
-                study, todo, cache.resolve(), client, a.threads, progress.update, store
-            )
+            return run_dask(study, todo, cache.resolve(), client, a.threads, progress.update, store)
     with (
         LocalCluster(
             n_workers=min(a.workers, len(todo)),

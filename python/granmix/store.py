@@ -96,9 +96,7 @@ class CaseStore:
         return {
             p.name[: -len(_ROW)]
             for p in self.dir.iterdir()
-            if p.name.endswith(_ROW)
-            and not p.name.endswith(_SERIES)
-            and not p.name.startswith(".")
+            if p.name.endswith(_ROW) and not p.name.endswith(_SERIES) and not p.name.startswith(".")
         }
 
     def row(self, key: str) -> pd.DataFrame:
@@ -141,7 +139,7 @@ class CaseStore:
             rows.append(r)
         table = pd.concat(rows, ignore_index=True).reindex(columns=cols)
         variables = [o.variable for o in study.outputs]
-        series = pd.concat(
-            [self.series(c.key) for c in present], ignore_index=True
-        ).reindex(columns=["key", "time", *variables])
+        series = pd.concat([self.series(c.key) for c in present], ignore_index=True).reindex(
+            columns=["key", "time", *variables]
+        )
         return table, series

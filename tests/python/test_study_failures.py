@@ -94,7 +94,9 @@ def test_a_refused_partner_start_value_is_a_failed_row_with_the_fmus_message(
     assert diagnostic.startswith("post: "), diagnostic
 
 
-def test_a_typo_in_study_set_is_reported_against_study_set_and_its_line(tmp_path, capsys):
+def test_a_typo_in_study_set_is_reported_against_study_set_and_its_line(
+    tmp_path, capsys
+):
     """`study.set` names a key the scene does not have, in a study that also varies a
     scene key of the same table: the error names `study.set` and the line of the bad
     override, not the parameter."""
@@ -103,10 +105,14 @@ def test_a_typo_in_study_set_is_reported_against_study_set_and_its_line(tmp_path
         'end_time = 0.02\nset = [\n    "simulation.dp=0.01",\n'
         '    "materials.0.frictionn_angle=30.0",\n]\n',
     )
-    code = main([str(write_study(tmp_path, text)), "--out", str(tmp_path / "out"), "--quiet"])
+    code = main(
+        [str(write_study(tmp_path, text)), "--out", str(tmp_path / "out"), "--quiet"]
+    )
     err = capsys.readouterr().err
     assert code == 2, err
-    line = next(i + 1 for i, s in enumerate(text.splitlines()) if "frictionn_angle" in s)
+    line = next(
+        i + 1 for i, s in enumerate(text.splitlines()) if "frictionn_angle" in s
+    )
     assert f"study.toml:{line}: `study.set`" in err, err
     assert "frictionn_angle" in err, err
     assert not (tmp_path / "out" / "results.parquet").exists()
@@ -161,7 +167,9 @@ def test_a_case_whose_worker_keeps_dying_is_a_failed_row(tmp_path):
     assert len(rows) == 2
     dead = rows[victim.removeprefix("case-")]
     assert dead.status == "failed"
-    assert "KilledWorker" in dead.diagnostic and "died" in dead.diagnostic, dead.diagnostic
+    assert "KilledWorker" in dead.diagnostic and "died" in dead.diagnostic, (
+        dead.diagnostic
+    )
     (other,) = (r for k, r in rows.items() if r is not dead)
     assert other.status == "ok", other.diagnostic
 
@@ -169,9 +177,9 @@ def test_a_case_whose_worker_keeps_dying_is_a_failed_row(tmp_path):
 def test_a_case_over_the_wall_time_limit_is_a_failed_row(tmp_path):
     """`study.wall_time_limit` stops a case that runs longer as a failed row with the
     reason; `--wall-time-limit` sets it from the command line."""
-    text = STUDY.replace("end_time = 0.02", "end_time = 5.0\nwall_time_limit = 0.2").replace(
-        "values = [25.0, 35.0]", "values = [25.0]"
-    )
+    text = STUDY.replace(
+        "end_time = 0.02", "end_time = 5.0\nwall_time_limit = 0.2"
+    ).replace("values = [25.0, 35.0]", "values = [25.0]")
     out = tmp_path / "out"
     started = time.perf_counter()
     run(write_study(tmp_path, text), "--out", out, "--serial")
@@ -216,7 +224,9 @@ def test_resume_keeps_failed_rows_and_retry_failed_runs_them_again(tmp_path, cap
     assert (r["status"] == "ok").all() and list(r["case"]) == [0, 1]
 
 
-def test_plots_carry_units_a_title_and_one_curve_per_value_of_the_other_parameter(tmp_path):
+def test_plots_carry_units_a_title_and_one_curve_per_value_of_the_other_parameter(
+    tmp_path,
+):
     """A 2 × 2 grid: the plot against the friction angle has one line per post
     stiffness (and the other way round), units on both axes (the study's for the scene
     key, the FMUs' for the rest; an integral's times s) and a title."""
@@ -224,7 +234,7 @@ def test_plots_carry_units_a_title_and_one_curve_per_value_of_the_other_paramete
     from granmix.cli import figures
 
     text = STUDY.replace(
-        'values = [25.0, 35.0]\n', 'values = [25.0, 35.0]\nunit = "deg"\n'
+        "values = [25.0, 35.0]\n", 'values = [25.0, 35.0]\nunit = "deg"\n'
     )
     s = load_study(write_study(tmp_path, text))
     rows = pd.DataFrame(
@@ -272,7 +282,9 @@ def test_plots_carry_units_a_title_and_one_curve_per_value_of_the_other_paramete
 
 
 def test_variables_lists_the_fmus_variable_names_and_units(tmp_path, capsys):
-    code = main([str(write_study(tmp_path)), "--out", str(tmp_path / "out"), "--variables"])
+    code = main(
+        [str(write_study(tmp_path)), "--out", str(tmp_path / "out"), "--variables"]
+    )
     said = capsys.readouterr().out
     assert code == 0, said
     lines = said.splitlines()
@@ -280,7 +292,11 @@ def test_variables_lists_the_fmus_variable_names_and_units(tmp_path, capsys):
     def line_of(name: str) -> list[str]:
         return next(ln.split() for ln in lines if f" {name} " in ln)
 
-    assert line_of("granmix.barrier.force.x")[:3] == ["output", "granmix.barrier.force.x", "N/m"]
+    assert line_of("granmix.barrier.force.x")[:3] == [
+        "output",
+        "granmix.barrier.force.x",
+        "N/m",
+    ]
     assert line_of("granmix.barrier.displacement.x")[0] == "input"
     assert line_of("post.k")[:3] == ["parameter", "post.k", "N/m"]
     assert line_of("post.force")[0] == "input"

@@ -83,7 +83,9 @@ class Cli:
 
     def __init__(self, *args) -> None:
         cmd = [str(VENV_BIN / "granmix-sweep"), *map(str, args)]
-        self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        self.proc = subprocess.Popen(
+            cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE
+        )
         self.err = b""
         self.reader = threading.Thread(target=self._read, daemon=True)
         self.reader.start()
@@ -101,7 +103,9 @@ class Cli:
     def wait_done(self, n: int, total: int, timeout: float = 60.0) -> None:
         deadline = time.monotonic() + timeout
         while self.done(total) < n:
-            assert self.proc.poll() is None, f"the study ended early: {self.err.decode()}"
+            assert self.proc.poll() is None, (
+                f"the study ended early: {self.err.decode()}"
+            )
             assert time.monotonic() < deadline, f"no progress: {self.err.decode()}"
             time.sleep(0.01)
 
@@ -119,8 +123,12 @@ def stored(out: pathlib.Path) -> int:
     return sum(1 for p in d.glob("*.parquet") if not p.name.endswith(".series.parquet"))
 
 
-@pytest.mark.parametrize("stop", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
-def test_an_interrupted_study_resumes_with_only_the_missing_cases(clean, tmp_path, capsys, stop):
+@pytest.mark.parametrize(
+    "stop", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"]
+)
+def test_an_interrupted_study_resumes_with_only_the_missing_cases(
+    clean, tmp_path, capsys, stop
+):
     """Ctrl-C (or a batch system's SIGTERM) after two of four cases: the two finished
     cases are on disk, `--resume` runs only the other two, and the table and the series
     equal a clean run's."""
@@ -305,7 +313,9 @@ def test_a_resume_after_a_full_run_runs_nothing(clean, tmp_path, capsys):
     pd.testing.assert_frame_equal(series(out), series(clean), check_exact=True)
 
 
-def test_a_resume_keeps_the_rows_of_a_table_written_before_the_store(clean, tmp_path, capsys):
+def test_a_resume_keeps_the_rows_of_a_table_written_before_the_store(
+    clean, tmp_path, capsys
+):
     """An output directory with only `results.parquet` and `series.parquet` (a study run
     before cases were stored one by one): `--resume` stores their rows and runs nothing."""
     out = tmp_path / "out"
