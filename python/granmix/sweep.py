@@ -87,8 +87,13 @@ class Progress:
         if self.bar is None:
             from tqdm import tqdm
 
+            # a line per finished case (cases take seconds): no rate limit on the display
             self.bar = tqdm(
-                total=self.total, unit="case", disable=not self.enabled or self.total == 0
+                total=self.total,
+                unit="case",
+                mininterval=0,
+                miniters=1,
+                disable=not self.enabled or self.total == 0,
             )
 
     def update(self, r: CaseResult) -> None:

@@ -196,8 +196,24 @@ def test_a_design_with_a_repeated_case_gives_every_case_a_row(tmp_path, capsys):
 class Cluster:
     """A Dask scheduler and worker in processes of their own."""
 
-    def __init__(self, address: str, scheduler: subprocess.Popen) -> None:
-        self.address, self.scheduler = address, scheduler
+    def __init__(
+        self, address: str, scheduler: subprocess.Popen, worker: subprocess.Popen
+    ) -> None:
+        self.address, self.scheduler, self.worker = address, scheduler, worker
+
+    def wait_idle(self, timeout: float = 60.0) -> None:
+        """Until the worker runs no task, cancelled ones included (a task whose client
+        has gone runs to its end)."""
+        from distributed import Client
+
+        def running(dask_worker) -> int:
+            return dask_worker.state.executing_count
+
+        deadline = time.monotonic() + timeout
+        with Client(self.address, timeout=30) as client:
+            while any(client.run(running).values()):
+                assert time.monotonic() < deadline, "the worker is still busy"
+                time.sleep(0.05)
 
 
 @pytest.fixture
@@ -231,7 +247,7 @@ def external_cluster(tmp_path):
         with Client(scheduler_file=str(info), timeout=60) as client:
             client.wait_for_workers(1, timeout=60)
             address = client.scheduler.address
-        yield Cluster(address, procs[0])
+        yield Cluster(address, procs[0], procs[1])
     finally:
         # the worker first: it closes at once when its scheduler is still there
         for p in reversed(procs):
@@ -258,8 +274,8 @@ def test_a_study_on_an_external_scheduler_survives_a_killed_client(
     cli.proc.kill()
     cli.finish()
     finished = cli.done(4)
-    # the workers finish the cases they were running when the client died
-    time.sleep(1.5)
+    # the worker finishes the case it was running when the client died
+    external_cluster.wait_idle()
     kept = stored(out)
     assert kept >= finished, (
         f"the killed client's study kept {kept} of the {finished} cases it had finished"
@@ -288,7 +304,9 @@ def test_a_study_that_loses_its_scheduler_stops_and_resumes(
     external_cluster.scheduler.kill()
     code = cli.finish()
     finished = cli.done(4)
-    time.sleep(1.0)  # the worker, alone, finishes the case it was running
+    # the worker, alone, is stopped too: nothing more can arrive
+    external_cluster.worker.kill()
+    external_cluster.worker.wait()
     kept = stored(out)
     assert kept >= finished, (
         f"the study that lost its scheduler kept {kept} of the {finished} cases it had finished"
