@@ -152,3 +152,35 @@ def test_scene_overrides_of_every_case_enter_the_case_key():
     assert not {c.key for c in cases(s)} & {c.key for c in base}
     e = error(STUDY.replace("step = 0.001", 'set = ["velocity"]\nstep = 0.001'))
     assert e.key == "study.set" and "key.path=value" in str(e), str(e)
+
+
+def test_a_repeated_case_has_a_key_of_its_own():
+    """An explicit list with a repeat: each case its own key (one Dask task and one row
+    each); the first occurrence keeps the key it has without the repeat."""
+    listed = STUDY.replace("values = [25.0, 30.0, 35.0]\n", "").replace(
+        "values = [2.0e4, 8.0e4]\n", ""
+    )
+    once = listed + (
+        '\n[design]\nkind = "list"\ncases = [{friction = 28.0, stiffness = 3.0e4},'
+        " {friction = 33.0, stiffness = 5.0e4}]\n"
+    )
+    twice = once.replace("5.0e4}]", "5.0e4}, {friction = 28.0, stiffness = 3.0e4}]")
+    a, b = cases(study(once)), cases(study(twice))
+    assert [c.index for c in b] == [0, 1, 2]
+    assert len({c.key for c in b}) == 3
+    assert [c.key for c in b[:2]] == [c.key for c in a]
+    assert b[2].values == b[0].values
+
+
+def test_the_wall_time_limit_and_units_are_read_and_do_not_change_the_keys():
+    text = STUDY.replace("end_time = 0.05", "end_time = 0.05\nwall_time_limit = 60.0").replace(
+        'values = [25.0, 30.0, 35.0]', 'values = [25.0, 30.0, 35.0]\nunit = "deg"'
+    )
+    s = study(text)
+    assert s.wall_time_limit == 60.0 and study().wall_time_limit is None
+    assert s.parameters[0].unit == "deg" and s.parameters[1].unit == ""
+    assert [c.key for c in cases(s)] == [c.key for c in cases(study())]
+    e = error(text.replace("wall_time_limit = 60.0", "wall_time_limit = -1.0"))
+    assert e.key == "study.wall_time_limit" and e.line == 6 and "> 0" in str(e), str(e)
+    e = error(text.replace('unit = "deg"', "unit = 1"))
+    assert e.key == "parameters[0].unit" and "expected a string" in str(e), str(e)
