@@ -3,7 +3,9 @@
 //!
 //! The budget is `simulation.memory_budget` (bytes) when it is positive, else 80 % of
 //! the memory the machine has available (`MemAvailable` in `/proc/meminfo`; where that
-//! cannot be read, 80 % of 4 GiB).
+//! cannot be read, 80 % of 4 GiB). A set budget beyond the machine's memory (RAM and
+//! swap, `MemTotal` + `SwapTotal`) is cut to it: no allocation beyond it can succeed,
+//! and an allocation that fails aborts the process, the FMU's host included.
 
 use crate::estimate::{estimate, Estimate};
 use crate::math::Real;
@@ -26,9 +28,20 @@ pub struct Budget {
 pub fn budget(scene: &Scene) -> Budget {
     let set = scene.simulation.memory_budget;
     if set > 0.0 {
-        return Budget {
-            bytes: set,
-            origin: "simulation.memory_budget".into(),
+        return match machine_bytes() {
+            Some(m) if set > m => Budget {
+                bytes: m,
+                origin: format!(
+                    "this machine's {} of memory and swap: simulation.memory_budget = {} \
+                     is beyond it",
+                    human_bytes(m),
+                    human_bytes(set)
+                ),
+            },
+            _ => Budget {
+                bytes: set,
+                origin: "simulation.memory_budget".into(),
+            },
         };
     }
     match available_bytes() {
@@ -45,11 +58,26 @@ pub fn budget(scene: &Scene) -> Budget {
 
 /// `MemAvailable` of `/proc/meminfo`, in bytes.
 pub fn available_bytes() -> Option<Real> {
+    meminfo(&["MemAvailable"])
+}
+
+/// The machine's memory and swap (`MemTotal` + `SwapTotal` of `/proc/meminfo`), in
+/// bytes: more than any process can allocate.
+pub fn machine_bytes() -> Option<Real> {
+    meminfo(&["MemTotal", "SwapTotal"])
+}
+
+/// The sum of `fields` of `/proc/meminfo` (each `Name: <n> kB`), in bytes.
+fn meminfo(fields: &[&str]) -> Option<Real> {
     let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let mut it = line.split_whitespace().skip(1);
-    let kib: Real = it.next()?.parse().ok()?;
-    (it.next() == Some("kB")).then_some(kib * 1024.0)
+    fields.iter().try_fold(0.0, |sum, f| {
+        let line = text
+            .lines()
+            .find(|l| l.strip_prefix(f).is_some_and(|r| r.starts_with(':')))?;
+        let mut it = line.split_whitespace().skip(1);
+        let kib: Real = it.next()?.parse().ok()?;
+        (it.next() == Some("kB")).then_some(sum + kib * 1024.0)
+    })
 }
 
 /// A scene refused for its memory: its estimate and the budget it exceeds.
@@ -65,7 +93,8 @@ pub struct OverBudget {
 pub fn enforce(scene: &Scene) -> Result<Estimate, OverBudget> {
     let estimate = estimate(scene);
     let budget = budget(scene);
-    if estimate.bytes > budget.bytes {
+    // a NaN estimate is refused too
+    if estimate.bytes.is_nan() || estimate.bytes > budget.bytes {
         return Err(OverBudget {
             estimate: Box::new(estimate),
             budget,
@@ -172,6 +201,12 @@ mod tests {
         assert!(parse_bytes("8 parsecs").is_err());
         assert!(parse_bytes("-1GB").is_err());
         assert!(parse_bytes("GB").is_err());
+    }
+
+    #[test]
+    fn the_machine_holds_its_available_memory() {
+        let (m, a) = (machine_bytes().unwrap(), available_bytes().unwrap());
+        assert!(m >= a && a > 0.0, "machine {m} B, available {a} B");
     }
 
     #[test]

@@ -10,9 +10,10 @@ pub struct Blowup {
     pub time: f64,
     /// Stable particle id (fine grains), or the particle index within `body`.
     pub particle: u32,
-    /// The coarse grain the particle belongs to, if any.
+    /// The coarse grain the particle belongs to, or the wall object that failed.
     pub body: Option<String>,
-    /// The particle's family.
+    /// The particle's family (for a wall, `body` names the wall object and `position`
+    /// is its displacement).
     pub family: Family,
     pub position: Vec<f64>,
     /// Quantity that failed, e.g. `velocity`, `stress`, `speed`.
@@ -54,9 +55,10 @@ impl fmt::Display for Blowup {
             "numerical blow-up at step {} (t = {:.6e} s): ",
             self.step, self.time
         )?;
-        match &self.body {
-            Some(b) => write!(f, "particle {} of body `{b}`", self.particle)?,
-            None => write!(f, "{} particle {}", self.family.name(), self.particle)?,
+        match (&self.body, self.family) {
+            (Some(w), Family::Wall) => write!(f, "wall object `{w}`")?,
+            (Some(b), _) => write!(f, "particle {} of body `{b}`", self.particle)?,
+            (None, _) => write!(f, "{} particle {}", self.family.name(), self.particle)?,
         }
         write!(
             f,
@@ -86,6 +88,8 @@ pub enum Family {
     Fine,
     Coarse,
     Water,
+    /// A wall or barrier object (its rigid motion).
+    Wall,
 }
 
 impl Family {
@@ -94,6 +98,7 @@ impl Family {
             Family::Fine => "fine",
             Family::Coarse => "coarse",
             Family::Water => "water",
+            Family::Wall => "wall",
         }
     }
 }

@@ -105,6 +105,42 @@ impl<const D: usize> Walls<D> {
             o.velocity = if on { o.prescribed } else { Vect::<D>::zeros() };
         }
     }
+    /// Largest rigid speed of any object over a step that starts at `t`: a driven
+    /// object's current velocity, a prescribed one's inside its motion window. It bounds
+    /// the time step so that no wall moves more than a fraction of h per step
+    /// ([`crate::step::Stepper::stable_dt`]).
+    pub fn max_speed_at(&self, t: Real) -> Real {
+        self.objects
+            .iter()
+            .map(|o| {
+                if o.driven {
+                    o.velocity.norm()
+                } else if t >= o.window.0 && t < o.window.1 {
+                    o.prescribed.norm()
+                } else {
+                    0.0
+                }
+            })
+            .fold(0.0, Real::max)
+    }
+    /// The first object whose motion fails the stability guard: a non-finite velocity
+    /// or displacement, or a speed beyond `max_speed`. Returns (object, quantity, value,
+    /// is-speed).
+    pub fn check(&self, max_speed: Real) -> Option<(usize, &'static str, Real, bool)> {
+        self.objects.iter().enumerate().find_map(|(i, o)| {
+            let v = o.velocity.norm();
+            let d = o.displacement.norm();
+            if !v.is_finite() {
+                Some((i, "velocity", v, false))
+            } else if !d.is_finite() {
+                Some((i, "displacement", d, false))
+            } else if v > max_speed {
+                Some((i, "speed", v, true))
+            } else {
+                None
+            }
+        })
+    }
     /// Set the velocity of driven object `object` for the following steps.
     pub fn drive(&mut self, object: usize, velocity: Vect<D>) {
         debug_assert!(self.objects[object].driven);

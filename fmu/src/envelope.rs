@@ -10,6 +10,8 @@
 //! | 1 | model kind: 1 granular scene, 2 structural partner |
 //! | 1 | payload encoding: 0 raw, 1 deflate |
 //! | 1 + n | GUID of the FMU: length n, then its ASCII bytes |
+//! | 1 | the instance's state-machine state ([`State`] bit; version 3 on) |
+//! | 2 + m | why it is in the error state: length m, then UTF-8 (empty otherwise; version 3 on) |
 //! | 8 | payload length as stored |
 //! | 8 | payload length once decoded |
 //! | … | payload |
@@ -17,8 +19,10 @@
 //!
 //! [`open`] checks, in order: the magic (else "not a granmix FMU state"), the checksum
 //! (a flipped byte anywhere after the magic), the version, the kind, the GUID (a state
-//! of another FMU), then the lengths.
+//! of another FMU), then the lengths. Version 2 states (before the instance's state was
+//! carried) are still read: their place follows from the payload.
 
+use crate::state::{Place, State};
 use flate2::read::DeflateDecoder;
 use flate2::write::DeflateEncoder;
 use flate2::Compression;
@@ -26,8 +30,13 @@ use std::io::{Read, Write};
 
 /// First bytes of every serialised state.
 pub const MAGIC: [u8; 8] = *b"GRANMIX\x1a";
-/// Format version written and read. Version 1 (a replay list) is no longer read.
-pub const VERSION: u16 = 2;
+/// Format version written. Version 2 (without the instance's state) is read too;
+/// version 1 (a replay list) is no longer read.
+pub const VERSION: u16 = 3;
+/// The oldest version read.
+const OLDEST: u16 = 2;
+/// Longest error-state message kept in a state (bytes).
+const FAILURE_MAX: usize = u16::MAX as usize;
 
 /// Which model a state belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -80,8 +89,14 @@ pub enum EnvelopeError {
          stored {stored:08x}"
     )]
     Corrupted { crc: u32, len: usize, stored: u32 },
-    #[error("serialised state of format version {version}; this FMU reads version {VERSION}")]
+    #[error(
+        "serialised state of format version {version}; this FMU reads versions {OLDEST} \
+         to {VERSION}"
+    )]
     Version { version: u16 },
+    /// A state-machine byte that is no state.
+    #[error("serialised state: instance state byte {0} is not a state")]
+    Place(u8),
     /// A state of another kind of model (the byte of [`ModelKind`]).
     #[error(
         "serialised state of {}, not of {}",
@@ -107,11 +122,21 @@ pub enum EnvelopeError {
     DecodedLength { got: usize, decoded: u64 },
 }
 
-/// Wrap `payload` in the envelope.
+/// What [`open`] finds in an envelope.
+#[derive(Debug)]
+pub struct Opened {
+    /// The decoded payload.
+    pub payload: Vec<u8>,
+    /// The instance's place in the state machine (None in a version 2 state).
+    pub place: Option<Place>,
+}
+
+/// Wrap `payload`, taken at `place` of the state machine, in the envelope.
 pub fn seal(
     kind: ModelKind,
     guid: &str,
     encoding: Encoding,
+    place: &Place,
     payload: &[u8],
 ) -> Result<Vec<u8>, EnvelopeError> {
     let stored = match encoding {
@@ -135,6 +160,14 @@ pub fn seal(
     out.push(encoding as u8);
     out.push(glen);
     out.extend_from_slice(guid);
+    out.push(place.state as u8);
+    let failure = place.failure.as_deref().unwrap_or("");
+    let mut cut = failure.len().min(FAILURE_MAX);
+    while !failure.is_char_boundary(cut) {
+        cut -= 1;
+    }
+    out.extend_from_slice(&(cut as u16).to_le_bytes());
+    out.extend_from_slice(&failure.as_bytes()[..cut]);
     out.extend_from_slice(&(body.len() as u64).to_le_bytes());
     out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
     out.extend_from_slice(body);
@@ -144,8 +177,8 @@ pub fn seal(
 }
 
 /// Check the envelope of `bytes` for a state of `kind` of the FMU `guid`, and return the
-/// decoded payload.
-pub fn open(bytes: &[u8], kind: ModelKind, guid: &str) -> Result<Vec<u8>, EnvelopeError> {
+/// decoded payload and the instance's place.
+pub fn open(bytes: &[u8], kind: ModelKind, guid: &str) -> Result<Opened, EnvelopeError> {
     let n = bytes.len();
     if n < MAGIC.len() || bytes[..MAGIC.len()] != MAGIC {
         return Err(EnvelopeError::NotAState { len: n });
@@ -176,7 +209,7 @@ pub fn open(bytes: &[u8], kind: ModelKind, guid: &str) -> Result<Vec<u8>, Envelo
         Ok(s)
     };
     let version = u16::from_le_bytes(take(2)?.try_into().expect("2 bytes"));
-    if version != VERSION {
+    if !(OLDEST..=VERSION).contains(&version) {
         return Err(EnvelopeError::Version { version });
     }
     let k = take(1)?[0];
@@ -199,6 +232,18 @@ pub fn open(bytes: &[u8], kind: ModelKind, guid: &str) -> Result<Vec<u8>, Envelo
             guid: guid.to_string(),
         });
     }
+    let place = if version >= 3 {
+        let b = take(1)?[0];
+        let state = State::from_bit(b).ok_or(EnvelopeError::Place(b))?;
+        let m = u16::from_le_bytes(take(2)?.try_into().expect("2 bytes")) as usize;
+        let failure = String::from_utf8_lossy(take(m)?).into_owned();
+        Some(Place {
+            state,
+            failure: (!failure.is_empty()).then_some(failure),
+        })
+    } else {
+        None
+    };
     let stored = u64::from_le_bytes(take(8)?.try_into().expect("8 bytes"));
     let decoded = u64::from_le_bytes(take(8)?.try_into().expect("8 bytes"));
     let body = &data[at..];
@@ -208,9 +253,11 @@ pub fn open(bytes: &[u8], kind: ModelKind, guid: &str) -> Result<Vec<u8>, Envelo
             follow: body.len(),
         });
     }
-    match encoding {
-        Encoding::Raw if decoded != stored => Err(EnvelopeError::RawLength { stored, decoded }),
-        Encoding::Raw => Ok(body.to_vec()),
+    let payload = match encoding {
+        Encoding::Raw if decoded != stored => {
+            return Err(EnvelopeError::RawLength { stored, decoded })
+        }
+        Encoding::Raw => body.to_vec(),
         Encoding::Deflate => {
             let cap = usize::try_from(decoded)
                 .ok()
@@ -227,9 +274,10 @@ pub fn open(bytes: &[u8], kind: ModelKind, guid: &str) -> Result<Vec<u8>, Envelo
                     decoded,
                 });
             }
-            Ok(out)
+            out
         }
-    }
+    };
+    Ok(Opened { payload, place })
 }
 
 #[cfg(test)]
@@ -237,20 +285,26 @@ mod tests {
     use super::*;
 
     const G: &str = "{00000000-0000-0000-0000-000000000001}";
+    const STEP: Place = Place {
+        state: State::StepMode,
+        failure: None,
+    };
 
     #[test]
     fn round_trip_in_both_encodings() {
         let payload: Vec<u8> = (0..5000u32).flat_map(|i| (i * 7).to_le_bytes()).collect();
         for e in [Encoding::Raw, Encoding::Deflate] {
-            let b = seal(ModelKind::Granular, G, e, &payload).unwrap();
-            assert_eq!(open(&b, ModelKind::Granular, G).unwrap(), payload);
+            let b = seal(ModelKind::Granular, G, e, &STEP, &payload).unwrap();
+            let o = open(&b, ModelKind::Granular, G).unwrap();
+            assert_eq!(o.payload, payload);
+            assert_eq!(o.place, Some(STEP));
         }
     }
 
     #[test]
     fn every_flipped_byte_is_refused() {
         let payload: Vec<u8> = (0..300u32).flat_map(|i| i.to_le_bytes()).collect();
-        let b = seal(ModelKind::Granular, G, Encoding::Deflate, &payload).unwrap();
+        let b = seal(ModelKind::Granular, G, Encoding::Deflate, &STEP, &payload).unwrap();
         for i in 0..b.len() {
             for bit in [0x01u8, 0x80] {
                 let mut c = b.clone();
@@ -268,8 +322,11 @@ mod tests {
 
     #[test]
     fn garbage_other_kind_and_other_fmu_say_so() {
-        let b = seal(ModelKind::Granular, G, Encoding::Raw, b"abc").unwrap();
-        let message = |b: &[u8], kind, guid: &str| open(b, kind, guid).unwrap_err().to_string();
+        let b = seal(ModelKind::Granular, G, Encoding::Raw, &STEP, b"abc").unwrap();
+        let message = |b: &[u8], kind, guid: &str| match open(b, kind, guid) {
+            Ok(_) => panic!("opened"),
+            Err(e) => e.to_string(),
+        };
         let e = message(b"hello, this is not a state", ModelKind::Granular, G);
         assert!(e.starts_with("not a granmix FMU state"), "{e}");
         let e = message(&b, ModelKind::Structure, G);
@@ -282,5 +339,42 @@ mod tests {
         assert!(e.contains("another FMU") && e.contains(G), "{e}");
         let e = message(&b[..b.len() - 1], ModelKind::Granular, G);
         assert!(e.contains("corrupted"), "{e}");
+    }
+
+    #[test]
+    fn the_error_state_and_its_cause_travel_with_the_state() {
+        let place = Place {
+            state: State::Error,
+            failure: Some("fmi2DoStep: numerical blow-up at step 3 — ü".to_string()),
+        };
+        let b = seal(ModelKind::Granular, G, Encoding::Deflate, &place, b"xyz").unwrap();
+        let o = open(&b, ModelKind::Granular, G).unwrap();
+        assert_eq!((o.payload.as_slice(), o.place), (&b"xyz"[..], Some(place)));
+        // a message longer than the field is cut at a character boundary
+        let long = Place {
+            state: State::Error,
+            failure: Some("é".repeat(40_000)),
+        };
+        let b = seal(ModelKind::Granular, G, Encoding::Raw, &long, b"").unwrap();
+        let f = open(&b, ModelKind::Granular, G)
+            .unwrap()
+            .place
+            .unwrap()
+            .failure;
+        assert_eq!(f.unwrap().len(), FAILURE_MAX - 1);
+    }
+
+    #[test]
+    fn version_2_states_still_open_without_a_place() {
+        let b = seal(ModelKind::Granular, G, Encoding::Raw, &STEP, b"abc").unwrap();
+        // the version 2 layout: no state byte and no message
+        let at = MAGIC.len() + 2 + 1 + 1 + 1 + G.len();
+        let mut old = b[..at].to_vec();
+        old[8..10].copy_from_slice(&2u16.to_le_bytes());
+        old.extend_from_slice(&b[at + 3..b.len() - 4]);
+        let crc = crc32fast::hash(&old);
+        old.extend_from_slice(&crc.to_le_bytes());
+        let o = open(&old, ModelKind::Granular, G).unwrap();
+        assert_eq!((o.payload.as_slice(), o.place), (&b"abc"[..], None));
     }
 }

@@ -43,15 +43,14 @@ pub enum FmiError {
     #[error(transparent)]
     BadCall(#[from] CallError),
     /// The model failed within the call and its state is no longer valid: a blow-up
-    /// within `fmi2DoStep`, a failed `fmi2ExitInitializationMode`. `fmi2SetFMUstate` or
-    /// `fmi2Reset` leaves the error state.
+    /// within `fmi2DoStep`. `fmi2SetFMUstate` or `fmi2Reset` leaves the error state.
     #[error(transparent)]
     Failed(ModelError),
 }
 
 impl From<ModelError> for FmiError {
     /// A model error is a bad call unless the function says it failed the model
-    /// (`fmi2ExitInitializationMode`, [`StepError::Failed`]).
+    /// ([`StepError::Failed`]).
     fn from(e: ModelError) -> Self {
         FmiError::BadCall(CallError::Model(e))
     }
@@ -67,6 +66,7 @@ impl From<StepError> for FmiError {
     fn from(e: StepError) -> Self {
         match e {
             StepError::Rejected(e) => FmiError::BadCall(CallError::Step(e)),
+            StepError::Drive(e) => FmiError::BadCall(CallError::Drive(e)),
             StepError::Failed(e) => FmiError::Failed(e),
         }
     }
@@ -78,6 +78,13 @@ pub enum CallError {
     /// The function may not be called in the instance's state.
     #[error("may not be called in state {0:?}")]
     State(State),
+    /// A call not allowed in the error state (value getters, setters, steps): the
+    /// message of the call that failed, and the ways out.
+    #[error(
+        "may not be called in the error state (entered by `{failure}`); restore a state \
+         saved before (fmi2SetFMUstate) or call fmi2Reset"
+    )]
+    InError { failure: String },
     /// A null pointer where the function needs one: what it is (`size pointer`).
     #[error("null {0}")]
     Null(&'static str),
@@ -106,6 +113,10 @@ pub enum CallError {
     /// `fmi2DoStep` with a communication point or step size the model refuses.
     #[error(transparent)]
     Step(#[from] BadStep),
+    /// `fmi2DoStep` with a barrier input the solver cannot follow within the step (not
+    /// finite, beyond the guard's speed bound, or too many solver steps).
+    #[error(transparent)]
+    Drive(DriveError),
     /// The model refused or could not serve the call and is as it was.
     #[error(transparent)]
     Model(#[from] ModelError),
@@ -137,6 +148,10 @@ pub enum StepError {
     /// changed, the instance stays usable.
     #[error(transparent)]
     Rejected(#[from] BadStep),
+    /// An input-driven barrier's command cannot be followed within the step: nothing
+    /// was changed, the instance stays usable.
+    #[error(transparent)]
+    Drive(DriveError),
     /// The model failed within the step (blow-up): the state is no longer valid; the
     /// instance goes to the error state, from which `fmi2SetFMUstate` restarts it.
     #[error(transparent)]

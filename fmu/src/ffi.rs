@@ -11,7 +11,7 @@ use crate::error::{CallError, FmiError, ModelError, Unsupported};
 use crate::instance::{self, Instance};
 use crate::logger::{c_string, Logger, Write};
 use crate::model::Model;
-use crate::state::{allowed, State};
+use crate::state::{allowed, Place, State};
 use crate::variables::{lookup, Causality, Kind};
 use fmi_sys::fmi2::*;
 use std::ffi::{c_char, CStr};
@@ -59,6 +59,10 @@ unsafe fn with_instance(
     let inst = unsafe { &mut *(c as *mut Instance) };
     let r = catch_unwind(AssertUnwindSafe(|| {
         if !inst.state.in_set(states) {
+            if let (State::Error, Some(failure)) = (inst.state, &inst.failure) {
+                let failure = failure.clone();
+                return Err(CallError::InError { failure }.into());
+            }
             return Err(CallError::State(inst.state).into());
         }
         f(inst)
@@ -91,11 +95,12 @@ fn report(inst: &mut Instance, function: &str, r: Result<(), FmiError>) -> fmi2S
         Ok(()) => return OK,
         Err(e) => e,
     };
+    let message = format!("{function}: {e}");
     if let FmiError::Failed(_) = e {
         inst.state = State::Error;
+        inst.failure = Some(message.clone());
     }
-    inst.logger
-        .log(ERROR, "logStatusError", &format!("{function}: {e}"));
+    inst.logger.log(ERROR, "logStatusError", &message);
     ERROR
 }
 
@@ -209,6 +214,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
             model,
             resources: dir,
             strings: Vec::new(),
+            failure: None,
         })) as fmi2Component
     })
 }
@@ -282,7 +288,10 @@ pub unsafe extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2St
 pub unsafe extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
     unsafe {
         with_instance(c, "fmi2ExitInitializationMode", allowed::INIT, |i| {
-            i.model.exit_initialization().map_err(FmiError::Failed)?;
+            // a refusal (parameters that do not build, the memory budget, an output
+            // that cannot be opened) leaves the instance in initialisation mode, so
+            // the master can set other parameters and try again
+            i.model.exit_initialization()?;
             i.state = State::StepMode;
             Ok(())
         })
@@ -314,6 +323,7 @@ pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
         with_instance(c, "fmi2Reset", allowed::ANY_BUT_FATAL, |i| {
             i.model.reset()?;
             i.state = State::Instantiated;
+            i.failure = None;
             Ok(())
         })
     }
@@ -551,7 +561,7 @@ pub unsafe extern "C" fn fmi2SetString(
 /// simulation from a formerly stored FMU state by calling fmi2SetFMUstate").
 struct Snapshot {
     model: Box<dyn Model>,
-    state: State,
+    place: Place,
 }
 
 /// fmi2GetFMUstate: copy the model state into `*state` (reusing it when non-null).
@@ -567,7 +577,10 @@ pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, state: *mut fmi2FMUst
             }
             let snap = Snapshot {
                 model: i.model.snapshot(),
-                state: i.state,
+                place: Place {
+                    state: i.state,
+                    failure: i.failure.clone(),
+                },
             };
             if (*state).is_null() {
                 *state = Box::into_raw(Box::new(snap)) as fmi2FMUstate;
@@ -596,7 +609,8 @@ pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, state: fmi2FMUstate) 
             // SAFETY: non-null states are boxed snapshots made here.
             let snap = &*(state as *const Snapshot);
             i.model = snap.model.snapshot();
-            i.state = snap.state;
+            i.state = snap.place.state;
+            i.failure = snap.place.failure.clone();
             Ok(())
         })
     }
@@ -629,7 +643,8 @@ unsafe fn state_bytes(state: fmi2FMUstate) -> Result<Vec<u8>, FmiError> {
         return Err(CallError::Null("FMUstate").into());
     }
     // SAFETY: non-null states are boxed snapshots made here.
-    Ok(unsafe { &*(state as *const Snapshot) }.model.to_bytes()?)
+    let snap = unsafe { &*(state as *const Snapshot) };
+    Ok(snap.model.to_bytes(&snap.place)?)
 }
 
 /// fmi2SerializedFMUstateSize.
@@ -698,17 +713,18 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
                 return Err(CallError::Null("FMUstate pointer").into());
             }
             let bytes = slice(serialized as *const u8, size)?;
-            let model = i.model.restore_bytes(bytes)?;
-            // the bytes hold the model; its place in the state machine follows from it
-            let state_now = if model.initialised() {
-                State::StepMode
-            } else {
-                State::Instantiated
-            };
-            let snap = Snapshot {
-                model,
-                state: state_now,
-            };
+            let (model, place) = i.model.restore_bytes(bytes)?;
+            // the bytes carry the instance's place (the error and terminated states
+            // included); in a version 2 state it follows from the model
+            let place = place.unwrap_or_else(|| Place {
+                state: if model.initialised() {
+                    State::StepMode
+                } else {
+                    State::Instantiated
+                },
+                failure: None,
+            });
+            let snap = Snapshot { model, place };
             if (*state).is_null() {
                 *state = Box::into_raw(Box::new(snap)) as fmi2FMUstate;
             } else {
@@ -850,7 +866,7 @@ pub unsafe extern "C" fn fmi2GetRealStatus(
     value: *mut fmi2Real,
 ) -> fmi2Status {
     unsafe {
-        with_instance(c, "fmi2GetRealStatus", allowed::GET, |i| {
+        with_instance(c, "fmi2GetRealStatus", allowed::STATUS, |i| {
             if kind != fmi2StatusKind_fmi2LastSuccessfulTime {
                 return Err(CallError::StatusKind { kind, of: "Real" }.into());
             }
@@ -896,7 +912,7 @@ pub unsafe extern "C" fn fmi2GetBooleanStatus(
     value: *mut fmi2Boolean,
 ) -> fmi2Status {
     unsafe {
-        with_instance(c, "fmi2GetBooleanStatus", allowed::GET, |_| {
+        with_instance(c, "fmi2GetBooleanStatus", allowed::STATUS, |_| {
             if kind != fmi2StatusKind_fmi2Terminated {
                 return Err(CallError::StatusKind {
                     kind,

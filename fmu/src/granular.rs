@@ -10,6 +10,7 @@ mod table;
 use crate::envelope::{self, Encoding, ModelKind};
 use crate::error::{GranularError, ModelError, ReadError, StateError, StepError};
 use crate::model::{check_step, Model};
+use crate::state::Place;
 use crate::variables::Variable;
 use crate::xml::{self, ModelInfo};
 use granmix_core::input::{load_scene_in, LoadedScene};
@@ -387,11 +388,17 @@ impl Model for Granular {
         &mut self.values
     }
 
+    /// Build with the final parameters, open the outputs and emit the first frame; on
+    /// failure the model stays as before the call (not initialised, no outputs open).
     fn exit_initialization(&mut self) -> Result<(), ModelError> {
         self.ensure_built()?;
-        self.initialised = true;
         self.open_sinks()?;
-        Ok(self.emit()?)
+        if let Err(e) = self.emit() {
+            self.sinks = None;
+            return Err(e.into());
+        }
+        self.initialised = true;
+        Ok(())
     }
 
     fn set_start_time(&mut self, start: f64) -> Result<(), ModelError> {
@@ -441,6 +448,11 @@ impl Model for Granular {
             };
             drives.push((b, v));
         }
+        // every command checked before any is applied: a refused step changes nothing
+        let span = end - self.sim.time();
+        for &(b, v) in &drives {
+            self.sim.check_drive(b, v, span).map_err(StepError::Drive)?;
+        }
         self.advance(StepRecord { end, drives })?;
         self.now = t + h;
         Ok(self.emit()?)
@@ -470,7 +482,7 @@ impl Model for Granular {
     /// the last communication point and the parameter values, written with postcard
     /// and deflated inside the envelope of [`crate::envelope`]. Restoring costs
     /// O(particles) whatever the number of steps taken.
-    fn to_bytes(&self) -> Result<Vec<u8>, ModelError> {
+    fn to_bytes(&self, place: &Place) -> Result<Vec<u8>, ModelError> {
         let state = SavedRef {
             initialised: self.initialised,
             start: self.start,
@@ -485,12 +497,14 @@ impl Model for Granular {
             ModelKind::Granular,
             &guid(&self.loaded.text),
             STATE_ENCODING,
+            place,
             &payload,
         )?)
     }
 
-    fn restore_bytes(&self, bytes: &[u8]) -> Result<Box<dyn Model>, ModelError> {
-        let payload = envelope::open(bytes, ModelKind::Granular, &guid(&self.loaded.text))?;
+    fn restore_bytes(&self, bytes: &[u8]) -> Result<(Box<dyn Model>, Option<Place>), ModelError> {
+        let opened = envelope::open(bytes, ModelKind::Granular, &guid(&self.loaded.text))?;
+        let payload = opened.payload;
         let saved: Saved = postcard::from_bytes(&payload).map_err(StateError::Decode)?;
         let n = self.values.len();
         if saved.values.len() != n || saved.built_with.len() != n {
@@ -502,7 +516,7 @@ impl Model for Granular {
         }
         let mut sim = saved.sim;
         sim.take_static_from(&self.sim).map_err(StateError::Scene)?;
-        Ok(Box::new(Granular {
+        let model = Box::new(Granular {
             loaded: self.loaded.clone(),
             dir: self.dir.clone(),
             table: self.table.clone(),
@@ -517,6 +531,7 @@ impl Model for Granular {
             start: saved.start,
             now: saved.now,
             solver_seconds: 0.0,
-        }))
+        });
+        Ok((model, opened.place))
     }
 }

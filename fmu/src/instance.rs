@@ -19,6 +19,9 @@ pub struct Instance {
     pub resources: PathBuf,
     /// Strings handed out by the last `fmi2GetString`, alive until the next one.
     pub strings: Vec<std::ffi::CString>,
+    /// In the error state: the logged message of the call that put it there, repeated
+    /// to every call refused in that state.
+    pub failure: Option<String>,
 }
 
 /// Why `fmi2Instantiate` returns no instance.

@@ -2,6 +2,7 @@
 //! ([`crate::granular`]) and the structural partners ([`crate::structure`]) implement it.
 
 use crate::error::{BadStep, ModelError, StepError};
+use crate::state::Place;
 use crate::variables::Variable;
 
 /// Check a communication step `(t, h)` against the model time `now`: both finite,
@@ -23,8 +24,8 @@ pub fn check_step(t: f64, h: f64, now: f64) -> Result<(), BadStep> {
 }
 
 /// A co-simulation model behind one FMU instance. Error messages are for the master's
-/// logger. The FFI layer treats a failed [`Model::exit_initialization`] and a
-/// [`StepError::Failed`] of [`Model::do_step`] as a failed model (the instance goes to
+/// logger. The FFI layer treats a [`StepError::Failed`] of [`Model::do_step`] as a
+/// failed model (the instance goes to
 /// the error state); any other error as a bad call ([`crate::error::FmiError`]).
 pub trait Model: Send {
     /// The value-reference table (value reference = index).
@@ -61,7 +62,8 @@ pub trait Model: Send {
     fn terminate(&mut self) -> Result<(), ModelError> {
         Ok(())
     }
-    /// Leave initialisation mode: parameters are final.
+    /// Leave initialisation mode: parameters are final. An error leaves the model as it
+    /// was, still in initialisation mode.
     fn exit_initialization(&mut self) -> Result<(), ModelError>;
     /// `fmi2SetupExperiment`: the experiment starts at `start` (s); model time,
     /// communication points and output stamps are shifted by it.
@@ -81,10 +83,13 @@ pub trait Model: Send {
     fn reset(&mut self) -> Result<(), ModelError>;
     /// A full copy of the state, for `fmi2GetFMUstate`.
     fn snapshot(&self) -> Box<dyn Model>;
-    /// Bytes from which [`Model::restore_bytes`] rebuilds this exact state.
-    fn to_bytes(&self) -> Result<Vec<u8>, ModelError>;
-    /// Rebuild the state written by [`Model::to_bytes`] (of a model of the same FMU).
-    fn restore_bytes(&self, bytes: &[u8]) -> Result<Box<dyn Model>, ModelError>;
+    /// Bytes from which [`Model::restore_bytes`] rebuilds this exact state, taken by an
+    /// instance at `place` of the state machine (carried in the envelope).
+    fn to_bytes(&self, place: &Place) -> Result<Vec<u8>, ModelError>;
+    /// Rebuild the state written by [`Model::to_bytes`] (of a model of the same FMU),
+    /// with the place it was taken at (None for a state written before places were
+    /// carried).
+    fn restore_bytes(&self, bytes: &[u8]) -> Result<(Box<dyn Model>, Option<Place>), ModelError>;
 }
 
 /// Little-endian byte writer and reader for the payload of serialised structure states

@@ -7,6 +7,7 @@ use crate::envelope::{self, Encoding, ModelKind};
 use crate::error::{ModelError, ReadError, StateError, StepError, StructureError};
 use crate::model::bytes::{Reader, Writer};
 use crate::model::{check_step, Model};
+use crate::state::Place;
 use crate::variables::{Causality, Variable};
 use crate::xml::{self, ModelInfo};
 use nalgebra::{DMatrix, DVector};
@@ -430,7 +431,7 @@ impl Model for Structure {
         Box::new(self.clone())
     }
 
-    fn to_bytes(&self) -> Result<Vec<u8>, ModelError> {
+    fn to_bytes(&self, place: &Place) -> Result<Vec<u8>, ModelError> {
         let mut w = Writer::default();
         w.f64(self.time);
         for list in [&self.values, &self.x, &self.v, &self.impulse] {
@@ -443,12 +444,14 @@ impl Model for Structure {
             ModelKind::Structure,
             &guid(&self.text),
             Encoding::Raw,
+            place,
             &w.0,
         )?)
     }
 
-    fn restore_bytes(&self, bytes: &[u8]) -> Result<Box<dyn Model>, ModelError> {
-        let payload = envelope::open(bytes, ModelKind::Structure, &guid(&self.text))?;
+    fn restore_bytes(&self, bytes: &[u8]) -> Result<(Box<dyn Model>, Option<Place>), ModelError> {
+        let opened = envelope::open(bytes, ModelKind::Structure, &guid(&self.text))?;
+        let payload = opened.payload;
         let mut r = Reader::new(&payload);
         let mut m = self.clone();
         m.time = r.f64()?;
@@ -465,7 +468,7 @@ impl Model for Structure {
                 *x = r.f64()?;
             }
         }
-        Ok(Box::new(m))
+        Ok((Box::new(m), opened.place))
     }
 }
 

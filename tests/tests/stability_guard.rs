@@ -90,3 +90,37 @@ fn runaway_boulder_stops_with_diagnostic() {
     assert_eq!(b.limit, Some(50.0));
     assert!(b.to_string().contains("body `disc`"), "{b}");
 }
+
+/// A wall object sent to infinity stops the run with a diagnostic naming it (issue 38:
+/// a barrier driven with an infinite velocity was lost while every step reported OK
+/// with a zero load). The FMU refuses such a command before stepping; here it is
+/// applied directly, as a bug in a front could.
+#[test]
+fn a_wall_sent_to_infinity_stops_the_run() {
+    for v in [f64::INFINITY, f64::NAN, 150.0] {
+        let loaded = load("fmu_barrier_2d.toml", &[]);
+        let mut sim = AnySimulation::new(&loaded).unwrap();
+        sim.drive_barrier(0, [v, 0.0, 0.0]).unwrap();
+        let Err(b) = sim.advance_to(1e-3) else {
+            panic!("a barrier at {v} m/s passed the guard")
+        };
+        let msg = b.to_string();
+        assert!(msg.contains("wall object `barrier`"), "{msg}");
+        let quantity = if v.is_finite() { "speed" } else { "velocity" };
+        assert_eq!(b.quantity, quantity, "{msg}");
+    }
+}
+
+/// A barrier's prescribed motion enters Δt: no wall moves more than CFL·h per step
+/// (the driven barrier of fmu_barrier_2d at 200 m/s: CFL·h/|v| = 0.4 · 0.013 / 200).
+#[test]
+fn a_moving_wall_bounds_the_time_step() {
+    let loaded = load("fmu_barrier_2d.toml", &[]);
+    let mut sim = AnySimulation::new(&loaded).unwrap();
+    let at_rest = sim.stable_dt();
+    sim.drive_barrier(0, [200.0, 0.0, 0.0]).unwrap();
+    let moving = sim.stable_dt();
+    let bound = 0.4 * 1.3 * 0.01 / 200.0;
+    assert!(at_rest > 2.0 * bound, "{at_rest}");
+    assert!((moving - bound).abs() <= 1e-12 * bound, "{moving} against {bound}");
+}

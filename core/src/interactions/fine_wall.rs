@@ -61,6 +61,71 @@ pub fn normal<const D: usize>(
     }
 }
 
+/// Most wall objects within one particle's support that get their own contact normal;
+/// a particle near more (a spot where five faces meet) uses the normal of Eq. (33) for
+/// the others.
+const OBJECTS: usize = 4;
+
+/// The normal of each wall object near `xi`: Φ_o = −Σ_{w ∈ o} ∇_i W_iw V_w over the wall
+/// particles of object o in the list `wl`, normalised (Eq. 33 restricted to one object).
+/// The contact of [`wall_contact`] opens on the traction across the face of the object
+/// the pair belongs to: at a corner the normal of Eq. (33) leans towards the other face,
+/// whose compression then kept a receding barrier's contact closed and let it pull.
+#[inline(always)]
+fn object_normals<const D: usize>(
+    kernel: &WendlandC2,
+    walls: &Walls<D>,
+    xi: &Vect<D>,
+    wl: &[u32],
+) -> ObjectNormals<D> {
+    let cut2 = kernel.cutoff * kernel.cutoff;
+    let mut out = ObjectNormals {
+        object: [u16::MAX; OBJECTS],
+        n: [Vect::<D>::zeros(); OBJECTS],
+    };
+    for &w in wl {
+        let w = w as usize;
+        let rij = xi - walls.pos[w];
+        let r2 = rij.norm_squared();
+        if r2 >= cut2 || r2 == 0.0 {
+            continue;
+        }
+        let o = walls.object[w];
+        let Some(k) = out.object.iter().position(|&x| x == o || x == u16::MAX) else {
+            continue;
+        };
+        out.object[k] = o;
+        let r = r2.sqrt();
+        out.n[k] -= rij * (kernel.dw(r) / r * walls.volume);
+    }
+    for n in &mut out.n {
+        let nrm = n.norm();
+        if nrm > 0.0 {
+            *n /= nrm;
+        }
+    }
+    out
+}
+
+/// The contact normals of one particle's wall objects ([`object_normals`]).
+#[derive(Clone, Copy, Debug)]
+struct ObjectNormals<const D: usize> {
+    /// Wall object of each entry (`u16::MAX`: unused).
+    object: [u16; OBJECTS],
+    n: [Vect<D>; OBJECTS],
+}
+
+impl<const D: usize> ObjectNormals<D> {
+    /// The normal of object `o`, or `fallback` when it has no entry.
+    #[inline(always)]
+    fn of(&self, o: u16, fallback: &Vect<D>) -> Vect<D> {
+        self.object
+            .iter()
+            .position(|&x| x == o)
+            .map_or(*fallback, |k| self.n[k])
+    }
+}
+
 /// Fine particle i against the walls of its list, for one step.
 pub struct FineAtWall<'a, const D: usize> {
     pub pos: Vect<D>,
@@ -71,6 +136,8 @@ pub struct FineAtWall<'a, const D: usize> {
     pub inv_c: Real,
     /// Wall normal of Eq. (33) at i.
     pub n: Vect<D>,
+    /// The normal of each wall object near i, across whose face a contact opens.
+    faces: ObjectNormals<D>,
     /// U_L = −n·v_i, Eq. (32).
     pub ul: Real,
     /// 1 / (walls in i's list): the share of the friction bound of one wall pair.
@@ -105,6 +172,7 @@ impl<'a, const D: usize> FineAtWall<'a, D> {
             src,
             inv_c: 1.0 / m.c0,
             n,
+            faces: object_normals(&law.kernel, walls, &pos, wl),
             ul: -n.dot(&vel),
             share: 1.0 / wl.len() as Real,
             strength: match law.stress {
@@ -143,8 +211,10 @@ impl<'a, const D: usize> FineAtWall<'a, D> {
         sstar.0[0] -= pstar;
         sstar.0[1] -= pstar;
         sstar.0[2] -= pstar;
-        // the contact opens beyond the soil's tensile strength
-        let sstar = wall_contact::cut(sstar, &n, self.tensile);
+        // the contact opens beyond the soil's tensile strength, on the traction across
+        // the face of w's own object
+        let face = self.faces.of(walls.object[w], &n);
+        let sstar = wall_contact::cut(sstar, &face, self.tensile);
         let mut a = sstar.dot_vec(&e) * (self.inv_rho2 * dw * walls.volume);
         if law.friction > 0.0 {
             let an = a.dot(&n);

@@ -42,10 +42,28 @@ impl<const D: usize> Stepper<D> {
         world.walls.advance(half);
     }
 
-    /// Stop on the first failing particle of the step; otherwise keep the step's
+    /// Stop on the first failing particle of the step, or on a wall object whose motion
+    /// is not finite or faster than the bound; otherwise keep the step's
     /// largest speed and displacement for Δt and the neighbour skin.
     pub(super) fn guard(&mut self, world: &World<D>) -> Result<Real, Blowup> {
         let max_speed = self.params.max_speed;
+        // the walls' rigid motion (prescribed or driven) first: a barrier sent to
+        // infinity stops the run as a particle would, and is the cause of what its
+        // neighbours do in the same step
+        if let Some((o, quantity, value, speed)) = world.walls.check(max_speed) {
+            let w = &world.walls.objects[o];
+            return Err(Blowup {
+                step: world.steps,
+                time: world.time,
+                particle: o as u32,
+                body: Some(w.name.clone()),
+                family: Family::Wall,
+                position: w.displacement.iter().copied().collect(),
+                quantity: quantity.to_string(),
+                value,
+                limit: speed.then_some(max_speed),
+            });
+        }
         let (vmax2, disp2) = crate::guard::reduce(&self.failures).map_err(|f| {
             let (p, at) = (&world.fine, (world.steps, world.time));
             let x = p.pos[f.0].iter().copied().collect();

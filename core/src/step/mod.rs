@@ -242,8 +242,9 @@ impl<const D: usize> Stepper<D> {
         }
     }
 
-    /// Δt of Eq. (51) for the current state: CFL · h / (c0 + |v|max) of the fine grains
-    /// and the water's Δt_w (whose viscous limit joins in). The smaller of the two,
+    /// Δt of Eq. (51) for the current state: CFL · h / (c0 + |v|max) of the fine grains,
+    /// the water's Δt_w (whose viscous limit joins in), and CFL · h / |v_wall| of the
+    /// fastest moving wall or barrier. The smaller of the two,
     /// unless the scheme is multi-rate and Δt_w fits k ≥ 2 times into the fine Δt:
     /// then k Δt_w, and the water takes k sub-steps ([`water_substeps`]).
     pub fn stable_dt(&self, world: &World<D>) -> Real {
@@ -265,13 +266,16 @@ impl<const D: usize> Stepper<D> {
             .soil_water
             .as_ref()
             .map_or(Real::INFINITY, |s| s.dt_max);
+        // a moving wall or barrier (prescribed or driven) moves at most CFL·h per step,
+        // so that it cannot pass through a layer of particles within one step
+        let wall = self.params.cfl * self.params.h / world.walls.max_speed_at(world.time);
         if multi && fine.is_finite() && water.is_finite() {
-            let k = (fine.min(seep) / water).floor();
+            let k = (fine.min(seep).min(wall) / water).floor();
             if k >= 2.0 {
                 return k * water;
             }
         }
-        fine.min(water).min(seep)
+        fine.min(water).min(seep).min(wall)
     }
 
     /// Bytes of scratch memory held by the stepper (lists, buffers, grids).

@@ -78,10 +78,28 @@ impl<const D: usize> World<D> {
     /// [`Resolution::of`]).
     pub fn build(scene: &Scene, resolution: Resolution) -> Result<Self, BuildError> {
         // refuse a scene too large for memory before allocating anything
-        crate::budget::enforce(scene).map_err(|e| BuildError {
+        let estimate = crate::budget::enforce(scene).map_err(|e| BuildError {
             path: "simulation.dp".into(),
             message: e.to_string(),
         })?;
+        // and ask the allocator for the whole estimate at once, fallibly, so that a
+        // scene the machine cannot hold is an error here rather than an abort in the
+        // middle of filling (the reservation is returned at once, untouched)
+        if Vec::<u8>::new()
+            .try_reserve_exact(estimate.bytes as usize)
+            .is_err()
+        {
+            return Err(BuildError {
+                path: "simulation.dp".into(),
+                message: format!(
+                    "dp = {} m needs about {} for its {:.3e} particles, which the \
+                     allocator refuses; coarsen simulation.dp",
+                    estimate.dp,
+                    crate::budget::human_bytes(estimate.bytes),
+                    estimate.particles()
+                ),
+            });
+        }
         let (dp, vol) = (resolution.dp, resolution.volume);
         let gravity = v::<D>(&scene.simulation.gravity);
         let gnorm = gravity.norm();
