@@ -260,3 +260,59 @@ fn quick_look_plot_is_on_by_default() {
     let dir = run("dam_break_2d.toml", 0.005, 0.0025, &["--no-plots"]);
     assert!(!dir.join("plots").exists());
 }
+
+/// Issue 39: the recording's `/barriers` gave neither the water/grain split nor the
+/// panels, and `/energy` had no water energies.
+#[test]
+fn issue_39_mcap_carries_the_load_split_panels_and_water_energy() {
+    let dir = std::env::temp_dir().join(format!("granmix_outputs_mcap_{}", std::process::id()));
+    let rec = dir.join("run.mcap");
+    let o = Command::new(BIN)
+        .arg("run")
+        .arg(scene("debris_flow_saturated.toml"))
+        .args(["--quiet", "--no-vtk", "--no-plots", "--out"])
+        .arg(&dir)
+        .args([
+            "--set",
+            "simulation.end_time=0.02",
+            "--set",
+            "simulation.output_interval=0.01",
+        ])
+        .arg("--record")
+        .arg(&rec)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let bytes = std::fs::read(&rec).unwrap();
+    let (mut barriers, mut energies) = (0, 0);
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        let m = m.unwrap();
+        let v: Value = match m.channel.topic.as_str() {
+            "/barriers" | "/energy" => serde_json::from_slice(&m.data).unwrap(),
+            _ => continue,
+        };
+        if m.channel.topic == "/barriers" {
+            barriers += 1;
+            let b = &v["barriers"][0];
+            assert_eq!(b["panels"].as_array().map(Vec::len), Some(3), "{b}");
+            for k in 0..3 {
+                let (f, w, g) = (
+                    b["force"][k].as_f64().unwrap(),
+                    b["force_water"][k].as_f64().unwrap(),
+                    b["force_grains"][k].as_f64().unwrap(),
+                );
+                assert!((w + g - f).abs() <= 1e-9 * f.abs().max(1.0), "{b}");
+            }
+        } else {
+            energies += 1;
+            let ke = |k: &str| v[k].as_f64().unwrap_or_else(|| panic!("no `{k}` in {v}"));
+            let sum = ke("kinetic_fine") + ke("kinetic_coarse") + ke("kinetic_water");
+            assert!(
+                (ke("kinetic_total") - sum).abs() <= 1e-9 * sum.max(1e-30),
+                "{v}"
+            );
+            ke("potential_water");
+        }
+    }
+    assert!(barriers >= 3 && energies >= 3, "{barriers} {energies}");
+}

@@ -5,8 +5,8 @@
 //! | `/particles` | `foxglove.PointCloud` | protobuf | recorded frame (fine and coarse grains) |
 //! | `/water` | `foxglove.PointCloud` | protobuf | recorded frame, scenes with water |
 //! | `/bodies` | `foxglove.FrameTransforms` | protobuf | sample, scenes with bodies |
-//! | `/barriers` | `granmix.BarrierLoads` | JSON (JSON Schema) | sample |
-//! | `/energy` | `granmix.Energies` | JSON (JSON Schema) | sample |
+//! | `/barriers` | `granmix.BarrierLoads` | JSON (JSON Schema) | sample: loads, their water/grain split, panels |
+//! | `/energy` | `granmix.Energies` | JSON (JSON Schema) | sample: every family's energies |
 //!
 //! Message log times are simulation time in ns. The PointCloud's data are the
 //! [`ParticleRecord`] bytes themselves (stride 52), so `/particles` and `/water` hold
@@ -54,9 +54,25 @@ const BARRIER_SCHEMA: &str = r#"{
           "name": {"type": "string"},
           "force": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3, "description": "N (N/m in 2D)"},
           "moment": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3, "description": "N·m about the reference point (N in 2D)"},
-          "peak_force": {"type": "number", "description": "largest resultant of any solver step in the interval"}
+          "peak_force": {"type": "number", "description": "largest resultant of any solver step in the interval"},
+          "force_water": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3, "description": "the water's part of force (pressure and viscous traction); zero without water"},
+          "force_grains": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3, "description": "the grains' part of force: force - force_water"},
+          "panels": {
+            "type": "array",
+            "description": "each panel's load (scene key panels; empty without), labelled as the FMU labels them",
+            "items": {
+              "type": "object",
+              "properties": {
+                "index": {"type": "integer", "description": "p of the FMU's panel_<p> (2D); i n2 + j of panel_<i>_<j> on an n1 x n2 grid (3D)"},
+                "force": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3},
+                "force_water": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3},
+                "force_grains": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3}
+              },
+              "required": ["index", "force", "force_water", "force_grains"]
+            }
+          }
         },
-        "required": ["name", "force", "moment", "peak_force"]
+        "required": ["name", "force", "moment", "peak_force", "force_water", "force_grains", "panels"]
       }
     }
   },
@@ -76,10 +92,18 @@ const ENERGY_SCHEMA: &str = r#"{
     "kinetic_coarse": {"type": "number"},
     "potential_coarse": {"type": "number"},
     "strain": {"type": "number"},
-    "contact": {"type": "number"}
+    "contact": {"type": "number"},
+    "kinetic_water": {"type": "number", "description": "the water's; 0 without water"},
+    "potential_water": {"type": "number", "description": "the water's; 0 without water"},
+    "kinetic_total": {"type": "number", "description": "kinetic_fine + kinetic_coarse + kinetic_water"}
   },
   "required": ["time", "steps", "kinetic_fine", "potential_fine", "kinetic_coarse"]
 }"#;
+
+/// a − b, componentwise.
+fn minus(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
 
 /// Messages written per topic.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
@@ -358,6 +382,7 @@ impl Recorder {
 
     /// Write bodies (when there are any), barrier loads and energies of `s`.
     pub fn record_sample(&mut self, s: &Sample) -> Result<(), IpcError> {
+        let water_ke = s.water.as_ref().map_or(0.0, |w| w.kinetic_energy);
         if !s.bodies.is_empty() {
             let msg = FrameTransforms {
                 transforms: s
@@ -393,6 +418,17 @@ impl Recorder {
                 "force": b.force,
                 "moment": b.moment,
                 "peak_force": b.peak_force,
+                "force_water": b.force_water,
+                "force_grains": minus(&b.force, &b.force_water),
+                "panels": b.panels.iter().enumerate().map(|(p, f)| {
+                    let fw = b.panels_water.get(p).copied().unwrap_or_default();
+                    json!({
+                        "index": p,
+                        "force": f,
+                        "force_water": fw,
+                        "force_grains": minus(f, &fw),
+                    })
+                }).collect::<Vec<_>>(),
             })).collect::<Vec<_>>(),
         });
         let data = serde_json::to_vec(&barriers).map_err(|e| rec_err(&self.path, e))?;
@@ -408,6 +444,9 @@ impl Recorder {
             "potential_coarse": s.coarse_potential_energy,
             "strain": s.strain_energy,
             "contact": s.contact_energy,
+            "kinetic_water": water_ke,
+            "potential_water": s.water.as_ref().map_or(0.0, |w| w.potential_energy),
+            "kinetic_total": s.kinetic_energy + s.coarse_kinetic_energy + water_ke,
         });
         let data = serde_json::to_vec(&energy).map_err(|e| rec_err(&self.path, e))?;
         self.write(self.channels.energy, self.counts.energy, s.time, &data)?;
