@@ -73,6 +73,10 @@ impl AnySimulation {
     pub fn water_count(&self) -> usize {
         dispatch!(self, s => s.water_count())
     }
+    /// The wall particles and their object indices ([`Simulation::wall_points`]).
+    pub fn wall_points(&self) -> (Vec<[f32; 3]>, Vec<u16>) {
+        dispatch!(self, s => s.wall_points())
+    }
     pub fn wall_count(&self) -> usize {
         dispatch!(self, s => s.world.walls.len())
     }

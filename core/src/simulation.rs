@@ -495,6 +495,13 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// Particle snapshot for writers.
+    /// The wall particles (3D layout) and each one's object index (walls, barriers
+    /// and container faces in scene order), for writers that draw the geometry once.
+    pub fn wall_points(&self) -> (Vec<[f32; 3]>, Vec<u16>) {
+        let walls = &self.world.walls;
+        (walls.pos.iter().map(arr).collect(), walls.object.clone())
+    }
+
     pub fn frame(&self) -> Frame {
         let (f, w) = (&self.world.fine, &self.world);
         let (nf, nc) = self.particle_counts();

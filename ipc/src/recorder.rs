@@ -5,6 +5,7 @@
 //! | `/particles` | `foxglove.PointCloud` | protobuf | recorded frame (fine and coarse grains) |
 //! | `/water` | `foxglove.PointCloud` | protobuf | recorded frame, scenes with water |
 //! | `/bodies` | `foxglove.FrameTransforms` | protobuf | sample, scenes with bodies |
+//! | `/walls` | `foxglove.PointCloud` | protobuf | recording (once, with the first frame): the wall particles (walls, slope, barriers), fields x, y, z, object |
 //! | `/barriers` | `granmix.BarrierLoads` | JSON (JSON Schema) | sample: loads, their water/grain split, panels |
 //! | `/energy` | `granmix.Energies` | JSON (JSON Schema) | sample: every family's energies |
 //!
@@ -35,6 +36,8 @@ pub const TOPIC_PARTICLES: &str = "/particles";
 /// The water particles' topic.
 pub const TOPIC_WATER: &str = "/water";
 pub const TOPIC_BODIES: &str = "/bodies";
+/// The walls' particles, sent once: the geometry the particles move in.
+pub const TOPIC_WALLS: &str = "/walls";
 pub const TOPIC_BARRIERS: &str = "/barriers";
 pub const TOPIC_ENERGY: &str = "/energy";
 /// Frame id of the simulation's coordinates.
@@ -115,6 +118,9 @@ pub struct RecordCounts {
     pub bodies: u64,
     pub barriers: u64,
     pub energy: u64,
+    /// `/walls` messages: 1 once a frame is recorded in a scene with walls.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub walls: u64,
 }
 
 /// The scene stored in a recording.
@@ -137,6 +143,7 @@ fn is_zero(n: &u64) -> bool {
 
 struct Channels {
     particles: u16,
+    walls: u16,
     water: Option<u16>,
     bodies: u16,
     barriers: u16,
@@ -231,6 +238,7 @@ impl Recorder {
             None
         };
         let bodies = add_channel::<FrameTransforms>(&mut w, TOPIC_BODIES).map_err(e)?;
+        let walls = add_channel::<PointCloud>(&mut w, TOPIC_WALLS).map_err(e)?;
         let json_channel = |w: &mut mcap::Writer<_>, name: &str, schema: &str, topic: &str| {
             let id = w.add_schema(name, "jsonschema", schema.as_bytes())?;
             w.add_channel(id, topic, "json", &BTreeMap::new())
@@ -271,6 +279,7 @@ impl Recorder {
             writer: w,
             channels: Channels {
                 particles,
+                walls,
                 water,
                 bodies,
                 barriers,
@@ -366,6 +375,9 @@ impl Recorder {
 
     /// Write the particles of `sim` now.
     pub fn record_particles(&mut self, sim: &AnySimulation) -> Result<(), IpcError> {
+        if self.counts.walls == 0 && sim.wall_count() > 0 {
+            self.write_walls(sim)?;
+        }
         let (f, c) = sim.particle_counts();
         let nw = sim.water_count();
         let mut records = std::mem::take(&mut self.records);
@@ -378,6 +390,51 @@ impl Recorder {
         }
         self.records = records;
         r
+    }
+
+    /// The `/walls` message: every wall particle as x, y, z (f32) and its object index
+    /// (u32, walls, barriers and container faces in scene order), 16 bytes a point.
+    /// Moving barriers are drawn where they start.
+    fn write_walls(&mut self, sim: &AnySimulation) -> Result<(), IpcError> {
+        let (pos, object) = sim.wall_points();
+        let mut data = Vec::with_capacity(16 * pos.len());
+        for (p, o) in pos.iter().zip(&object) {
+            for c in p {
+                data.extend_from_slice(&c.to_le_bytes());
+            }
+            data.extend_from_slice(&u32::from(*o).to_le_bytes());
+        }
+        let f = |name: &str, offset: u32, t: NumericType| PackedElementField {
+            name: name.to_string(),
+            offset,
+            r#type: t as i32,
+        };
+        let msg = PointCloud {
+            timestamp: Some(stamp(sim.time())),
+            frame_id: WORLD_FRAME.into(),
+            pose: Some(Pose {
+                position: Some(Vector3::default()),
+                orientation: Some(Quaternion {
+                    x: 0.0,
+                    y: 0.0,
+                    z: 0.0,
+                    w: 1.0,
+                }),
+            }),
+            point_stride: 16,
+            fields: vec![
+                f("x", 0, NumericType::Float32),
+                f("y", 4, NumericType::Float32),
+                f("z", 8, NumericType::Float32),
+                f("object", 12, NumericType::Uint32),
+            ],
+            data: foxglove::bytes::Bytes::from(data),
+        };
+        let mut out = Vec::new();
+        msg.encode(&mut out).map_err(|e| rec_err(&self.path, e))?;
+        self.write(self.channels.walls, 0, sim.time(), &out)?;
+        self.counts.walls = 1;
+        Ok(())
     }
 
     /// Write bodies (when there are any), barrier loads and energies of `s`.
