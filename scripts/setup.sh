@@ -4,9 +4,10 @@
 # and nm, which the FMU portability test reads the library with) and a Python venv in
 # .venv with zig (the `ziglang` package: it links the FMU's library against glibc 2.28,
 # see scripts/fmu-link-gcc) and, for the FMU and IPC tests, fmpy, pytest, iceoryx2, mcap
-# and numpy, the granmix study package (python/, editable, with dask + distributed,
-# bokeh, pandas, pyarrow, matplotlib and tqdm) and ruff (the Python lint of the test
-# script). Safe to run again.
+# and numpy, meshio and vtk (the outputs test reads the ParaView files with both), the
+# granmix study package (python/, editable, with dask + distributed, bokeh, pandas,
+# pyarrow, matplotlib and tqdm) and ruff (the Python lint of the test script). Safe to
+# run again.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 missing=()
@@ -23,6 +24,10 @@ if ! .venv/bin/python -c "import fmpy, pytest, iceoryx2, mcap, numpy" >/dev/null
 fi
 if ! .venv/bin/python -c "import ziglang" >/dev/null 2>&1; then
     .venv/bin/pip install --quiet ziglang==0.17.1
+fi
+# meshio and VTK's Python package: the outputs test reads the ParaView files with both
+if ! .venv/bin/python -c "import meshio, vtk" >/dev/null 2>&1; then
+    .venv/bin/pip install --quiet meshio==5.3.5 vtk==9.7.2
 fi
 # the granmix study package (python/), editable: the tests import it from the checkout;
 # with its dependencies (bokeh for the Dask dashboard, tqdm for the progress bar)

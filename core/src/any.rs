@@ -73,11 +73,19 @@ impl AnySimulation {
     pub fn water_count(&self) -> usize {
         dispatch!(self, s => s.water_count())
     }
+    /// The wall particles and their object indices ([`Simulation::wall_points`]).
+    pub fn wall_points(&self) -> (Vec<[f32; 3]>, Vec<u16>) {
+        dispatch!(self, s => s.wall_points())
+    }
     pub fn wall_count(&self) -> usize {
         dispatch!(self, s => s.world.walls.len())
     }
     pub fn region_counts(&self) -> Vec<(String, usize)> {
         dispatch!(self, s => s.world.region_counts.clone())
+    }
+    /// Panel counts of each barrier (scene key `panels`; empty for one panel).
+    pub fn barrier_panels(&self) -> Vec<Vec<usize>> {
+        dispatch!(self, s => s.world.walls.barriers.iter().map(|b| b.panels.clone()).collect())
     }
     pub fn barrier_names(&self) -> Vec<String> {
         dispatch!(self, s => s.world.walls.barriers.iter().map(|b| b.name.clone()).collect())
@@ -124,6 +132,11 @@ impl AnySimulation {
         dispatch!(self, s => s.stepper.skipped.clone())
     }
     /// Bytes held by the fine particles and the stepper's scratch (walls excluded).
+    /// Bytes held by the water particles' state (the water stage's scratch is in
+    /// [`Self::fine_bytes`]).
+    pub fn water_bytes(&self) -> usize {
+        dispatch!(self, s => s.world.water.bytes())
+    }
     pub fn fine_bytes(&self) -> usize {
         dispatch!(self, s => s.world.fine.bytes() + s.stepper.bytes())
     }

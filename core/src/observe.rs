@@ -5,11 +5,15 @@ use crate::kernel::WendlandC2;
 use crate::math::{Real, Sym, Vect};
 use crate::sample::{ProbeValue, Sample};
 
-/// How run-out is measured. The deposit front is the outer edge of the last radial bin
-/// (width dp, scanning outward from the origin) whose deposit thickness ΣV / bin-area is
-/// at least half a particle spacing; stray particles beyond the first thinner bin do not
-/// count. Each bin's thickness is first replaced by the median of its own and its two
-/// neighbours' (an edge-preserving filter: a sharp front stays where it is). A bin of a
+/// How run-out is measured. Particle volumes are binned by horizontal distance from the
+/// origin (bins of width dp); a bin is deposit where its thickness ΣV / bin-area is at
+/// least half a particle spacing. The deposit is the run of consecutive deposit bins
+/// holding the most volume, and the run-out is its outer edge: stray particles beyond
+/// the first thinner bin do not count, and neither do bins the flow has left behind (a
+/// debris flow that leaves its release area empties the bins at the origin, which
+/// ended the scan at 0 m before, issue 39). Each bin's thickness is first replaced by
+/// the median of its own and its two neighbours' (an edge-preserving filter: a sharp
+/// front stays where it is). A bin of a
 /// deposit one grain thick holds a handful of particles, and its thickness alone wanders
 /// across the threshold with round-off: the coarse 3D collapse at a = 1.5 (dp = r0/10)
 /// ended at 0.24 or 0.26 m when dp changed by 1e-8, by a single bin dipping below the
@@ -22,18 +26,22 @@ pub struct RunoutSpec<const D: usize> {
     pub direction: Real,
 }
 
-/// Σ ½ m v².
+/// Σ ½ m v²; +0 without particles (a float `sum` of nothing is −0).
 pub fn kinetic_energy<const D: usize>(p: &FineParticles<D>) -> Real {
     p.vel
         .iter()
         .zip(&p.mass)
         .map(|(v, m)| 0.5 * m * v.norm_squared())
-        .sum()
+        .fold(0.0, |a, e| a + e)
 }
 
-/// −Σ m g·x (zero at the origin).
+/// −Σ m g·x (zero at the origin); +0 without particles.
 pub fn potential_energy<const D: usize>(p: &FineParticles<D>, g: &Vect<D>) -> Real {
-    p.pos.iter().zip(&p.mass).map(|(x, m)| -m * g.dot(x)).sum()
+    p.pos
+        .iter()
+        .zip(&p.mass)
+        .map(|(x, m)| -m * g.dot(x))
+        .fold(0.0, |a, e| a + e)
 }
 
 /// Deposit run-out (see [`RunoutSpec`]): fine grains plus `coarse` (position, volume)
@@ -86,7 +94,9 @@ pub fn runout<const D: usize>(
             v / area
         })
         .collect();
-    let mut front = 0.0;
+    // runs of deposit bins: (volume, outer edge); the fullest one is the deposit
+    let (mut best, mut front) = (0.0, 0.0);
+    let mut run: Option<Real> = None;
     for k in 0..nb {
         // median of bins k − 1, k, k + 1 (the bin itself at either end)
         let (a, b) = (
@@ -96,9 +106,15 @@ pub fn runout<const D: usize>(
         let t = thickness[k];
         let median = t.min(a.max(b)).max(a.min(b));
         if median < 0.5 * dp {
-            break;
+            run = None;
+            continue;
         }
-        front = (k + 1) as Real * dp;
+        let v = run.unwrap_or(0.0) + vol[k];
+        run = Some(v);
+        if v > best {
+            best = v;
+            front = (k + 1) as Real * dp;
+        }
     }
     front
 }
@@ -235,5 +251,19 @@ mod tests {
         let mut u = vec![3; 20];
         u.extend([1, 1, 0, 0, 1, 1]);
         assert_eq!(front(&u), 22.0);
+    }
+
+    /// Issue 39: a flow that has left its release area empties the bins at the origin;
+    /// the run-out is the deposit's edge, not 0 (it was 0 before).
+    #[test]
+    fn issue_39_runout_follows_a_deposit_that_left_the_origin() {
+        let mut d = vec![0; 30];
+        d.extend([2, 3, 3, 3, 2]);
+        assert_eq!(front(&d), 35.0);
+        // a thin film left behind upslope is not the deposit
+        let mut f = vec![1; 6];
+        f.extend([0; 10]);
+        f.extend([3; 8]);
+        assert_eq!(front(&f), 24.0);
     }
 }

@@ -56,6 +56,7 @@ pub struct WaterSample {
     pub potential_energy: Real,
     /// The surge front: the largest x of any water particle (m).
     pub front: Real,
+    /// Largest water speed at the end of the last step (m/s).
     pub max_speed: Real,
     /// Σ m v.
     pub momentum: [Real; 3],
@@ -94,10 +95,19 @@ pub struct Sample {
     pub time: Real,
     pub steps: u64,
     pub dt: Real,
+    /// Σ ½ m v² of the fine grains alone (J, or J/m in 2D); the coarse grains' is
+    /// `coarse_kinetic_energy`, the water's `water.kinetic_energy`.
     pub kinetic_energy: Real,
+    /// −Σ m g·x of the fine grains alone (J, or J/m in 2D).
     pub potential_energy: Real,
+    /// Deposit run-out of fine and coarse grains together (m; `crate::observe::runout`).
     pub runout: Real,
+    /// Largest fine-grain speed at the end of the last step (m/s); the coarse grains'
+    /// is `coarse_max_speed`, the water's `water.max_speed`.
     pub max_speed: Real,
+    /// Largest coarse-grain particle speed (m/s); 0 without coarse grains.
+    #[serde(default)]
+    pub coarse_max_speed: Real,
     pub barriers: Vec<BarrierSample>,
     pub probes: Vec<(String, ProbeValue)>,
     /// Coarse sub-steps so far, and κ of the last full step (not one shortened to
@@ -137,6 +147,12 @@ pub struct Frame {
     pub coarse: Vec<ParticleRecord>,
     /// Force from the fine grains on each coarse particle (Eq. 50).
     pub coarse_fine_force: Vec<[f32; 3]>,
+    /// Force from the water on each coarse particle (pressure, with buoyancy, and
+    /// viscous drag); zero without water.
+    pub coarse_water_force: Vec<[f32; 3]>,
+    /// Porosity n of each fine particle: its material's (`materials[].porosity`), 0
+    /// for a soil without pores.
+    pub porosity: Vec<f32>,
     pub wall_pos: Vec<[f32; 3]>,
     pub wall_object: Vec<u16>,
     /// Water particles (pressure from the equation of state; `group` 0).

@@ -196,7 +196,7 @@ impl<const D: usize> Simulation<D> {
         let cp = &w.coarse.particles;
         let coarse_ke: Real = (0..cp.len())
             .map(|i| 0.5 * cp.mass[i] * cp.vel[i].norm_squared())
-            .sum();
+            .fold(0.0, |a, e| a + e);
         let coarse_pe: Real = (0..cp.len())
             .map(|i| -cp.mass[i] * cp.pos[i].dot(&w.gravity))
             .sum();
@@ -230,7 +230,8 @@ impl<const D: usize> Simulation<D> {
             kinetic_energy: observe::kinetic_energy(&w.fine),
             potential_energy: observe::potential_energy(&w.fine, &w.gravity),
             runout: observe::runout(&w.fine, &coarse_volumes, &self.runout, w.resolution.dp),
-            max_speed: self.stepper.vmax(),
+            max_speed: self.stepper.fine_vmax(),
+            coarse_max_speed: cp.vel.iter().map(|v| v.norm()).fold(0.0, Real::max),
             barriers,
             probes,
             steps_coarse,
@@ -494,6 +495,13 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// Particle snapshot for writers.
+    /// The wall particles (3D layout) and each one's object index (walls, barriers
+    /// and container faces in scene order), for writers that draw the geometry once.
+    pub fn wall_points(&self) -> (Vec<[f32; 3]>, Vec<u16>) {
+        let walls = &self.world.walls;
+        (walls.pos.iter().map(arr).collect(), walls.object.clone())
+    }
+
     pub fn frame(&self) -> Frame {
         let (f, w) = (&self.world.fine, &self.world);
         let (nf, nc) = self.particle_counts();
@@ -505,6 +513,12 @@ impl<const D: usize> Simulation<D> {
             stress: f.stress.iter().map(|s| s.0.map(|x| x as f32)).collect(),
             coarse: (0..nc).map(|i| self.coarse_record(i)).collect(),
             coarse_fine_force: w.coarse.particles.f_fine.iter().map(arr).collect(),
+            coarse_water_force: w.coarse.particles.f_water.iter().map(arr).collect(),
+            porosity: f
+                .material
+                .iter()
+                .map(|&m| w.materials[m as usize].pores.map_or(0.0, |p| p.porosity) as f32)
+                .collect(),
             wall_pos: w.walls.pos.iter().map(arr).collect(),
             wall_object: w.walls.object.clone(),
             water: (0..w.water.len())

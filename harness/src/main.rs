@@ -10,6 +10,7 @@ mod metric_pores;
 mod pack;
 mod pattern;
 mod plot;
+mod quicklook;
 mod run;
 mod scale;
 mod series;
@@ -50,6 +51,10 @@ enum Command {
         /// Skip VTK snapshots.
         #[arg(long)]
         no_vtk: bool,
+        /// Skip the quick-look plot (plots/quicklook.png: barrier loads, energies,
+        /// run-out against time).
+        #[arg(long)]
+        no_plots: bool,
         /// No progress bar or stage table.
         #[arg(long, short)]
         quiet: bool,
@@ -143,6 +148,7 @@ fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
             out,
             set,
             no_vtk,
+            no_plots,
             quiet,
             publish,
             publish_every,
@@ -174,6 +180,7 @@ fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
                 set,
                 interactive: !quiet,
                 vtk: !no_vtk,
+                plots: !no_plots,
                 publish,
                 publish_every,
                 record,

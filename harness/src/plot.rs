@@ -23,6 +23,20 @@ fn tick(v: f64) -> String {
     }
 }
 
+/// A linear-axis tick label: up to two decimals, trailing zeros dropped; powers of ten
+/// outside 0.01–10⁵.
+fn linear_tick(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if (0.01..1e5).contains(&a) {
+        let s = format!("{v:.2}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{v:.1e}")
+    }
+}
+
 /// One named curve of (x, y) points.
 pub struct Curve {
     pub label: String,
@@ -127,6 +141,93 @@ pub fn loglog(
         .label_font(("sans-serif", 14))
         .draw()
         .map_err(|e| anyhow!("{e}"))?;
+    root.present().map_err(|e| anyhow!("{e}"))?;
+    Ok(())
+}
+
+/// One panel of a [`panels`] figure: curves on linear axes sharing the x-axis.
+pub struct Panel {
+    pub title: String,
+    pub ylabel: String,
+    pub curves: Vec<Curve>,
+}
+
+/// (min, max) of `values`, widened to a non-empty range with a 5 % margin.
+fn span(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+    if lo > hi {
+        return (0.0, 1.0);
+    }
+    let pad = 0.05 * (hi - lo).max(1e-12 * hi.abs().max(1.0));
+    (lo - pad, hi + pad)
+}
+
+/// Panels stacked one above another, each with linear axes and a legend, against a
+/// shared x-axis (time): the quick-look plot of a run.
+pub fn panels(path: &Path, title: &str, xlabel: &str, panels: &[Panel]) -> Result<()> {
+    register_font();
+    let height = 40 + 330 * panels.len() as u32;
+    let root = BitMapBackend::new(path, (1000, height)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
+    let root = root
+        .titled(title, ("sans-serif", 24))
+        .map_err(|e| anyhow!("{e}"))?;
+    let x = span(
+        panels
+            .iter()
+            .flat_map(|p| p.curves.iter().flat_map(|c| c.points.iter().map(|q| q.0))),
+    );
+    for (area, panel) in root.split_evenly((panels.len(), 1)).iter().zip(panels) {
+        let y = span(
+            panel
+                .curves
+                .iter()
+                .flat_map(|c| c.points.iter().map(|q| q.1)),
+        );
+        let mut chart = ChartBuilder::on(area)
+            .caption(&panel.title, ("sans-serif", 18))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(85)
+            .build_cartesian_2d(x.0..x.1, y.0..y.1)
+            .map_err(|e| anyhow!("{e}"))?;
+        chart
+            .configure_mesh()
+            .x_desc(xlabel)
+            .y_desc(panel.ylabel.as_str())
+            .label_style(("sans-serif", 14))
+            .y_label_formatter(&|v| linear_tick(*v))
+            .draw()
+            .map_err(|e| anyhow!("{e}"))?;
+        for (k, c) in panel.curves.iter().enumerate() {
+            let color = Palette99::pick(k).to_rgba();
+            let p: Vec<(f64, f64)> = c
+                .points
+                .iter()
+                .copied()
+                .filter(|(a, b)| a.is_finite() && b.is_finite())
+                .collect();
+            chart
+                .draw_series(LineSeries::new(p, color.stroke_width(2)))
+                .map_err(|e| anyhow!("{e}"))?
+                .label(c.label.clone())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                });
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 14))
+            .draw()
+            .map_err(|e| anyhow!("{e}"))?;
+    }
     root.present().map_err(|e| anyhow!("{e}"))?;
     Ok(())
 }

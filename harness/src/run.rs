@@ -1,11 +1,12 @@
 //! `granmix run`: step a scene to its end time, writing VTK, CSV and summary.json.
 
-use crate::series::{self, CsvSeries};
+use crate::series::{self, CsvSeries, Layout};
 use crate::vtk::VtkSeries;
 use anyhow::{bail, Context, Result};
 use granmix_core::guard::Blowup;
 use granmix_core::input::{load_scene_file, LoadedScene};
 use granmix_core::runner::{self, RunEnd};
+use granmix_core::sample::BodySample;
 use granmix_core::simulation::Sample;
 use granmix_core::timers::Stage;
 use granmix_core::AnySimulation;
@@ -26,6 +27,8 @@ pub struct RunOptions {
     pub interactive: bool,
     /// Write VTK snapshots.
     pub vtk: bool,
+    /// Write the quick-look plot `plots/quicklook.png` (crate::quicklook).
+    pub plots: bool,
     /// Publish particle frames on this service (instance name or full service name).
     pub publish: Option<String>,
     /// Publish every this many fine steps (≥ 1).
@@ -35,8 +38,8 @@ pub struct RunOptions {
 }
 
 impl RunOptions {
-    /// A quiet batch run (benchmarks): no progress bar, no VTK, no publishing or
-    /// recording.
+    /// A quiet batch run (benchmarks): no progress bar, no VTK, no plot, no publishing
+    /// or recording.
     pub fn batch(scene: PathBuf, out: PathBuf, set: Vec<String>) -> Self {
         RunOptions {
             scene,
@@ -44,6 +47,7 @@ impl RunOptions {
             set,
             interactive: false,
             vtk: false,
+            plots: false,
             publish: None,
             publish_every: 1,
             record: None,
@@ -86,16 +90,10 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         .unwrap_or("scene")
         .to_string();
     let mut sinks = Sinks::default();
+    let layout = Layout::of(&sim);
     sinks.push(CsvSeries::create(
         &opts.out.join("series.csv"),
-        dim,
-        series::header(
-            dim,
-            &sim.barrier_names(),
-            &sim.probe_names(),
-            &sim.body_names(),
-            sim.has_water(),
-        ),
+        layout.clone(),
     )?);
     if opts.vtk {
         sinks.push(VtkSeries::new(&opts.out, &stem));
@@ -227,56 +225,27 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         skipped.insert(name.clone(), json!(why));
     }
     let last = samples.last().cloned().unwrap_or_default();
-    let mut obs = Map::new();
-    obs.insert("time".into(), json!(last.time));
-    obs.insert("runout".into(), json!(last.runout));
-    obs.insert("kinetic_energy".into(), json!(last.kinetic_energy));
-    obs.insert("kinetic_energy_peak".into(), json!(ke_peak));
-    obs.insert("max_speed".into(), json!(last.max_speed));
-    let ax = ["x", "y", "z"];
-    for b in &last.barriers {
-        for (a, v) in ax.iter().zip(b.force.iter()).take(dim) {
-            obs.insert(format!("{}.force.{a}", b.name), json!(v));
-        }
-        if last.water.is_some() {
-            for (k, a) in ax.iter().enumerate().take(dim) {
-                let (fw, f) = (b.force_water[k], b.force[k]);
-                obs.insert(format!("{}.force_water.{a}", b.name), json!(fw));
-                obs.insert(format!("{}.force_grains.{a}", b.name), json!(f - fw));
-            }
-        }
-    }
-    if let Some(w) = &last.water {
-        obs.insert("water.kinetic_energy".into(), json!(w.kinetic_energy));
-        obs.insert("water.front".into(), json!(w.front));
-        obs.insert("water.max_speed".into(), json!(w.max_speed));
-    }
+    let obs = observables(&layout, &last, ke_peak);
     let mut bodies = Map::new();
     for b in &last.bodies {
-        bodies.insert(
-            b.name.clone(),
-            json!({
-                "position": &b.position[..dim],
-                "orientation_wxyz": b.orientation,
-                "velocity": &b.velocity[..dim],
-                "angular_velocity": if dim == 2 { b.angular_velocity[2..].to_vec() } else { b.angular_velocity.to_vec() },
-                "force": &b.force[..dim],
-                "torque": if dim == 2 { b.torque[2..].to_vec() } else { b.torque.to_vec() },
-                "fine_force": &b.fine_force[..dim],
-                "contacts": b.contacts,
-            }),
-        );
+        bodies.insert(b.name.clone(), body_json(dim, layout.water, b));
     }
     if !last.bodies.is_empty() {
-        write_bodies_json(&opts.out.join("bodies.json"), dim, &samples)?;
+        write_bodies_json(&opts.out.join("bodies.json"), dim, layout.water, &samples)?;
     }
+    // the SPH particles (fine grains and water) and their memory: a water-only run
+    // counts its water (issue 39: it reported 0 particles and all memory per particle)
+    let sph = n + sim.water_count();
+    let memory = sim.fine_bytes() + sim.water_bytes();
+    let water_pss = sim.water_count() as f64 * sim.water_steps() as f64 / wall.max(1e-12);
     let summary = json!({
         "scene": opts.scene.display().to_string(),
         "name": sim_spec.name,
         "dimension": dim,
         "status": match &ended { RunEnd::Blowup(_) => "blowup", RunEnd::Settled => "settled", _ => "ok" },
         "blowup": blowup.as_ref().map(|b| b.to_string()),
-        "particles": n,
+        "particles": sph,
+        "particles_fine": n,
         "wall_particles": sim.wall_count(),
         "steps_fine": sim.steps(),
         "steps_coarse": last.steps_coarse,
@@ -289,11 +258,13 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         "bodies": bodies,
         "neighbor_builds": sim.neighbor_builds(),
         "memory_bytes_fine": sim.fine_bytes(),
-        "bytes_per_particle": sim.fine_bytes() as f64 / n.max(1) as f64,
+        "memory_bytes": memory,
+        "bytes_per_particle": (sph > 0).then(|| memory as f64 / sph as f64),
         "threads": rayon::current_num_threads(),
         "wall_time_s": wall,
         "particle_steps_per_s": pss,
-        "fine_particle_steps_per_s": fine_pss,
+        "fine_particle_steps_per_s": (n > 0).then_some(fine_pss),
+        "water_particle_steps_per_s": layout.water.then_some(water_pss),
         "stages": stages,
         "skipped": skipped,
         "publish": publish,
@@ -304,6 +275,13 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         opts.out.join("summary.json"),
         serde_json::to_string_pretty(&summary)?,
     )?;
+    if opts.plots && !samples.is_empty() {
+        let dir = opts.out.join("plots");
+        std::fs::create_dir_all(&dir)?;
+        let name = sim_spec.name.clone().unwrap_or_else(|| stem.clone());
+        let title = format!("{name} — t = {:.3} s", last.time);
+        crate::quicklook::write(&dir.join("quicklook.png"), &title, &layout, &samples)?;
+    }
     if opts.interactive {
         print_table(&sim, &skipped_list, wall, (pss, fine_pss), &opts.out);
     }
@@ -318,25 +296,98 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
     })
 }
 
+/// The final values of the observables of the families present (docs/scenes.md):
+/// each family's kinetic energy and largest speed, their total, the run-out of the
+/// grains, the barrier loads split into water and grains, and the panels' loads.
+fn observables(l: &Layout, last: &Sample, ke_peak: f64) -> Map<String, Value> {
+    let dim = l.dim;
+    let mut obs = Map::new();
+    obs.insert("time".into(), json!(last.time));
+    if l.fine {
+        obs.insert("kinetic_energy".into(), json!(last.kinetic_energy));
+        obs.insert("kinetic_energy_peak".into(), json!(ke_peak));
+        obs.insert("max_speed".into(), json!(last.max_speed));
+    }
+    if l.fine || !l.bodies.is_empty() {
+        obs.insert("runout".into(), json!(last.runout));
+    }
+    obs.insert(
+        "kinetic_energy_total".into(),
+        json!(series::total_kinetic_energy(last)),
+    );
+    if !l.bodies.is_empty() {
+        obs.insert(
+            "kinetic_energy_coarse".into(),
+            json!(last.coarse_kinetic_energy),
+        );
+        obs.insert("max_speed_coarse".into(), json!(last.coarse_max_speed));
+    }
+    let ax = ["x", "y", "z"];
+    for (b, (_, counts)) in last.barriers.iter().zip(&l.barriers) {
+        for (a, v) in ax.iter().zip(b.force.iter()).take(dim) {
+            obs.insert(format!("{}.force.{a}", b.name), json!(v));
+        }
+        if l.water {
+            for (k, a) in ax.iter().enumerate().take(dim) {
+                let (fw, f) = (b.force_water[k], b.force[k]);
+                obs.insert(format!("{}.force_water.{a}", b.name), json!(fw));
+                obs.insert(format!("{}.force_grains.{a}", b.name), json!(f - fw));
+            }
+        }
+        for (p, label) in series::panel_labels(counts).iter().enumerate() {
+            let f = b.panels.get(p).copied().unwrap_or_default();
+            for (a, v) in ax.iter().zip(f.iter()).take(dim) {
+                obs.insert(format!("{}.{label}.force.{a}", b.name), json!(v));
+            }
+        }
+    }
+    if let Some(w) = &last.water {
+        obs.insert("water.particles".into(), json!(w.particles));
+        obs.insert("water.kinetic_energy".into(), json!(w.kinetic_energy));
+        obs.insert("water.front".into(), json!(w.front));
+        obs.insert("water.max_speed".into(), json!(w.max_speed));
+    }
+    obs
+}
+
+/// A rotation (angular velocity, torque) as JSON: the scalar about z in 2D, the
+/// vector in 3D.
+fn rotation_json(dim: usize, v: &[f64; 3]) -> Value {
+    if dim == 2 {
+        json!(v[2])
+    } else {
+        json!(v)
+    }
+}
+
+/// One body's state and loads as JSON (summary.json and bodies.json).
+fn body_json(dim: usize, water: bool, b: &BodySample) -> Value {
+    let mut v = json!({
+        "name": b.name,
+        "position": &b.position[..dim],
+        "orientation_wxyz": b.orientation,
+        "velocity": &b.velocity[..dim],
+        "angular_velocity": rotation_json(dim, &b.angular_velocity),
+        "force": &b.force[..dim],
+        "torque": rotation_json(dim, &b.torque),
+        "fine_force": &b.fine_force[..dim],
+        "contacts": b.contacts,
+    });
+    if water {
+        v["water_force"] = json!(&b.water_force[..dim]);
+    }
+    v
+}
+
 /// Body time series as JSON: one record per output time and body.
-fn write_bodies_json(path: &Path, dim: usize, samples: &[Sample]) -> Result<()> {
+fn write_bodies_json(path: &Path, dim: usize, water: bool, samples: &[Sample]) -> Result<()> {
     let rows: Vec<Value> = samples
         .iter()
         .map(|s| {
             json!({
                 "time": s.time,
                 "kappa": s.kappa,
-                "bodies": s.bodies.iter().map(|b| json!({
-                    "name": b.name,
-                    "position": &b.position[..dim],
-                    "orientation_wxyz": b.orientation,
-                    "velocity": &b.velocity[..dim],
-                    "angular_velocity": b.angular_velocity,
-                    "force": &b.force[..dim],
-                    "torque": b.torque,
-                    "fine_force": &b.fine_force[..dim],
-                    "contacts": b.contacts,
-                })).collect::<Vec<_>>(),
+                "bodies": s.bodies.iter().map(|b| body_json(dim, water, b)).collect::<Vec<_>>(),
             })
         })
         .collect();

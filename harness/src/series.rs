@@ -1,4 +1,8 @@
-//! The CSV time series: energies, run-out, speed, barrier loads and probes.
+//! The CSV time series: energies, run-out, speeds, barrier and panel loads, probes and
+//! bodies. Each column is named `name [unit]` (no bracket where dimensionless); the
+//! units of loads and energies follow the dimension (per metre of width in 2D).
+//! Counts (steps, κ, contacts, water particles) are written as integers, everything
+//! else as `{:.9e}`. docs/scenes.md lists every column with its definition.
 
 use granmix_core::simulation::Sample;
 use granmix_core::AnySimulation;
@@ -8,193 +12,353 @@ use std::io::Write;
 const AX: [&str; 3] = ["x", "y", "z"];
 const SIG: [&str; 6] = ["xx", "yy", "zz", "xy", "xz", "yz"];
 
-/// Column names for a scene of dimension `dim`.
-pub fn header(
-    dim: usize,
-    barriers: &[String],
-    probes: &[String],
-    bodies: &[String],
-    water: bool,
-) -> Vec<String> {
-    let body_forces: &[&str] = if water {
-        &["force", "fine_force", "water_force"]
-    } else {
-        &["force", "fine_force"]
+/// Which families and objects a scene has: what the columns are built from.
+#[derive(Clone, Debug, Default)]
+pub struct Layout {
+    pub dim: usize,
+    /// The scene has fine grains (soil).
+    pub fine: bool,
+    /// The scene has `[water]`.
+    pub water: bool,
+    /// Barrier names with their panel counts (empty: one panel, no panel columns).
+    pub barriers: Vec<(String, Vec<usize>)>,
+    pub probes: Vec<String>,
+    pub bodies: Vec<String>,
+}
+
+impl Layout {
+    /// The layout of a built simulation.
+    pub fn of(sim: &AnySimulation) -> Self {
+        Layout {
+            dim: sim.dimension(),
+            fine: sim.fine_count() > 0,
+            water: sim.has_water(),
+            barriers: sim
+                .barrier_names()
+                .into_iter()
+                .zip(sim.barrier_panels())
+                .collect(),
+            probes: sim.probe_names(),
+            bodies: sim.body_names(),
+        }
+    }
+    /// Grains (fine or coarse) whose deposit has a run-out.
+    fn grains(&self) -> bool {
+        self.fine || !self.bodies.is_empty()
+    }
+}
+
+/// A physical unit that depends on the dimension.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Unit {
+    /// N/m in 2D (per metre of width), N in 3D.
+    Force,
+    /// N·m/m = N in 2D, N·m in 3D.
+    Moment,
+    /// J/m in 2D, J in 3D.
+    Energy,
+    /// N·s/m in 2D, N·s in 3D.
+    Momentum,
+    /// The same in 2D and 3D; "" is dimensionless.
+    Fixed(&'static str),
+}
+
+impl Unit {
+    /// The unit's symbol in a `dim`-dimensional scene ("" when dimensionless).
+    pub fn symbol(self, dim: usize) -> &'static str {
+        let two = dim == 2;
+        match self {
+            Unit::Force => {
+                if two {
+                    "N/m"
+                } else {
+                    "N"
+                }
+            }
+            Unit::Moment => {
+                if two {
+                    "N"
+                } else {
+                    "N m"
+                }
+            }
+            Unit::Energy => {
+                if two {
+                    "J/m"
+                } else {
+                    "J"
+                }
+            }
+            Unit::Momentum => {
+                if two {
+                    "N s/m"
+                } else {
+                    "N s"
+                }
+            }
+            Unit::Fixed(u) => u,
+        }
+    }
+}
+
+/// One column: its name, its unit and whether it holds a count.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Column {
+    pub name: String,
+    pub unit: Unit,
+    pub integer: bool,
+}
+
+impl Column {
+    fn real(name: impl Into<String>, unit: Unit) -> Self {
+        Column {
+            name: name.into(),
+            unit,
+            integer: false,
+        }
+    }
+    fn count(name: impl Into<String>) -> Self {
+        Column {
+            name: name.into(),
+            unit: Unit::Fixed(""),
+            integer: true,
+        }
+    }
+    /// `name [unit]`, or the name alone where dimensionless.
+    pub fn heading(&self, dim: usize) -> String {
+        match self.unit.symbol(dim) {
+            "" => self.name.clone(),
+            u => format!("{} [{u}]", self.name),
+        }
+    }
+}
+
+/// One cell of a row.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Cell {
+    Real(f64),
+    Count(u64),
+}
+
+impl Cell {
+    fn text(self) -> String {
+        match self {
+            Cell::Real(v) => format!("{v:.9e}"),
+            Cell::Count(n) => n.to_string(),
+        }
+    }
+}
+
+const S: Unit = Unit::Fixed("s");
+const M: Unit = Unit::Fixed("m");
+const MS: Unit = Unit::Fixed("m/s");
+const PA: Unit = Unit::Fixed("Pa");
+
+/// Columns for a scene of this layout, in row order.
+pub fn header(l: &Layout) -> Vec<Column> {
+    let d = l.dim;
+    let axes = |h: &mut Vec<Column>, q: &str, u: Unit| {
+        for a in AX.iter().take(d) {
+            h.push(Column::real(format!("{q}.{a}"), u));
+        }
     };
-    let mut h: Vec<String> = [
-        "time",
-        "steps",
-        "dt",
-        "kinetic_energy",
-        "potential_energy",
-        "runout",
-        "max_speed",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
-    if !bodies.is_empty() {
+    // rotations: the z component alone in 2D
+    let rot = |h: &mut Vec<Column>, q: &str, u: Unit| {
+        for a in if d == 2 { &AX[2..] } else { &AX[..] } {
+            h.push(Column::real(format!("{q}.{a}"), u));
+        }
+    };
+    let mut h = vec![
+        Column::real("time", S),
+        Column::count("steps"),
+        Column::real("dt", S),
+    ];
+    if l.fine {
+        h.push(Column::real("kinetic_energy", Unit::Energy));
+        h.push(Column::real("potential_energy", Unit::Energy));
+        h.push(Column::real("max_speed", MS));
+    }
+    if l.grains() {
+        h.push(Column::real("runout", M));
+    }
+    h.push(Column::real("kinetic_energy_total", Unit::Energy));
+    if !l.bodies.is_empty() {
         for c in [
             "kinetic_energy_coarse",
             "potential_energy_coarse",
             "strain_energy",
             "contact_energy",
-            "steps_coarse",
-            "kappa",
         ] {
-            h.push(c.to_string());
+            h.push(Column::real(c, Unit::Energy));
         }
-        for a in AX.iter().take(dim) {
-            h.push(format!("momentum.{a}"));
-        }
+        h.push(Column::real("max_speed_coarse", MS));
+        h.push(Column::count("steps_coarse"));
+        h.push(Column::count("kappa"));
+        axes(&mut h, "momentum", Unit::Momentum);
     }
-    if water {
-        for c in [
-            "water.kinetic_energy",
-            "water.potential_energy",
-            "water.front",
-            "water.max_speed",
-        ] {
-            h.push(c.to_string());
-        }
+    if l.water {
+        h.push(Column::count("water.particles"));
+        h.push(Column::real("water.kinetic_energy", Unit::Energy));
+        h.push(Column::real("water.potential_energy", Unit::Energy));
+        h.push(Column::real("water.front", M));
+        h.push(Column::real("water.max_speed", MS));
     }
-    for b in barriers {
-        for a in AX.iter().take(dim) {
-            h.push(format!("{b}.force.{a}"));
+    for (b, panels) in &l.barriers {
+        axes(&mut h, &format!("{b}.force"), Unit::Force);
+        if l.water {
+            axes(&mut h, &format!("{b}.force_water"), Unit::Force);
+            axes(&mut h, &format!("{b}.force_grains"), Unit::Force);
         }
-        if water {
-            for q in ["force_water", "force_grains"] {
-                for a in AX.iter().take(dim) {
-                    h.push(format!("{b}.{q}.{a}"));
-                }
-            }
-        }
-        if dim == 2 {
-            h.push(format!("{b}.moment.z"));
-        } else {
-            for a in AX {
-                h.push(format!("{b}.moment.{a}"));
-            }
-        }
-        h.push(format!("{b}.peak_force"));
-    }
-    for p in probes {
-        for s in SIG.iter().take(if dim == 2 { 4 } else { 6 }) {
-            h.push(format!("{p}.sigma_{s}"));
-        }
-        h.push(format!("{p}.pressure"));
-        for a in AX.iter().take(dim) {
-            h.push(format!("{p}.velocity.{a}"));
-        }
-        if water {
-            h.push(format!("{p}.water_pressure"));
-            for a in AX.iter().take(dim) {
-                h.push(format!("{p}.water_velocity.{a}"));
+        rot(&mut h, &format!("{b}.moment"), Unit::Moment);
+        h.push(Column::real(format!("{b}.peak_force"), Unit::Force));
+        for p in panel_labels(panels) {
+            axes(&mut h, &format!("{b}.{p}.force"), Unit::Force);
+            if l.water {
+                axes(&mut h, &format!("{b}.{p}.force_water"), Unit::Force);
+                axes(&mut h, &format!("{b}.{p}.force_grains"), Unit::Force);
             }
         }
     }
-    for b in bodies {
-        for q in ["position", "velocity"] {
-            for a in AX.iter().take(dim) {
-                h.push(format!("{b}.{q}.{a}"));
-            }
+    for p in &l.probes {
+        for s in SIG.iter().take(if d == 2 { 4 } else { 6 }) {
+            h.push(Column::real(format!("{p}.sigma_{s}"), PA));
         }
+        h.push(Column::real(format!("{p}.pressure"), PA));
+        axes(&mut h, &format!("{p}.velocity"), MS);
+        if l.water {
+            h.push(Column::real(format!("{p}.water_pressure"), PA));
+            axes(&mut h, &format!("{p}.water_velocity"), MS);
+        }
+    }
+    for b in &l.bodies {
+        axes(&mut h, &format!("{b}.position"), M);
+        axes(&mut h, &format!("{b}.velocity"), MS);
         for q in ["w", "x", "y", "z"] {
-            h.push(format!("{b}.orientation.{q}"));
+            h.push(Column::real(
+                format!("{b}.orientation.{q}"),
+                Unit::Fixed(""),
+            ));
         }
-        rot_cols(&mut h, dim, b, "angular_velocity");
-        for q in body_forces {
-            for a in AX.iter().take(dim) {
-                h.push(format!("{b}.{q}.{a}"));
-            }
+        rot(
+            &mut h,
+            &format!("{b}.angular_velocity"),
+            Unit::Fixed("rad/s"),
+        );
+        axes(&mut h, &format!("{b}.force"), Unit::Force);
+        axes(&mut h, &format!("{b}.fine_force"), Unit::Force);
+        if l.water {
+            axes(&mut h, &format!("{b}.water_force"), Unit::Force);
         }
-        rot_cols(&mut h, dim, b, "torque");
-        h.push(format!("{b}.contacts"));
+        rot(&mut h, &format!("{b}.torque"), Unit::Moment);
+        h.push(Column::count(format!("{b}.contacts")));
     }
     h
 }
 
-/// Rotational columns: z only in 2D.
-fn rot_cols(h: &mut Vec<String>, dim: usize, b: &str, q: &str) {
-    if dim == 2 {
-        h.push(format!("{b}.{q}.z"));
-    } else {
-        for a in AX {
-            h.push(format!("{b}.{q}.{a}"));
-        }
+/// Labels of a barrier's panels, as the FMU names them: `panel_<p>` along one
+/// direction (2D), `panel_<i>_<j>` on a grid (3D); none without panels.
+pub fn panel_labels(counts: &[usize]) -> Vec<String> {
+    match counts {
+        [] => Vec::new(),
+        [n] => (0..*n).map(|p| format!("panel_{p}")).collect(),
+        [n1, n2] => (0..n1 * n2)
+            .map(|p| format!("panel_{}_{}", p / n2, p % n2))
+            .collect(),
+        _ => Vec::new(),
     }
 }
 
-fn rot_vals(r: &mut Vec<f64>, dim: usize, v: &[f64; 3]) {
-    if dim == 2 {
-        r.push(v[2]);
-    } else {
-        r.extend_from_slice(v);
-    }
+/// Σ ½ m v² of every family present: fine, coarse and water (J, or J/m in 2D).
+pub fn total_kinetic_energy(s: &Sample) -> f64 {
+    s.kinetic_energy + s.coarse_kinetic_energy + s.water.as_ref().map_or(0.0, |w| w.kinetic_energy)
 }
 
-/// Values of one row, matching [`header`].
-pub fn row(dim: usize, s: &Sample) -> Vec<f64> {
-    let mut r = vec![
-        s.time,
-        s.steps as f64,
-        s.dt,
-        s.kinetic_energy,
-        s.potential_energy,
-        s.runout,
-        s.max_speed,
-    ];
-    if !s.bodies.is_empty() {
-        r.extend_from_slice(&[
-            s.coarse_kinetic_energy,
-            s.coarse_potential_energy,
-            s.strain_energy,
-            s.contact_energy,
-            s.steps_coarse as f64,
-            s.kappa as f64,
-        ]);
-        r.extend_from_slice(&s.momentum[..dim]);
+/// Cells of one row, matching [`header`].
+pub fn row(l: &Layout, s: &Sample) -> Vec<Cell> {
+    let d = l.dim;
+    let mut r = vec![Cell::Real(s.time), Cell::Count(s.steps), Cell::Real(s.dt)];
+    let reals = |r: &mut Vec<Cell>, v: &[f64]| r.extend(v.iter().map(|x| Cell::Real(*x)));
+    let rot = |r: &mut Vec<Cell>, v: &[f64; 3]| {
+        r.extend(
+            v[if d == 2 { 2 } else { 0 }..]
+                .iter()
+                .map(|x| Cell::Real(*x)),
+        )
+    };
+    if l.fine {
+        reals(&mut r, &[s.kinetic_energy, s.potential_energy, s.max_speed]);
     }
-    if let Some(w) = &s.water {
-        r.extend_from_slice(&[w.kinetic_energy, w.potential_energy, w.front, w.max_speed]);
+    if l.grains() {
+        r.push(Cell::Real(s.runout));
     }
-    for b in &s.barriers {
-        r.extend_from_slice(&b.force[..dim]);
-        if s.water.is_some() {
-            r.extend_from_slice(&b.force_water[..dim]);
-            for a in 0..dim {
-                r.push(b.force[a] - b.force_water[a]);
+    r.push(Cell::Real(total_kinetic_energy(s)));
+    if !l.bodies.is_empty() {
+        reals(
+            &mut r,
+            &[
+                s.coarse_kinetic_energy,
+                s.coarse_potential_energy,
+                s.strain_energy,
+                s.contact_energy,
+                s.coarse_max_speed,
+            ],
+        );
+        r.push(Cell::Count(s.steps_coarse));
+        r.push(Cell::Count(s.kappa as u64));
+        reals(&mut r, &s.momentum[..d]);
+    }
+    if l.water {
+        let w = s.water.clone().unwrap_or_default();
+        r.push(Cell::Count(w.particles as u64));
+        reals(
+            &mut r,
+            &[w.kinetic_energy, w.potential_energy, w.front, w.max_speed],
+        );
+    }
+    for (b, (_, panels)) in s.barriers.iter().zip(&l.barriers) {
+        reals(&mut r, &b.force[..d]);
+        if l.water {
+            reals(&mut r, &b.force_water[..d]);
+            for a in 0..d {
+                r.push(Cell::Real(b.force[a] - b.force_water[a]));
             }
         }
-        if dim == 2 {
-            r.push(b.moment[2]);
-        } else {
-            r.extend_from_slice(&b.moment);
+        rot(&mut r, &b.moment);
+        r.push(Cell::Real(b.peak_force));
+        for p in 0..panel_labels(panels).len() {
+            let f = b.panels.get(p).copied().unwrap_or_default();
+            reals(&mut r, &f[..d]);
+            if l.water {
+                let fw = b.panels_water.get(p).copied().unwrap_or_default();
+                reals(&mut r, &fw[..d]);
+                for a in 0..d {
+                    r.push(Cell::Real(f[a] - fw[a]));
+                }
+            }
         }
-        r.push(b.peak_force);
     }
     for (_, p) in &s.probes {
-        r.extend_from_slice(&p.stress.0[..if dim == 2 { 4 } else { 6 }]);
-        r.push(-p.stress.trace() / 3.0);
-        r.extend_from_slice(&p.velocity[..dim]);
-        if s.water.is_some() {
+        reals(&mut r, &p.stress.0[..if d == 2 { 4 } else { 6 }]);
+        r.push(Cell::Real(-p.stress.trace() / 3.0));
+        reals(&mut r, &p.velocity[..d]);
+        if l.water {
             // gauge pressure: 0 where no water reaches the probe
-            r.push(p.water_pressure.unwrap_or(0.0));
-            r.extend_from_slice(&p.water_velocity.unwrap_or_default()[..dim]);
+            r.push(Cell::Real(p.water_pressure.unwrap_or(0.0)));
+            reals(&mut r, &p.water_velocity.unwrap_or_default()[..d]);
         }
     }
     for b in &s.bodies {
-        r.extend_from_slice(&b.position[..dim]);
-        r.extend_from_slice(&b.velocity[..dim]);
-        r.extend_from_slice(&b.orientation);
-        rot_vals(&mut r, dim, &b.angular_velocity);
-        r.extend_from_slice(&b.force[..dim]);
-        r.extend_from_slice(&b.fine_force[..dim]);
-        if s.water.is_some() {
-            r.extend_from_slice(&b.water_force[..dim]);
+        reals(&mut r, &b.position[..d]);
+        reals(&mut r, &b.velocity[..d]);
+        reals(&mut r, &b.orientation);
+        rot(&mut r, &b.angular_velocity);
+        reals(&mut r, &b.force[..d]);
+        reals(&mut r, &b.fine_force[..d]);
+        if l.water {
+            reals(&mut r, &b.water_force[..d]);
         }
-        rot_vals(&mut r, dim, &b.torque);
-        r.push(b.contacts as f64);
+        rot(&mut r, &b.torque);
+        r.push(Cell::Count(b.contacts as u64));
     }
     r
 }
@@ -202,23 +366,22 @@ pub fn row(dim: usize, s: &Sample) -> Vec<f64> {
 /// A CSV file written row by row.
 pub struct CsvSeries {
     out: std::io::BufWriter<std::fs::File>,
-    /// The scene's dimension (columns per vector).
-    dim: usize,
+    layout: Layout,
 }
 
 impl CsvSeries {
-    /// A series of `dim`-dimensional samples with columns `header`.
-    pub fn create(
-        path: &std::path::Path,
-        dim: usize,
-        header: Vec<String>,
-    ) -> std::io::Result<Self> {
+    /// A series of samples of a scene with this layout.
+    pub fn create(path: &std::path::Path, layout: Layout) -> std::io::Result<Self> {
         let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
-        writeln!(out, "{}", header.join(","))?;
-        Ok(CsvSeries { out, dim })
+        let names: Vec<String> = header(&layout)
+            .iter()
+            .map(|c| c.heading(layout.dim))
+            .collect();
+        writeln!(out, "{}", names.join(","))?;
+        Ok(CsvSeries { out, layout })
     }
-    pub fn write(&mut self, values: &[f64]) -> std::io::Result<()> {
-        let line: Vec<String> = values.iter().map(|v| format!("{v:.9e}")).collect();
+    pub fn write(&mut self, cells: &[Cell]) -> std::io::Result<()> {
+        let line: Vec<String> = cells.iter().map(|c| c.text()).collect();
         writeln!(self.out, "{}", line.join(","))?;
         self.out.flush()
     }
@@ -229,7 +392,82 @@ impl Sink for CsvSeries {
         "series.csv"
     }
     fn sample(&mut self, _sim: &AnySimulation, s: &Sample) -> Result<(), SinkError> {
-        self.write(&row(self.dim, s))
+        self.write(&row(&self.layout, s))
             .map_err(|e| SinkError::new("series.csv", e))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use granmix_core::sample::{BarrierSample, WaterSample};
+
+    fn layout(dim: usize, water: bool) -> Layout {
+        Layout {
+            dim,
+            fine: true,
+            water,
+            barriers: vec![("barrier".into(), vec![3])],
+            probes: vec!["p".into()],
+            bodies: vec!["b".into()],
+        }
+    }
+
+    fn sample(water: bool) -> Sample {
+        Sample {
+            steps: 270,
+            kappa: 4,
+            barriers: vec![BarrierSample {
+                panels: vec![[1.0; 3]; 3],
+                ..Default::default()
+            }],
+            probes: vec![("p".into(), Default::default())],
+            bodies: vec![Default::default()],
+            water: water.then(WaterSample::default),
+            ..Default::default()
+        }
+    }
+
+    /// Every row has one cell per column, in 2D and 3D, with and without water.
+    #[test]
+    fn rows_match_the_header() {
+        for dim in [2, 3] {
+            for water in [false, true] {
+                let l = layout(dim, water);
+                let s = sample(water);
+                assert_eq!(
+                    header(&l).len(),
+                    row(&l, &s).len(),
+                    "dim {dim}, water {water}"
+                );
+            }
+        }
+    }
+
+    /// Issue 39: declared panels appear as columns, loads carry units, counts are integers.
+    #[test]
+    fn issue_39_panels_units_and_integers() {
+        let l = layout(2, true);
+        let names: Vec<String> = header(&l).iter().map(|c| c.heading(2)).collect();
+        for n in [
+            "barrier.force.x [N/m]",
+            "barrier.moment.z [N]",
+            "barrier.panel_2.force_water.y [N/m]",
+            "barrier.panel_0.force.x [N/m]",
+            "steps",
+            "kappa",
+            "time [s]",
+            "kinetic_energy_total [J/m]",
+        ] {
+            assert!(names.iter().any(|c| c == n), "no column `{n}` in {names:?}");
+        }
+        let h3: Vec<String> = header(&layout(3, false))
+            .iter()
+            .map(|c| c.heading(3))
+            .collect();
+        assert!(h3.iter().any(|c| c == "barrier.force.z [N]"));
+        let cells = row(&l, &sample(true));
+        let text: Vec<String> = cells.iter().map(|c| c.text()).collect();
+        assert_eq!(text[1], "270");
     }
 }

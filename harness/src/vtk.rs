@@ -1,5 +1,6 @@
 //! ParaView output: `.vtu` unstructured-grid snapshots (raw appended binary) and a
-//! `.pvd` collection indexing them by time.
+//! `.pvd` collection indexing them by time, one named part per family (soil, bodies,
+//! water) and the walls. docs/scenes.md lists every array with its unit.
 
 use granmix_core::simulation::{Frame, Sample};
 use granmix_core::AnySimulation;
@@ -12,7 +13,9 @@ use std::path::{Path, PathBuf};
 pub struct VtkSeries {
     dir: PathBuf,
     stem: String,
-    entries: Vec<(f64, String, Option<String>, Option<String>)>,
+    entries: Vec<Entry>,
+    /// The walls' file, written with the first snapshot.
+    walls: Option<String>,
 }
 
 struct Arrays {
@@ -100,127 +103,222 @@ fn write_vtu(path: &Path, pos: &[[f32; 3]], point_arrays: Arrays) -> std::io::Re
     f.flush()
 }
 
+/// ParaView's order of a symmetric tensor's six components: XX, YY, ZZ, XY, YZ, XZ.
+/// granmix keeps xx, yy, zz, xy, xz, yz (`Sym`), so the last two swap.
+const PARAVIEW_ORDER: [usize; 6] = [0, 1, 2, 3, 5, 4];
+
+/// Six stress components in ParaView's order, little-endian f32.
+fn stress_bytes(stress: &[[f32; 6]]) -> Vec<u8> {
+    stress
+        .iter()
+        .flat_map(|s| PARAVIEW_ORDER.iter().flat_map(move |&k| s[k].to_le_bytes()))
+        .collect()
+}
+
+fn bytes_u8(v: impl Iterator<Item = u8>) -> Vec<u8> {
+    v.collect()
+}
+fn bytes_u16(v: impl Iterator<Item = u16>) -> Vec<u8> {
+    v.flat_map(|x| x.to_le_bytes()).collect()
+}
+fn bytes_u32(v: impl Iterator<Item = u32>) -> Vec<u8> {
+    v.flat_map(|x| x.to_le_bytes()).collect()
+}
+
+/// The parts of the `.pvd` collection: index and block name.
+const SOIL: (usize, &str) = (0, "soil");
+const BODIES: (usize, &str) = (1, "bodies");
+const WATER: (usize, &str) = (2, "water");
+const WALLS: (usize, &str) = (3, "walls");
+
+/// One snapshot: its time and the files of the parts it has (a family with no
+/// particles at that time writes no file).
+type Entry = (f64, Vec<((usize, &'static str), String)>);
+
 impl VtkSeries {
     pub fn new(dir: &Path, stem: &str) -> Self {
         VtkSeries {
             dir: dir.to_path_buf(),
             stem: stem.to_string(),
             entries: Vec::new(),
+            walls: None,
         }
     }
 
-    /// Write the fine particles (and, on the first call, the walls) of `frame`.
-    pub fn write(&mut self, frame: &Frame) -> std::io::Result<()> {
-        let k = self.entries.len();
-        let name = format!("{}_{k:05}.vtu", self.stem);
+    /// The fine particles (soil): velocity, pressures, density, porosity, stresses,
+    /// plastic strain, id, family and material.
+    fn soil(&self, frame: &Frame, name: &str) -> std::io::Result<()> {
         let fine = &frame.fine;
+        let water = !frame.water.is_empty();
         let mut a = Arrays::new();
         let vel: Vec<[f32; 3]> = fine.iter().map(|p| p.velocity).collect();
         a.push("velocity", "Float32", 3, &bytes_f32_3(&vel));
         let pressure: Vec<f32> = fine.iter().map(|p| p.pressure).collect();
         a.push("pressure", "Float32", 1, &bytes_f32(&pressure));
         a.push("density", "Float32", 1, &bytes_f32(&frame.density));
+        a.push("porosity", "Float32", 1, &bytes_f32(&frame.porosity));
         let eps: Vec<f32> = fine.iter().map(|p| p.plastic_strain).collect();
         a.push("plastic_strain", "Float32", 1, &bytes_f32(&eps));
-        if !frame.water.is_empty() {
-            // the stress above is effective; the water's part is the pore pressure
+        // the solver's stress is effective (Terzaghi): σ = σ' − p_w I, tension positive
+        a.push(
+            "effective_stress",
+            "Float32",
+            6,
+            &stress_bytes(&frame.stress),
+        );
+        if water {
             let pore: Vec<f32> = fine.iter().map(|p| p.pore_pressure).collect();
             a.push("pore_pressure", "Float32", 1, &bytes_f32(&pore));
             let excess: Vec<f32> = fine.iter().map(|p| p.excess_pore_pressure).collect();
             a.push("excess_pore_pressure", "Float32", 1, &bytes_f32(&excess));
-        }
-        let stress: Vec<u8> = frame
-            .stress
-            .iter()
-            .flat_map(|s| s.iter().flat_map(|c| c.to_le_bytes()))
-            .collect();
-        a.push("stress_xx_yy_zz_xy_xz_yz", "Float32", 6, &stress);
-        let ids: Vec<u8> = fine.iter().flat_map(|p| p.id.to_le_bytes()).collect();
-        a.push("id", "UInt32", 1, &ids);
-        // materials are u16 in the solver
-        let mats: Vec<u8> = fine
-            .iter()
-            .flat_map(|p| (p.group as u16).to_le_bytes())
-            .collect();
-        a.push("material", "UInt16", 1, &mats);
-        let pos: Vec<[f32; 3]> = fine.iter().map(|p| p.position).collect();
-        write_vtu(&self.dir.join(&name), &pos, a)?;
-        if k == 0 && !frame.wall_pos.is_empty() {
-            let mut w = Arrays::new();
-            let obj: Vec<u8> = frame
-                .wall_object
+            let total: Vec<[f32; 6]> = frame
+                .stress
                 .iter()
-                .flat_map(|i| i.to_le_bytes())
+                .zip(fine)
+                .map(|(s, p)| {
+                    let mut t = *s;
+                    for c in t.iter_mut().take(3) {
+                        *c -= p.pore_pressure;
+                    }
+                    t
+                })
                 .collect();
-            w.push("object", "UInt16", 1, &obj);
-            write_vtu(
-                &self.dir.join(format!("{}_walls.vtu", self.stem)),
-                &frame.wall_pos,
-                w,
-            )?;
+            a.push("total_stress", "Float32", 6, &stress_bytes(&total));
         }
-        let bodies = if frame.coarse.is_empty() {
-            None
-        } else {
-            let coarse = &frame.coarse;
-            let bname = format!("{}_bodies_{k:05}.vtu", self.stem);
-            let mut b = Arrays::new();
-            let vel: Vec<[f32; 3]> = coarse.iter().map(|p| p.velocity).collect();
-            b.push("velocity", "Float32", 3, &bytes_f32_3(&vel));
+        a.push("id", "UInt32", 1, &bytes_u32(fine.iter().map(|p| p.id)));
+        a.push(
+            "family",
+            "UInt8",
+            1,
+            &bytes_u8(fine.iter().map(|p| p.family as u8)),
+        );
+        // materials are u16 in the solver
+        a.push(
+            "material",
+            "UInt16",
+            1,
+            &bytes_u16(fine.iter().map(|p| p.group as u16)),
+        );
+        let pos: Vec<[f32; 3]> = fine.iter().map(|p| p.position).collect();
+        write_vtu(&self.dir.join(name), &pos, a)
+    }
+
+    /// The coarse particles: velocity, the fine grains' and the water's force on each,
+    /// body index, id and family.
+    fn bodies(&self, frame: &Frame, name: &str) -> std::io::Result<()> {
+        let coarse = &frame.coarse;
+        let mut b = Arrays::new();
+        let vel: Vec<[f32; 3]> = coarse.iter().map(|p| p.velocity).collect();
+        b.push("velocity", "Float32", 3, &bytes_f32_3(&vel));
+        b.push(
+            "fine_force",
+            "Float32",
+            3,
+            &bytes_f32_3(&frame.coarse_fine_force),
+        );
+        if !frame.water.is_empty() {
             b.push(
-                "fine_force",
+                "water_force",
                 "Float32",
                 3,
-                &bytes_f32_3(&frame.coarse_fine_force),
+                &bytes_f32_3(&frame.coarse_water_force),
             );
-            let ids: Vec<u8> = coarse.iter().flat_map(|p| p.group.to_le_bytes()).collect();
-            b.push("body", "UInt32", 1, &ids);
-            let pos: Vec<[f32; 3]> = coarse.iter().map(|p| p.position).collect();
-            write_vtu(&self.dir.join(&bname), &pos, b)?;
-            Some(bname)
-        };
-        let water = if frame.water.is_empty() {
-            None
-        } else {
-            let water = &frame.water;
-            let wname = format!("{}_water_{k:05}.vtu", self.stem);
-            let mut a = Arrays::new();
-            let vel: Vec<[f32; 3]> = water.iter().map(|p| p.velocity).collect();
-            a.push("velocity", "Float32", 3, &bytes_f32_3(&vel));
-            let pressure: Vec<f32> = water.iter().map(|p| p.pressure).collect();
-            a.push("pressure", "Float32", 1, &bytes_f32(&pressure));
-            a.push("density", "Float32", 1, &bytes_f32(&frame.water_density));
-            let excess: Vec<f32> = water.iter().map(|p| p.excess_pore_pressure).collect();
-            a.push("excess_pressure", "Float32", 1, &bytes_f32(&excess));
-            let ids: Vec<u8> = water.iter().flat_map(|p| p.id.to_le_bytes()).collect();
-            a.push("id", "UInt32", 1, &ids);
-            let pos: Vec<[f32; 3]> = water.iter().map(|p| p.position).collect();
-            write_vtu(&self.dir.join(&wname), &pos, a)?;
-            Some(wname)
-        };
-        self.entries.push((frame.time, name, bodies, water));
+        }
+        b.push(
+            "body",
+            "UInt32",
+            1,
+            &bytes_u32(coarse.iter().map(|p| p.group)),
+        );
+        b.push("id", "UInt32", 1, &bytes_u32(coarse.iter().map(|p| p.id)));
+        b.push(
+            "family",
+            "UInt8",
+            1,
+            &bytes_u8(coarse.iter().map(|p| p.family as u8)),
+        );
+        let pos: Vec<[f32; 3]> = coarse.iter().map(|p| p.position).collect();
+        write_vtu(&self.dir.join(name), &pos, b)
+    }
+
+    /// The water particles: velocity, pressure, excess pore pressure, density, id,
+    /// family and material (0: the scene's one water).
+    fn water(&self, frame: &Frame, name: &str) -> std::io::Result<()> {
+        let water = &frame.water;
+        let mut a = Arrays::new();
+        let vel: Vec<[f32; 3]> = water.iter().map(|p| p.velocity).collect();
+        a.push("velocity", "Float32", 3, &bytes_f32_3(&vel));
+        let pressure: Vec<f32> = water.iter().map(|p| p.pressure).collect();
+        a.push("pressure", "Float32", 1, &bytes_f32(&pressure));
+        a.push("density", "Float32", 1, &bytes_f32(&frame.water_density));
+        let excess: Vec<f32> = water.iter().map(|p| p.excess_pore_pressure).collect();
+        a.push("excess_pore_pressure", "Float32", 1, &bytes_f32(&excess));
+        a.push("id", "UInt32", 1, &bytes_u32(water.iter().map(|p| p.id)));
+        a.push(
+            "family",
+            "UInt8",
+            1,
+            &bytes_u8(water.iter().map(|p| p.family as u8)),
+        );
+        a.push(
+            "material",
+            "UInt16",
+            1,
+            &bytes_u16(water.iter().map(|p| p.group as u16)),
+        );
+        let pos: Vec<[f32; 3]> = water.iter().map(|p| p.position).collect();
+        write_vtu(&self.dir.join(name), &pos, a)
+    }
+
+    /// Write the parts of `frame` that have particles (and, on the first call, the
+    /// walls, which every snapshot then lists).
+    pub fn write(&mut self, frame: &Frame) -> std::io::Result<()> {
+        let k = self.entries.len();
+        let mut parts = Vec::new();
+        if !frame.fine.is_empty() {
+            let name = format!("{}_{k:05}.vtu", self.stem);
+            self.soil(frame, &name)?;
+            parts.push((SOIL, name));
+        }
+        if !frame.coarse.is_empty() {
+            let name = format!("{}_bodies_{k:05}.vtu", self.stem);
+            self.bodies(frame, &name)?;
+            parts.push((BODIES, name));
+        }
+        if !frame.water.is_empty() {
+            let name = format!("{}_water_{k:05}.vtu", self.stem);
+            self.water(frame, &name)?;
+            parts.push((WATER, name));
+        }
+        if k == 0 && !frame.wall_pos.is_empty() {
+            let mut w = Arrays::new();
+            w.push(
+                "object",
+                "UInt16",
+                1,
+                &bytes_u16(frame.wall_object.iter().copied()),
+            );
+            let name = format!("{}_walls.vtu", self.stem);
+            write_vtu(&self.dir.join(&name), &frame.wall_pos, w)?;
+            self.walls = Some(name);
+        }
+        if let Some(w) = &self.walls {
+            parts.push((WALLS, w.clone()));
+        }
+        self.entries.push((frame.time, parts));
         self.write_pvd()
     }
 
+    /// The collection: every part of every snapshot, with its index and block name.
     fn write_pvd(&self) -> std::io::Result<()> {
         let mut s = String::from(
             "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n",
         );
-        for (t, f, b, w) in &self.entries {
-            let _ = writeln!(
-                s,
-                "    <DataSet timestep=\"{t:.9e}\" group=\"\" part=\"0\" file=\"{f}\"/>"
-            );
-            if let Some(b) = b {
+        for (t, parts) in &self.entries {
+            for ((part, name), file) in parts {
                 let _ = writeln!(
                     s,
-                    "    <DataSet timestep=\"{t:.9e}\" group=\"\" part=\"1\" file=\"{b}\"/>"
-                );
-            }
-            if let Some(w) = w {
-                let _ = writeln!(
-                    s,
-                    "    <DataSet timestep=\"{t:.9e}\" group=\"\" part=\"2\" file=\"{w}\"/>"
+                    "    <DataSet timestep=\"{t:.9e}\" group=\"\" part=\"{part}\" name=\"{name}\" file=\"{file}\"/>"
                 );
             }
         }
@@ -242,5 +340,20 @@ impl Sink for VtkSeries {
     fn blowup(&mut self, sim: &AnySimulation) -> Result<(), SinkError> {
         self.write(&sim.frame())
             .map_err(|e| SinkError::new("writing the VTK snapshot of the blow-up", e))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// Issue 39: granmix's xx, yy, zz, xy, xz, yz go out as ParaView's XX, YY, ZZ,
+    /// XY, YZ, XZ (the last two were swapped, so 3D labels were wrong).
+    #[test]
+    fn issue_39_stress_is_in_paraview_order() {
+        let b = super::stress_bytes(&[[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]]);
+        let v: Vec<f32> = b
+            .chunks(4)
+            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect();
+        assert_eq!(v, [1.0, 2.0, 3.0, 4.0, 6.0, 5.0]);
     }
 }

@@ -213,6 +213,14 @@ fn recording_reads_back_with_the_rust_reader() {
                 let ft = FrameTransforms::decode(&m.data[..]).unwrap();
                 assert_eq!(ft.transforms.len(), 3);
             }
+            "/walls" => {
+                // the geometry, once: every wall particle as x, y, z and its object
+                assert_eq!(schema.name, "foxglove.PointCloud");
+                let pc = PointCloud::decode(&m.data[..]).unwrap();
+                assert_eq!(pc.point_stride, 16);
+                let walls = s["wall_particles"].as_u64().unwrap();
+                assert_eq!(pc.data.len() as u64, 16 * walls);
+            }
             "/barriers" | "/energy" => {
                 assert_eq!(schema.encoding, "jsonschema");
                 assert_eq!(m.channel.message_encoding, "json");
@@ -231,6 +239,8 @@ fn recording_reads_back_with_the_rust_reader() {
         assert_eq!(per_topic.get(topic).copied(), Some(samples), "{topic}");
         assert_eq!(counts[key].as_u64(), Some(samples), "{key}");
     }
+    assert_eq!(per_topic.get("/walls").copied(), Some(1));
+    assert_eq!(counts["walls"].as_u64(), Some(1));
     let summary = mcap::Summary::read(&bytes).unwrap().unwrap();
     let scene_text = std::fs::read_to_string(tmp.join("scene.toml")).unwrap();
     let idx = &summary.attachment_indexes;

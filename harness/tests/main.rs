@@ -3,3 +3,4 @@
 mod budget_cli;
 mod golden;
 mod ipc;
+mod outputs;

@@ -5,8 +5,9 @@
 //! | `/particles` | `foxglove.PointCloud` | protobuf | recorded frame (fine and coarse grains) |
 //! | `/water` | `foxglove.PointCloud` | protobuf | recorded frame, scenes with water |
 //! | `/bodies` | `foxglove.FrameTransforms` | protobuf | sample, scenes with bodies |
-//! | `/barriers` | `granmix.BarrierLoads` | JSON (JSON Schema) | sample |
-//! | `/energy` | `granmix.Energies` | JSON (JSON Schema) | sample |
+//! | `/walls` | `foxglove.PointCloud` | protobuf | recording (once, with the first frame): the wall particles (walls, slope, barriers), fields x, y, z, object |
+//! | `/barriers` | `granmix.BarrierLoads` | JSON (JSON Schema) | sample: loads, their water/grain split, panels |
+//! | `/energy` | `granmix.Energies` | JSON (JSON Schema) | sample: every family's energies |
 //!
 //! Message log times are simulation time in ns. The PointCloud's data are the
 //! [`ParticleRecord`] bytes themselves (stride 52), so `/particles` and `/water` hold
@@ -35,6 +36,8 @@ pub const TOPIC_PARTICLES: &str = "/particles";
 /// The water particles' topic.
 pub const TOPIC_WATER: &str = "/water";
 pub const TOPIC_BODIES: &str = "/bodies";
+/// The walls' particles, sent once: the geometry the particles move in.
+pub const TOPIC_WALLS: &str = "/walls";
 pub const TOPIC_BARRIERS: &str = "/barriers";
 pub const TOPIC_ENERGY: &str = "/energy";
 /// Frame id of the simulation's coordinates.
@@ -54,9 +57,25 @@ const BARRIER_SCHEMA: &str = r#"{
           "name": {"type": "string"},
           "force": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3, "description": "N (N/m in 2D)"},
           "moment": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3, "description": "N·m about the reference point (N in 2D)"},
-          "peak_force": {"type": "number", "description": "largest resultant of any solver step in the interval"}
+          "peak_force": {"type": "number", "description": "largest resultant of any solver step in the interval"},
+          "force_water": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3, "description": "the water's part of force (pressure and viscous traction); zero without water"},
+          "force_grains": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3, "description": "the grains' part of force: force - force_water"},
+          "panels": {
+            "type": "array",
+            "description": "each panel's load (scene key panels; empty without), labelled as the FMU labels them",
+            "items": {
+              "type": "object",
+              "properties": {
+                "index": {"type": "integer", "description": "p of the FMU's panel_<p> (2D); i n2 + j of panel_<i>_<j> on an n1 x n2 grid (3D)"},
+                "force": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3},
+                "force_water": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3},
+                "force_grains": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3}
+              },
+              "required": ["index", "force", "force_water", "force_grains"]
+            }
+          }
         },
-        "required": ["name", "force", "moment", "peak_force"]
+        "required": ["name", "force", "moment", "peak_force", "force_water", "force_grains", "panels"]
       }
     }
   },
@@ -76,10 +95,18 @@ const ENERGY_SCHEMA: &str = r#"{
     "kinetic_coarse": {"type": "number"},
     "potential_coarse": {"type": "number"},
     "strain": {"type": "number"},
-    "contact": {"type": "number"}
+    "contact": {"type": "number"},
+    "kinetic_water": {"type": "number", "description": "the water's; 0 without water"},
+    "potential_water": {"type": "number", "description": "the water's; 0 without water"},
+    "kinetic_total": {"type": "number", "description": "kinetic_fine + kinetic_coarse + kinetic_water"}
   },
   "required": ["time", "steps", "kinetic_fine", "potential_fine", "kinetic_coarse"]
 }"#;
+
+/// a − b, componentwise.
+fn minus(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
 
 /// Messages written per topic.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
@@ -91,6 +118,9 @@ pub struct RecordCounts {
     pub bodies: u64,
     pub barriers: u64,
     pub energy: u64,
+    /// `/walls` messages: 1 once a frame is recorded in a scene with walls.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub walls: u64,
 }
 
 /// The scene stored in a recording.
@@ -113,6 +143,7 @@ fn is_zero(n: &u64) -> bool {
 
 struct Channels {
     particles: u16,
+    walls: u16,
     water: Option<u16>,
     bodies: u16,
     barriers: u16,
@@ -207,6 +238,7 @@ impl Recorder {
             None
         };
         let bodies = add_channel::<FrameTransforms>(&mut w, TOPIC_BODIES).map_err(e)?;
+        let walls = add_channel::<PointCloud>(&mut w, TOPIC_WALLS).map_err(e)?;
         let json_channel = |w: &mut mcap::Writer<_>, name: &str, schema: &str, topic: &str| {
             let id = w.add_schema(name, "jsonschema", schema.as_bytes())?;
             w.add_channel(id, topic, "json", &BTreeMap::new())
@@ -247,6 +279,7 @@ impl Recorder {
             writer: w,
             channels: Channels {
                 particles,
+                walls,
                 water,
                 bodies,
                 barriers,
@@ -342,6 +375,9 @@ impl Recorder {
 
     /// Write the particles of `sim` now.
     pub fn record_particles(&mut self, sim: &AnySimulation) -> Result<(), IpcError> {
+        if self.counts.walls == 0 && sim.wall_count() > 0 {
+            self.write_walls(sim)?;
+        }
         let (f, c) = sim.particle_counts();
         let nw = sim.water_count();
         let mut records = std::mem::take(&mut self.records);
@@ -356,8 +392,54 @@ impl Recorder {
         r
     }
 
+    /// The `/walls` message: every wall particle as x, y, z (f32) and its object index
+    /// (u32, walls, barriers and container faces in scene order), 16 bytes a point.
+    /// Moving barriers are drawn where they start.
+    fn write_walls(&mut self, sim: &AnySimulation) -> Result<(), IpcError> {
+        let (pos, object) = sim.wall_points();
+        let mut data = Vec::with_capacity(16 * pos.len());
+        for (p, o) in pos.iter().zip(&object) {
+            for c in p {
+                data.extend_from_slice(&c.to_le_bytes());
+            }
+            data.extend_from_slice(&u32::from(*o).to_le_bytes());
+        }
+        let f = |name: &str, offset: u32, t: NumericType| PackedElementField {
+            name: name.to_string(),
+            offset,
+            r#type: t as i32,
+        };
+        let msg = PointCloud {
+            timestamp: Some(stamp(sim.time())),
+            frame_id: WORLD_FRAME.into(),
+            pose: Some(Pose {
+                position: Some(Vector3::default()),
+                orientation: Some(Quaternion {
+                    x: 0.0,
+                    y: 0.0,
+                    z: 0.0,
+                    w: 1.0,
+                }),
+            }),
+            point_stride: 16,
+            fields: vec![
+                f("x", 0, NumericType::Float32),
+                f("y", 4, NumericType::Float32),
+                f("z", 8, NumericType::Float32),
+                f("object", 12, NumericType::Uint32),
+            ],
+            data: foxglove::bytes::Bytes::from(data),
+        };
+        let mut out = Vec::new();
+        msg.encode(&mut out).map_err(|e| rec_err(&self.path, e))?;
+        self.write(self.channels.walls, 0, sim.time(), &out)?;
+        self.counts.walls = 1;
+        Ok(())
+    }
+
     /// Write bodies (when there are any), barrier loads and energies of `s`.
     pub fn record_sample(&mut self, s: &Sample) -> Result<(), IpcError> {
+        let water_ke = s.water.as_ref().map_or(0.0, |w| w.kinetic_energy);
         if !s.bodies.is_empty() {
             let msg = FrameTransforms {
                 transforms: s
@@ -393,6 +475,17 @@ impl Recorder {
                 "force": b.force,
                 "moment": b.moment,
                 "peak_force": b.peak_force,
+                "force_water": b.force_water,
+                "force_grains": minus(&b.force, &b.force_water),
+                "panels": b.panels.iter().enumerate().map(|(p, f)| {
+                    let fw = b.panels_water.get(p).copied().unwrap_or_default();
+                    json!({
+                        "index": p,
+                        "force": f,
+                        "force_water": fw,
+                        "force_grains": minus(f, &fw),
+                    })
+                }).collect::<Vec<_>>(),
             })).collect::<Vec<_>>(),
         });
         let data = serde_json::to_vec(&barriers).map_err(|e| rec_err(&self.path, e))?;
@@ -408,6 +501,9 @@ impl Recorder {
             "potential_coarse": s.coarse_potential_energy,
             "strain": s.strain_energy,
             "contact": s.contact_energy,
+            "kinetic_water": water_ke,
+            "potential_water": s.water.as_ref().map_or(0.0, |w| w.potential_energy),
+            "kinetic_total": s.kinetic_energy + s.coarse_kinetic_energy + water_ke,
         });
         let data = serde_json::to_vec(&energy).map_err(|e| rec_err(&self.path, e))?;
         self.write(self.channels.energy, self.counts.energy, s.time, &data)?;

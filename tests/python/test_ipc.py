@@ -133,7 +133,8 @@ def test_fmu_publishes_at_every_communication_point(fmus, tmp_path):
     assert all(x["dimension"] == 2 and x["coarse_count"] == 0 for x in headers)
     with open(rec, "rb") as f:
         counts = make_reader(f).get_summary().statistics.channel_message_counts
-    assert sorted(counts.values()) == [len(points)] * 3  # particles, barriers, energy
+    # particles, barriers, energy at every point; the walls' geometry once
+    assert sorted(counts.values()) == [1] + [len(points)] * 3
 
 
 def test_run_record_reads_back_with_python_mcap(tmp_path):
@@ -161,9 +162,12 @@ def test_run_record_reads_back_with_python_mcap(tmp_path):
         for t in ["/barriers", "/energy"]:
             assert schemas[t].encoding == "jsonschema"
             json.loads(schemas[t].data)
-        assert counts == {t: samples for t in ["/particles", "/bodies", "/barriers", "/energy"]}
+        topics = ["/particles", "/bodies", "/barriers", "/energy"]
+        # the walls' geometry goes once
+        assert counts == {t: samples for t in topics} | {"/walls": 1}
         assert summary["record"]["messages"] == {
-            "particles": samples, "bodies": samples, "barriers": samples, "energy": samples
+            "particles": samples, "bodies": samples, "barriers": samples, "energy": samples,
+            "walls": 1,
         }
         n = summary["particles"] + summary["particles_coarse"]
         times = []

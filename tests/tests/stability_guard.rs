@@ -122,5 +122,8 @@ fn a_moving_wall_bounds_the_time_step() {
     let moving = sim.stable_dt();
     let bound = 0.4 * 1.3 * 0.01 / 200.0;
     assert!(at_rest > 2.0 * bound, "{at_rest}");
-    assert!((moving - bound).abs() <= 1e-12 * bound, "{moving} against {bound}");
+    assert!(
+        (moving - bound).abs() <= 1e-12 * bound,
+        "{moving} against {bound}"
+    );
 }

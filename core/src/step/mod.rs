@@ -293,9 +293,9 @@ impl<const D: usize> Stepper<D> {
             + self.water.as_ref().map_or(0, |w| w.bytes())
     }
 
-    /// Largest particle speed (fine grains and water) at the end of the last step.
-    pub fn vmax(&self) -> Real {
-        self.vmax.max(self.water.as_ref().map_or(0.0, |w| w.vmax()))
+    /// Largest fine-grain speed at the end of the last step.
+    pub fn fine_vmax(&self) -> Real {
+        self.vmax
     }
 
     /// Advance the world by one fine step of size `dt` with `kappa` coarse sub-steps,

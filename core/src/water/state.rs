@@ -106,22 +106,22 @@ impl<const D: usize> WaterParticles<D> {
         (wsum > 0.0).then(|| sum * (1.0 / wsum))
     }
 
-    /// Σ ½ m v².
+    /// Σ ½ m v²; +0 without particles (a float `sum` of nothing is −0).
     pub fn kinetic_energy(&self) -> Real {
         self.vel
             .iter()
             .zip(&self.mass)
             .map(|(v, m)| 0.5 * m * v.norm_squared())
-            .sum()
+            .fold(0.0, |a, e| a + e)
     }
 
-    /// −Σ m g·x (zero at the origin).
+    /// −Σ m g·x (zero at the origin); +0 without particles.
     pub fn potential_energy(&self, g: &Vect<D>) -> Real {
         self.pos
             .iter()
             .zip(&self.mass)
             .map(|(x, m)| -m * g.dot(x))
-            .sum()
+            .fold(0.0, |a, e| a + e)
     }
 
     /// The surge front: the largest x of any water particle (−∞ without water).
