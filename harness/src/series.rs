@@ -156,7 +156,9 @@ pub fn row(dim: usize, s: &Sample) -> Vec<f64> {
         r.extend_from_slice(&s.momentum[..dim]);
     }
     if let Some(w) = &s.water {
-        r.extend_from_slice(&[w.kinetic_energy, w.potential_energy, w.front, w.max_speed]);
+        // no front without water: an empty cell
+        let front = w.front.unwrap_or(f64::NAN);
+        r.extend_from_slice(&[w.kinetic_energy, w.potential_energy, front, w.max_speed]);
     }
     for b in &s.barriers {
         r.extend_from_slice(&b.force[..dim]);
@@ -217,8 +219,19 @@ impl CsvSeries {
         writeln!(out, "{}", header.join(","))?;
         Ok(CsvSeries { out, dim })
     }
+    /// Write one row; a value that does not exist (NaN, e.g. the front of no water)
+    /// is an empty cell.
     pub fn write(&mut self, values: &[f64]) -> std::io::Result<()> {
-        let line: Vec<String> = values.iter().map(|v| format!("{v:.9e}")).collect();
+        let line: Vec<String> = values
+            .iter()
+            .map(|v| {
+                if v.is_nan() {
+                    String::new()
+                } else {
+                    format!("{v:.9e}")
+                }
+            })
+            .collect();
         writeln!(self.out, "{}", line.join(","))?;
         self.out.flush()
     }

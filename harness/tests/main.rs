@@ -2,4 +2,5 @@
 
 mod budget_cli;
 mod golden;
+mod hostile_scenes;
 mod ipc;
