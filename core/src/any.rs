@@ -39,12 +39,7 @@ impl AnySimulation {
     pub fn new(loaded: &LoadedScene) -> Result<Self, SetupError> {
         let scene = &loaded.scene;
         let err = |e: crate::build_error::BuildError| {
-            SetupError::Scene(SceneError {
-                file: loaded.file.clone(),
-                line: crate::scene::locate(&loaded.text, &e.path),
-                path: e.path,
-                message: e.message,
-            })
+            SetupError::Scene(loaded.locate(crate::scene::KeyError::new(e.path, e.message)))
         };
         Ok(match scene.simulation.dimension {
             2 => AnySimulation::D2(Box::new(Simulation::<2>::new(scene).map_err(err)?)),

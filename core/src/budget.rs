@@ -9,6 +9,7 @@
 
 use crate::estimate::{estimate, Estimate};
 use crate::math::Real;
+use crate::neighbors::MAX_CELLS;
 use crate::scene::Scene;
 
 /// Share of the available memory a scene may use by default.
@@ -93,14 +94,20 @@ pub struct OverBudget {
 pub fn enforce(scene: &Scene) -> Result<Estimate, OverBudget> {
     let estimate = estimate(scene);
     let budget = budget(scene);
-    // a NaN estimate is refused too
-    if estimate.bytes.is_nan() || estimate.bytes > budget.bytes {
+    if !passes(&estimate, &budget) {
         return Err(OverBudget {
             estimate: Box::new(estimate),
             budget,
         });
     }
     Ok(estimate)
+}
+
+/// Whether estimate `e` passes budget `b`: its bytes are a number no larger than the
+/// budget (a NaN or infinite estimate never passes) and its cell grid fits the `u32`
+/// cell index ([`MAX_CELLS`]).
+pub fn passes(e: &Estimate, b: &Budget) -> bool {
+    e.bytes <= b.bytes && e.cells <= MAX_CELLS as Real
 }
 
 /// A size that [`parse_bytes`] cannot read.
@@ -114,24 +121,50 @@ pub enum SizeError {
     NotPositive(String),
 }
 
-/// The refusal message.
+/// The refusal message: dp, the estimated particles, grid cells and bytes, what they
+/// exceed, and the advice that fits the case (raising the budget helps only a finite
+/// estimate over it; a grid beyond its cell index needs the parts closer together or a
+/// coarser dp).
 pub fn over_budget(e: &Estimate, b: &Budget) -> String {
-    format!(
-        "dp = {} m gives an estimated {:.3e} particles ({:.3e} fine, {:.3e} water, {:.3e} wall, {:.3e} coarse) \
-         needing about {} ({:.3e} bytes), over the memory budget of {} ({}); coarsen \
-         simulation.dp or raise the budget (`--memory-budget 8GiB` on the command line, \
-         simulation.memory_budget in bytes in the scene, the FMU parameter memory_budget)",
+    let head = format!(
+        "dp = {:?} m gives an estimated {:.3e} particles ({:.3e} fine, {:.3e} water, {:.3e} wall, \
+         {:.3e} coarse) and {:.3e} grid cells needing about {} ({:.3e} bytes)",
         e.dp,
         e.particles(),
         e.fine(),
         e.water(),
         e.walls,
         e.coarse(),
+        e.cells,
         human_bytes(e.bytes),
         e.bytes,
-        human_bytes(b.bytes),
-        b.origin
-    )
+    );
+    let mut parts = vec![head];
+    if e.bytes.is_nan() || e.bytes > b.bytes {
+        let advice = if e.bytes.is_finite() {
+            "coarsen simulation.dp or raise the budget (`--memory-budget 8GiB` on the command \
+             line, simulation.memory_budget in bytes in the scene, the FMU parameter \
+             memory_budget)"
+        } else {
+            "no budget holds that: coarsen simulation.dp"
+        };
+        parts.push(format!(
+            "over the memory budget of {} ({}); {advice}",
+            human_bytes(b.bytes),
+            b.origin
+        ));
+    }
+    if e.cells.is_nan() || e.cells > MAX_CELLS as Real {
+        parts.push(format!(
+            "its neighbour grid of {:.3e} cells ({} of them) is beyond the {MAX_CELLS:.3e} a \
+             cell index holds: the scene's parts lie far apart for this spacing (a region far \
+             from every container still spans the grid); bring them closer together or \
+             coarsen simulation.dp",
+            e.cells,
+            human_bytes(e.grid_bytes)
+        ));
+    }
+    parts.join(", ")
 }
 
 /// Bytes with a binary unit: `512 B`, `3.4 GiB`, `1.2e6 EiB`.

@@ -11,12 +11,16 @@
 //! depth (coarea formula: the shell volume is the surface area times the depth).
 
 use crate::fine::pair_sums::PairSums;
+use crate::fine::pores::Pores;
 use crate::fine::source::Source;
+use crate::flow_speed::{saturated, water_speed};
 use crate::geometry::Shape;
 use crate::math::{from3, to3, Real, Sym, Vect};
+use crate::neighbors::BYTES_PER_CELL;
 use crate::resolution::Resolution;
 use crate::rng::Rng;
 use crate::scene::spec_rotation;
+use crate::scene::KeyError;
 use crate::scene::{BodyModel, Scene, ShapeSpec};
 use nalgebra::{Rotation3, SMatrix, SVector, Vector3};
 use std::mem::size_of;
@@ -43,6 +47,10 @@ pub struct Estimate {
     pub largest_body_fill: Real,
     /// Cells of one neighbour-search grid over the domain.
     pub cells: Real,
+    /// Bytes of the dense cell grids of the steppers ([`CellGrid`](crate::neighbors::CellGrid)):
+    /// [`BYTES_PER_CELL`] for each cell of each grid binned, which in a sparse domain
+    /// (parts far apart) outweighs the particles.
+    pub grid_bytes: Real,
     /// Bytes per particle of each kind: fine, wall, coarse.
     pub per_particle: [Real; 3],
     /// Estimated bytes held by a running simulation (the peak of its build included).
@@ -154,16 +162,61 @@ fn estimate_in<const D: usize>(scene: &Scene) -> Estimate {
         bodies,
         largest_body_fill,
         cells,
+        grid_bytes: 0.0,
         per_particle,
         bytes: 0.0,
     };
-    let grids = 1.0 + (e.walls > 0.0) as u8 as Real + (!e.bodies.is_empty()) as u8 as Real;
+    let water = water_speed(scene).is_some() && (e.water() > 0.0 || has_inflows(scene));
+    let seepage = water && scene.materials.iter().any(|m| Pores::of(m).is_some());
+    // the soil–water lists' cells are 2h + 1.5 skin wide (one kept grid and one built
+    // for the outputs)
+    let sw_radius = (2.0 * n.smoothing_ratio + 1.5 * n.neighbor_skin) * dp;
+    let sw_cells = cells * (radius / sw_radius).powi(D as i32);
+    e.grid_bytes = BYTES_PER_CELL as Real
+        * (cells * (GRIDS_PER_FAMILY * (e.fine() > 0.0) as u8 as Real)
+            + cells * (GRIDS_PER_FAMILY * water as u8 as Real)
+            + sw_cells * 2.0 * seepage as u8 as Real);
     e.bytes = (e.fine() + e.water()) * per_particle[0]
         + e.walls * per_particle[1]
         + e.coarse() * per_particle[2]
         + largest_body_fill * BODY_FILL_BYTES_PER_DIM * D as Real
-        + grids * 4.0 * cells;
+        + e.grid_bytes;
     e
+}
+
+/// Dense cell grids of one family's stepper (fine grains, water) over the whole
+/// domain: its own particles, the walls and the coarse particles, each binned at every
+/// list build whether or not it holds anything.
+const GRIDS_PER_FAMILY: Real = 3.0;
+
+fn has_inflows(scene: &Scene) -> bool {
+    scene.water.as_ref().is_some_and(|w| !w.inflows.is_empty())
+}
+
+/// The part of the scene that would hold no particle at its dp, by the estimate: the
+/// first region or water region whose count is below one, with the build's message.
+pub fn empty_part(scene: &Scene, e: &Estimate) -> Option<KeyError> {
+    let regions = scene.regions.iter().map(|r| ("regions", "region", &r.name));
+    let water = scene
+        .water
+        .iter()
+        .flat_map(|w| w.regions.iter())
+        .map(|r| ("water.regions", "water region", &r.name));
+    let mut index = std::collections::HashMap::new();
+    for ((key, what, name), (_, n)) in regions.chain(water).zip(e.regions.iter().chain(&e.water)) {
+        let i = index.entry(key).or_insert(0usize);
+        if n.is_nan() || *n < 1.0 {
+            return Some(KeyError::new(
+                format!("{key}[{i}].shape"),
+                format!(
+                    "{what} `{name}` holds no particle at dp = {:?} m; enlarge it or refine dp",
+                    e.dp
+                ),
+            ));
+        }
+        *i += 1;
+    }
+    None
 }
 
 /// The box around everything counted so far.
@@ -538,89 +591,117 @@ fn overlaps<const D: usize>(a0: &Vect<D>, a1: &Vect<D>, b0: &Vect<D>, b1: &Vect<
 /// (no particle moves yet, so |v|max = 0), and the water's viscous limit; infinite
 /// without fine grains or water.
 pub fn rest_dt(scene: &Scene) -> Real {
-    let c0 = scene
-        .materials
-        .iter()
-        .map(|m| crate::fine::material::FineMaterial::from_spec(m).c0)
-        .fold(0.0, Real::max)
-        .max(water_c0(scene));
+    rest_dt_bound(scene).dt
+}
+
+/// The time step at rest ([`rest_dt`]) and the bound that sets it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RestDt {
+    /// Δt (s); infinite without fine grains or water.
+    pub dt: Real,
+    /// The scene key whose value sets the binding bound.
+    pub key: String,
+    /// The binding bound, described with its values.
+    pub what: String,
+    /// Whether the bound is the acoustic one, CFL · h / c0 (it scales with the CFL).
+    pub acoustic: bool,
+}
+
+/// [`rest_dt`] with the bound that sets it: the acoustic step of each fine material
+/// and of the water, the water's viscous limit ⅛ h² ρ/μ and the soils' explicit side
+/// of the seepage force, ½ ρ_d k / μ.
+pub fn rest_dt_bound(scene: &Scene) -> RestDt {
     let h = scene.numerics.smoothing_ratio * scene.simulation.dp;
-    let viscous = scene
-        .water
-        .as_ref()
-        .filter(|w| w.viscosity > 0.0)
-        .map_or(Real::INFINITY, |w| 0.125 * h * h * w.density / w.viscosity);
-    // the soil's explicit side of the seepage force, ½ ρ_d k / μ
-    let mu = scene.water.as_ref().map_or(1e-3, |w| w.viscosity);
-    let seepage = scene
-        .materials
-        .iter()
-        .filter_map(|m| {
-            crate::fine::pores::Pores::of(m).map(|p| 0.5 * m.density * p.permeability / mu)
+    let cfl = scene.simulation.cfl;
+    let mut bounds: Vec<RestDt> = Vec::new();
+    let take = |bounds: &mut Vec<RestDt>, dt: Real, key: String, what: String, acoustic| {
+        bounds.push(RestDt {
+            dt,
+            key,
+            what,
+            acoustic,
         })
-        .fold(Real::INFINITY, Real::min);
-    if c0 > 0.0 {
-        (scene.simulation.cfl * h / c0).min(viscous).min(seepage)
-    } else {
-        Real::INFINITY
-    }
-}
-
-/// Whether the material named `name` is a saturated soil.
-fn saturated(scene: &Scene, name: &str) -> bool {
-    scene
-        .materials
-        .iter()
-        .any(|m| m.name == name && m.saturated && m.porosity.is_some())
-}
-
-/// The water's sound speed as the build will choose it: given, 10 × the given speed
-/// scale, or 10 √(2 g H) over the tallest water region and saturated soil region
-/// (inflows, whose speed also counts, are left to the build); 0 without water.
-pub fn water_c0(scene: &Scene) -> Real {
-    let defaults: crate::scene::WaterSpec;
-    let pores = scene.regions.iter().any(|r| saturated(scene, &r.material));
-    let w = match &scene.water {
-        Some(w) => w,
-        None if pores => {
-            defaults = toml::from_str("").expect("every [water] key has a default");
-            &defaults
+    };
+    for (i, m) in scene.materials.iter().enumerate() {
+        let c0 = crate::fine::material::FineMaterial::from_spec(m).c0;
+        if c0 > 0.0 {
+            take(
+                &mut bounds,
+                cfl * h / c0,
+                format!("materials[{i}].youngs_modulus"),
+                format!(
+                    "CFL · h / c0 with the sound speed c0 = {c0:?} m/s of material `{}`",
+                    m.name
+                ),
+                true,
+            );
         }
-        None => return 0.0,
-    };
-    if let Some(c) = w.sound_speed {
-        return c;
     }
-    if let Some(u) = w.speed_scale {
-        return 10.0 * u;
+    if let Some(w) = water_speed(scene) {
+        if w.c0 > 0.0 {
+            take(
+                &mut bounds,
+                cfl * h / w.c0,
+                w.key.to_string(),
+                format!(
+                    "CFL · h / c0 with the water's sound speed c0 = {:?} m/s",
+                    w.c0
+                ),
+                true,
+            );
+        }
     }
-    let g = &scene.simulation.gravity;
-    let gn = g.iter().map(|x| x * x).sum::<Real>().sqrt();
-    let height = |spec: &ShapeSpec| -> Real {
-        let (lo, hi): (Vec<Real>, Vec<Real>) = if scene.simulation.dimension == 2 {
-            let (lo, hi) = Shape::<2>::from_spec(spec, &scene.assets).bounds();
-            (lo.iter().copied().collect(), hi.iter().copied().collect())
-        } else {
-            let (lo, hi) = Shape::<3>::from_spec(spec, &scene.assets).bounds();
-            (lo.iter().copied().collect(), hi.iter().copied().collect())
-        };
-        // the extent along gravity
-        (0..lo.len())
-            .map(|k| (hi[k] - lo[k]) * g[k].abs() / gn.max(1e-300))
-            .sum()
-    };
-    let h = w
-        .regions
-        .iter()
-        .map(|r| &r.shape)
-        .chain(
-            scene
-                .regions
-                .iter()
-                .filter(|r| saturated(scene, &r.material))
-                .map(|r| &r.shape),
-        )
-        .map(height)
-        .fold(0.0, Real::max);
-    10.0 * (2.0 * gn * h).sqrt()
+    // without a sound speed nothing moves: no step bound at all
+    if !bounds.is_empty() {
+        if let Some(w) = scene.water.as_ref().filter(|w| w.viscosity > 0.0) {
+            take(
+                &mut bounds,
+                0.125 * h * h * w.density / w.viscosity,
+                "water.viscosity".into(),
+                format!(
+                    "the viscous limit h² ρ / (8 μ) with μ = {:?} Pa·s",
+                    w.viscosity
+                ),
+                false,
+            );
+        }
+        // the soil's explicit side of the seepage force, ½ ρ_d k / μ
+        let mu = scene.water.as_ref().map_or(1e-3, |w| w.viscosity);
+        for (i, m) in scene.materials.iter().enumerate() {
+            if let Some(p) = crate::fine::pores::Pores::of(m) {
+                let key = if m.permeability.is_some() {
+                    "permeability"
+                } else {
+                    "grain_size"
+                };
+                take(
+                    &mut bounds,
+                    0.5 * m.density * p.permeability / mu,
+                    format!("materials[{i}].{key}"),
+                    format!(
+                        "the seepage limit ρ_d k / (2 μ) with the permeability k = {:?} m² of \
+                         material `{}`",
+                        p.permeability, m.name
+                    ),
+                    false,
+                );
+            }
+        }
+    }
+    // the tightest bound; NaN counts as the tightest, so that it never hides
+    bounds
+        .into_iter()
+        .reduce(|a, b| if b.dt.is_nan() || b.dt < a.dt { b } else { a })
+        .unwrap_or(RestDt {
+            dt: Real::INFINITY,
+            key: String::new(),
+            what: "no fine grains or water".into(),
+            acoustic: false,
+        })
+}
+
+/// The water's sound speed as the build will choose it ([`water_speed`]); 0 without
+/// water.
+pub fn water_c0(scene: &Scene) -> Real {
+    water_speed(scene).map_or(0.0, |w| w.c0)
 }

@@ -20,11 +20,16 @@ pub struct Heightmap {
 }
 
 impl Heightmap {
+    /// Read an ESRI ASCII grid (a regular file of at most
+    /// [`MAX_SHAPE_FILE_BYTES`](crate::capped_read::MAX_SHAPE_FILE_BYTES)).
     pub fn load(path: &std::path::Path) -> Result<Self, ShapeFileError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| ShapeFileError::Read {
-            file: file.clone(),
-            source,
+        let cap = crate::capped_read::MAX_SHAPE_FILE_BYTES;
+        let text = crate::capped_read::read_capped_text(path, cap).map_err(|source| {
+            ShapeFileError::Read {
+                file: file.clone(),
+                source,
+            }
         })?;
         parse_esri_ascii(&text).map_err(|error| ShapeFileError::Format { file, error })
     }

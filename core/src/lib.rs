@@ -10,11 +10,13 @@
 pub mod assets;
 pub mod budget;
 pub mod build_error;
+pub mod capped_read;
 pub mod coarse;
 pub mod cosim;
 pub mod cross_lists;
 pub mod estimate;
 pub mod fine;
+pub mod flow_speed;
 pub mod geometry;
 pub mod guard;
 pub mod heightmap;

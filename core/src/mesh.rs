@@ -41,13 +41,16 @@ impl TriMesh {
         Ok(TriMesh { tris, lo, hi })
     }
 
-    /// Read an `.obj` or `.stl` (ASCII or binary) file, chosen by extension.
+    /// Read an `.obj` or `.stl` (ASCII or binary) file, chosen by extension (a regular
+    /// file of at most [`MAX_SHAPE_FILE_BYTES`](crate::capped_read::MAX_SHAPE_FILE_BYTES)).
     pub fn load(path: &std::path::Path) -> Result<Self, ShapeFileError> {
         let file = path.display().to_string();
-        let bytes = std::fs::read(path).map_err(|source| ShapeFileError::Read {
-            file: file.clone(),
-            source,
-        })?;
+        let cap = crate::capped_read::MAX_SHAPE_FILE_BYTES;
+        let bytes =
+            crate::capped_read::read_capped(path, cap).map_err(|source| ShapeFileError::Read {
+                file: file.clone(),
+                source,
+            })?;
         let ext = path
             .extension()
             .and_then(|e| e.to_str())

@@ -19,6 +19,13 @@ use rayon::prelude::*;
 /// Particles per work chunk. Fixed, so chunking is independent of the thread count.
 pub const CHUNK: usize = 256;
 
+/// Bytes a binned grid holds per cell: `start` and the scratch `fill`, one `u32` each
+/// ([`CellGrid::bin`]); the memory estimate prices grids with it.
+pub const BYTES_PER_CELL: usize = 8;
+
+/// Most cells a grid may have: a cell index is a `u32`.
+pub const MAX_CELLS: usize = u32::MAX as usize;
+
 /// A uniform grid of cells over a fixed box; positions outside are clamped into the
 /// border cells (correct, only slower). Along a periodic axis the cells tile the
 /// period, positions are taken modulo the period and the stencil wraps

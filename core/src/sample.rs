@@ -54,8 +54,9 @@ pub struct WaterSample {
     pub kinetic_energy: Real,
     /// −Σ m g·x (J, or J/m in 2D).
     pub potential_energy: Real,
-    /// The surge front: the largest x of any water particle (m).
-    pub front: Real,
+    /// The surge front: the largest x of any water particle (m); none without water
+    /// particles.
+    pub front: Option<Real>,
     /// Largest water speed at the end of the last step (m/s).
     pub max_speed: Real,
     /// Σ m v.

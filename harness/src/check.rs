@@ -4,9 +4,10 @@
 
 use crate::run::load;
 use anyhow::{bail, Result};
-use granmix_core::budget::{budget, human_bytes, over_budget};
+use granmix_core::budget::{budget, human_bytes, over_budget, passes};
 use granmix_core::estimate::{estimate, rest_dt};
 use granmix_core::input::LoadedScene;
+use granmix_core::scene::KeyError;
 use granmix_core::AnySimulation;
 use std::path::Path;
 
@@ -23,7 +24,7 @@ pub fn check(scene: &Path, set: &[String], exact: bool) -> Result<()> {
     println!("{}: valid {}D scene", scene.display(), s.dimension);
     if let Some(p) = &s.periodic {
         println!(
-            "  periodic along {} with period {} m ([{}, {}])",
+            "  periodic along {} with period {:?} m ([{:?}, {:?}])",
             p.axis,
             p.max - p.min,
             p.min,
@@ -32,11 +33,11 @@ pub fn check(scene: &Path, set: &[String], exact: bool) -> Result<()> {
     }
     let e = estimate(&loaded.scene);
     let b = budget(&loaded.scene);
-    if exact && e.bytes <= b.bytes {
+    if exact && passes(&e, &b) {
         return check_exact(&loaded);
     }
     println!(
-        "  estimated at dp = {} m (without building; --exact builds):",
+        "  estimated at dp = {:?} m (without building; --exact builds):",
         s.dp
     );
     for (name, n) in &e.regions {
@@ -56,16 +57,22 @@ pub fn check(scene: &Path, set: &[String], exact: bool) -> Result<()> {
     }
     rock_reports(&loaded);
     println!(
-        "  memory ~{} ({:.0} / {:.0} / {:.0} bytes per fine / wall / coarse particle); budget {} ({})",
+        "  memory ~{} ({:.0} / {:.0} / {:.0} bytes per fine / wall / coarse particle, {} in \
+         cell grids of {:.3e} cells); budget {} ({})",
         human_bytes(e.bytes),
         e.per_particle[0],
         e.per_particle[1],
         e.per_particle[2],
+        human_bytes(e.grid_bytes),
+        e.cells,
         human_bytes(b.bytes),
         b.origin
     );
-    if e.bytes > b.bytes {
-        bail!("{}: {}", scene.display(), over_budget(&e, &b));
+    if !passes(&e, &b) {
+        bail!(
+            "{}",
+            loaded.locate(KeyError::new("simulation.dp", over_budget(&e, &b)))
+        );
     }
     let dt = rest_dt(&loaded.scene);
     if e.coarse() > 0.0 {
@@ -151,22 +158,34 @@ fn cost(loaded: &LoadedScene, n: f64, step: f64, fine: bool) {
     let steps = (s.end_time / step).ceil();
     if fine {
         println!(
-            "  Δt (Eq. 51, at rest) {step:.3e} s → ~{steps:.0} steps to t = {} s",
+            "  Δt (Eq. 51, at rest) {step:.3e} s → ~{} steps to t = {:?} s",
+            short(steps),
             s.end_time
         );
     } else {
         // coarse grains only: one coarse step per solver step (the output interval
         // caps it where contacts allow longer steps)
         println!(
-            "  no fine grains: Δt = {step:.3e} s → ~{steps:.0} steps to t = {} s",
+            "  no fine grains: Δt = {step:.3e} s → ~{} steps to t = {:?} s",
+            short(steps),
             s.end_time
         );
     }
     let cores = rayon::current_num_threads() as f64;
     let pss = NOMINAL_PSS_PER_CORE[s.dimension - 2] * cores;
     println!(
-        "  cost ~{:.3e} particle-steps ≈ {:.0} s on {cores} core(s)",
+        "  cost ~{:.3e} particle-steps ≈ {} s on {cores} core(s)",
         n * steps,
-        n * steps / pss
+        short(n * steps / pss)
     );
+}
+
+/// A count or duration in its shortest readable form: whole below ten million, else
+/// with an exponent (never hundreds of digits).
+fn short(x: f64) -> String {
+    if x.abs() < 1e7 {
+        format!("{x:.0}")
+    } else {
+        format!("{x:.3e}")
+    }
 }

@@ -154,7 +154,10 @@ pub(crate) fn dam_front_error(samples: &[granmix_core::simulation::Sample], a: f
     let scale = (2.0 * 9.81 / a).sqrt();
     let pts: Vec<(f64, f64)> = samples
         .iter()
-        .filter_map(|s| s.water.as_ref().map(|w| (s.time * scale, w.front / a)))
+        .filter_map(|s| {
+            let front = s.water.as_ref()?.front?;
+            Some((s.time * scale, front / a))
+        })
         .collect();
     let mut worst: f64 = 0.0;
     for (tm, zm) in MARTIN_MOYCE {

@@ -76,9 +76,14 @@ fn fronts(l: &Layout, samples: &[Sample]) -> Vec<Curve> {
         c.push(curve("run-out (grains)", samples, |s| s.runout));
     }
     if l.water {
-        c.push(curve("water front (largest x)", samples, |s| {
-            s.water.as_ref().map_or(0.0, |w| w.front)
-        }));
+        // no point while there is no water (all of it gone through an outflow)
+        c.push(Curve {
+            label: "water front (largest x)".into(),
+            points: samples
+                .iter()
+                .filter_map(|s| Some((s.time, s.water.as_ref()?.front?)))
+                .collect(),
+        });
     }
     c
 }

@@ -138,13 +138,22 @@ impl Column {
 pub enum Cell {
     Real(f64),
     Count(u64),
+    /// A value that does not exist at this row (the front of water that has all left):
+    /// an empty cell, never ±inf or NaN.
+    Empty,
 }
 
 impl Cell {
+    /// A real that may not exist.
+    fn maybe(v: Option<f64>) -> Cell {
+        v.map_or(Cell::Empty, Cell::Real)
+    }
+
     fn text(self) -> String {
         match self {
             Cell::Real(v) => format!("{v:.9e}"),
             Cell::Count(n) => n.to_string(),
+            Cell::Empty => String::new(),
         }
     }
 }
@@ -310,10 +319,9 @@ pub fn row(l: &Layout, s: &Sample) -> Vec<Cell> {
     if l.water {
         let w = s.water.clone().unwrap_or_default();
         r.push(Cell::Count(w.particles as u64));
-        reals(
-            &mut r,
-            &[w.kinetic_energy, w.potential_energy, w.front, w.max_speed],
-        );
+        reals(&mut r, &[w.kinetic_energy, w.potential_energy]);
+        r.push(Cell::maybe(w.front));
+        r.push(Cell::Real(w.max_speed));
     }
     for (b, (_, panels)) in s.barriers.iter().zip(&l.barriers) {
         reals(&mut r, &b.force[..d]);

@@ -46,7 +46,7 @@ fn check_and_run_refuse_dp_1e_7_promptly() {
         assert_eq!(code, 2, "{args:?}: {stdout}{stderr}");
         assert!(took < 5.0, "{args:?} took {took:.1} s");
         for part in [
-            "dp = 0.0000001 m",
+            "dp = 1e-7 m",
             "particles",
             "memory budget",
             "--memory-budget",

@@ -2,5 +2,6 @@
 
 mod budget_cli;
 mod golden;
+mod hostile_scenes;
 mod ipc;
 mod outputs;

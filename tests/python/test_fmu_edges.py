@@ -10,7 +10,7 @@ import textwrap
 
 import numpy as np
 import pytest
-from conftest import SCENE, Slave, pack
+from conftest import SCENE, Slave, granmix_bin, pack
 from fmpy.fmi1 import FMICallException
 
 H = 1e-3
@@ -117,6 +117,15 @@ def test_no_pull_on_a_retreating_barrier_at_any_step(fmus, h, speed):
 
 
 # --- 4: memory edge cases -----------------------------------------------------------
+
+def test_check_refuses_a_subnormal_spacing():
+    r = subprocess.run([str(granmix_bin()), "check", str(SCENE), "--set",
+                        "simulation.dp=1e-160"], check=False, capture_output=True, text=True,
+                       timeout=60)
+    text = r.stdout + r.stderr
+    assert r.returncode != 0, text
+    assert "simulation.dp" in text and "NaN" not in text, text
+
 
 def test_an_allocation_beyond_the_machine_is_an_error_not_an_abort(fmus):
     """A budget of 1e300 B lets dp = 1e-7 m past the estimate; before, the host

@@ -38,7 +38,7 @@ def test_a_spacing_of_1e_7_is_refused_without_allocating(fmus, capsys):
     out = capsys.readouterr().out
     assert took < 2.0, took
     assert grown_mb < 100, grown_mb
-    for part in ("dp = 0.0000001 m", "particles", "over the memory budget", "memory_budget"):
+    for part in ("dp = 1e-7 m", "particles", "over the memory budget", "memory_budget"):
         assert part in out, out
     # the instance is not lost: reset, a spacing it can hold, and it steps
     fmu.reset()

@@ -12,6 +12,7 @@ mod fmu_fmi_crate;
 mod memory_budget;
 mod saturated;
 mod scene_errors;
+mod scene_headers;
 mod scenes_smoke;
 mod slope_stability;
 mod stability_guard;

@@ -133,7 +133,7 @@ fn a_scene_over_the_budget_is_refused_before_building() {
         assert!(took < 1.0, "{file}: took {took:.3} s to refuse");
         for part in [
             "`simulation.dp`",
-            "dp = 0.0000001 m",
+            "dp = 1e-7 m",
             "particles",
             "memory budget",
             "--memory-budget",

@@ -205,9 +205,11 @@ fn rock_fills_place_the_content_reproducibly_or_say_why_not() {
     let e = err(&text, &["rock_fills.0.content=0.48"]);
     assert_eq!(e.path, "rock_fills[0].content", "{e}");
     assert!(e.to_string().contains("could not place"), "{e}");
+    // an error in a `--set` value names that argument, not a line of the file
     let e = err(&text, &["rock_fills.0.material=\"sand\""]);
     assert_eq!(e.path, "rock_fills[0].material", "{e}");
-    assert!(e.line.is_some(), "{e}");
+    assert_eq!(e.file, "--set rock_fills.0.material=\"sand\"", "{e}");
+    assert_eq!(e.line, None, "{e}");
 }
 
 #[test]

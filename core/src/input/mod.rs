@@ -2,11 +2,19 @@
 //! validation, the files that shapes name (meshes, terrain grids) and where regions
 //! lie. What comes out is a [`LoadedScene`] that nothing downstream needs to check again.
 
+mod body_overlaps;
 mod placement;
 mod rocks;
+mod run_length;
+mod water_start;
+
+pub use run_length::{MAX_OUTPUTS, MAX_STEPS};
 
 use crate::assets::Assets;
-use crate::scene::{apply_overrides, at, parse, validate, KeyError, Scene, SceneError, ShapeSpec};
+use crate::scene::{
+    apply_overrides, attribute, parse, reattribute, validate, KeyError, Scene, SceneError,
+    ShapeSpec,
+};
 use std::path::Path;
 
 /// A parsed, validated scene together with the text it came from.
@@ -16,12 +24,28 @@ pub struct LoadedScene {
     /// The scene text after overrides (what was simulated).
     pub text: String,
     pub file: String,
+    /// The text as the file holds it, before overrides.
+    pub source: String,
+    /// The `key.path=value` overrides applied.
+    pub overrides: Vec<String>,
 }
 
-/// Read and validate a scene file, applying `key.path=value` overrides first.
+impl LoadedScene {
+    /// The error at a scene key, located where its value came from: the `--set`
+    /// argument that set it, else its line in the file as written.
+    pub fn locate(&self, e: KeyError) -> SceneError {
+        let line = crate::scene::locate(&self.text, &e.path);
+        attribute(&self.source, &self.file, &self.overrides, e, line)
+    }
+}
+
+/// Read and validate a scene file (a regular file of at most
+/// [`MAX_SCENE_BYTES`](crate::capped_read::MAX_SCENE_BYTES)), applying `key.path=value`
+/// overrides first.
 pub fn load_scene_file(path: &Path, overrides: &[String]) -> Result<LoadedScene, SceneError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+    let cap = crate::capped_read::MAX_SCENE_BYTES;
+    let text = crate::capped_read::read_capped_text(path, cap).map_err(|e| SceneError {
         file: file.clone(),
         path: String::new(),
         line: None,
@@ -48,17 +72,31 @@ pub fn load_scene_in(
     overrides: &[String],
     dir: &Path,
 ) -> Result<LoadedScene, SceneError> {
-    let text = apply_overrides(text, file, overrides)?;
-    let mut scene = parse(&text, file)?;
-    let fail = |e| at(&text, file, e);
+    let source = text;
+    let text = apply_overrides(source, file, overrides)?;
+    let mut scene = parse(&text, file).map_err(|e| reattribute(source, overrides, e))?;
+    let fail = |e: KeyError| {
+        let line = crate::scene::locate(&text, &e.path);
+        attribute(source, file, overrides, e, line)
+    };
     rocks::expand(&mut scene).map_err(fail)?;
     validate(&scene).map_err(fail)?;
     scene.assets = read_assets(&scene, dir).map_err(fail)?;
     placement::check_regions(&scene).map_err(fail)?;
+    body_overlaps::check_bodies(&scene).map_err(fail)?;
+    // a region that holds no particle at this dp, refused before what its spacing
+    // would make of the time step
+    if let Some(e) = crate::estimate::empty_part(&scene, &crate::estimate::estimate(&scene)) {
+        return Err(fail(e));
+    }
+    water_start::check_water_start(&scene).map_err(fail)?;
+    run_length::check_run_length(&scene).map_err(fail)?;
     Ok(LoadedScene {
         scene,
         text,
         file: file.to_string(),
+        source: source.to_string(),
+        overrides: overrides.to_vec(),
     })
 }
 

@@ -16,6 +16,31 @@ type Fail = KeyError;
 /// Largest placement attempts per rock before the fill gives up.
 const ATTEMPTS: usize = 20_000;
 
+/// Most rocks one fill may place: each is a body, and placing one tests it against
+/// every rock placed before (10,000 rocks take about a second).
+pub const MAX_ROCKS: f64 = 10_000.0;
+
+/// Estimate a fill before generating it: the rocks it asks for (content × region area
+/// over the mean rock area) must not exceed [`MAX_ROCKS`]. (Their particles are counted
+/// against the memory budget with the other bodies, once they are placed.)
+fn estimate_fill(p: &str, f: &RockFillSpec, region_area: f64) -> Result<(), Fail> {
+    let mean_area = PI / 4.0 * f.size * f.size * (1.0 + f.size_spread * f.size_spread / 3.0);
+    let rocks = f.content * region_area / mean_area;
+    if rocks.is_nan() || rocks > MAX_ROCKS {
+        return Err(KeyError::new(
+            format!("{p}.size"),
+            format!(
+                "rocks of size {:?} m filling {:.1} % of a region of {region_area:.3e} m² \
+                 would number about {rocks:.3e}, over the {MAX_ROCKS:.0} one fill may place; \
+                 take larger rocks or a lower content",
+                f.size,
+                100.0 * f.content
+            ),
+        ));
+    }
+    Ok(())
+}
+
 type P = [f64; 2];
 
 fn cross(o: P, a: P, b: P) -> f64 {
@@ -198,6 +223,7 @@ fn fill(
     check(scene, &p, f)?;
     let region = Shape::<2>::from_spec(&f.region, &scene.assets);
     let region_area = region.volume().unwrap_or(0.0);
+    estimate_fill(&p, f, region_area)?;
     let (lo, hi) = region.bounds();
     let clearance = f.clearance.unwrap_or(2.0 * scene.simulation.dp);
     let target = f.content * region_area;

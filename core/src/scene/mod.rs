@@ -2,7 +2,9 @@
 //! files its shapes name is [`input`](crate::input)'s work.
 
 mod error;
+mod names_check;
 mod periodic_check;
+mod polygon_check;
 mod pores_check;
 mod text;
 mod types;
@@ -11,13 +13,15 @@ mod water;
 mod water_check;
 
 pub use error::{KeyError, SceneError};
-pub use text::{apply_overrides, at, locate, parse};
+pub use names_check::{unsafe_name, MAX_NAME_CHARS};
+pub use text::{apply_overrides, at, attribute, locate, parse, reattribute};
 pub use types::*;
 pub use validate::{unknown_solid, validate_shape};
 
-/// Semantic checks on a deserialised scene: the grains, walls and probes, then the
+/// Semantic checks on a deserialised scene: the names, the grains, walls and probes, then the
 /// water, then the soils' pores, then a periodic axis. Errors carry the key path.
 pub fn validate(s: &Scene) -> Result<(), KeyError> {
+    names_check::validate_names(s)?;
     validate::validate_grains(s)?;
     water_check::validate_water(s)?;
     pores_check::validate_pores(s)?;

@@ -31,8 +31,72 @@ fn toml_error(text: &str, file: &str, path: &str, e: &toml::de::Error) -> SceneE
         file: file.to_string(),
         path: path.to_string(),
         line,
-        message: e.message().trim().to_string(),
+        message: name_the_key(text, e.message(), e.span()),
     }
+}
+
+/// A TOML parser's message, with the key it points at named where the message does
+/// not (`duplicate key` says which key only through its span).
+fn name_the_key(text: &str, message: &str, span: Option<std::ops::Range<usize>>) -> String {
+    let message = message.trim();
+    let key = span
+        .and_then(|s| text.get(s))
+        .map(|k| k.trim().trim_matches('"'))
+        .filter(|k| !k.is_empty() && !k.contains('\n'));
+    match key {
+        Some(k) if message.starts_with("duplicate key") && !message.contains('`') => {
+            format!("duplicate key `{k}`: each key may be given once per table")
+        }
+        _ => message.to_string(),
+    }
+}
+
+/// The error `(key path, message)` of a scene read from `source` with `overrides`
+/// applied, located where its value came from: the `--set` argument that set the key
+/// (or a key above it), else the key's line in the file as written (`line`, the
+/// location in the text after overrides, when the key cannot be found there).
+pub fn attribute(
+    source: &str,
+    file: &str,
+    overrides: &[String],
+    KeyError { path, message }: KeyError,
+    line: Option<usize>,
+) -> SceneError {
+    let at = segments(&path);
+    let set = overrides.iter().find(|o| {
+        let key = segments(o.split_once('=').map_or(o.as_str(), |(k, _)| k));
+        !key.is_empty() && at.starts_with(&key)
+    });
+    match set {
+        Some(o) => SceneError {
+            file: format!("--set {o}"),
+            path,
+            line: None,
+            message,
+        },
+        None => SceneError {
+            file: file.to_string(),
+            line: locate(source, &path).or(line),
+            path,
+            message,
+        },
+    }
+}
+
+/// [`attribute`] for an error already located in the text after overrides.
+pub fn reattribute(source: &str, overrides: &[String], e: SceneError) -> SceneError {
+    if overrides.is_empty() {
+        return e;
+    }
+    let line = e.line;
+    let file = e.file.clone();
+    attribute(
+        source,
+        &file,
+        overrides,
+        KeyError::new(e.path, e.message),
+        line,
+    )
 }
 
 /// serde_path_to_error prints `?` for untracked segments; drop them.
@@ -59,6 +123,40 @@ fn segments(path: &str) -> Vec<String> {
         .filter(|s| !s.is_empty())
         .map(str::to_string)
         .collect()
+}
+
+/// Why a key path such as `a..b`, `.a` or `a[0]x` is malformed (an empty segment, or
+/// text after an index), if it is.
+fn empty_segment(key: &str) -> Option<String> {
+    let mut rest = key;
+    let mut first = true;
+    while !rest.is_empty() {
+        if let Some(r) = rest.strip_prefix('[') {
+            let Some((index, after)) = r.split_once(']') else {
+                return Some(format!("unclosed `[` in the key path `{key}`"));
+            };
+            if index.parse::<usize>().is_err() {
+                return Some(format!("`[{index}]` is not an array index"));
+            }
+            rest = after;
+        } else {
+            if !first {
+                match rest.strip_prefix('.') {
+                    Some(r) => rest = r,
+                    None => return Some(format!("unexpected `{rest}` after an index")),
+                }
+            }
+            let end = rest.find(['.', '[']).unwrap_or(rest.len());
+            if rest[..end].trim().is_empty() {
+                return Some(format!(
+                    "empty segment in the key path `{key}`: write e.g. simulation.dp"
+                ));
+            }
+            rest = &rest[end..];
+        }
+        first = false;
+    }
+    None
 }
 
 /// Line of the deepest existing key on `path`, if any.
@@ -119,12 +217,12 @@ pub fn apply_overrides(text: &str, file: &str, overrides: &[String]) -> Result<S
             file: file.to_string(),
             path: String::new(),
             line: e.span().map(|s| line_of(text, s.start)),
-            message: e.message().to_string(),
+            message: name_the_key(text, e.message(), e.span()),
         })?;
     for expr in overrides {
         let err = |message: String| SceneError {
-            file: "--set".to_string(),
-            path: expr.clone(),
+            file: format!("--set {expr}"),
+            path: String::new(),
             line: None,
             message,
         };
@@ -138,6 +236,9 @@ pub fn apply_overrides(text: &str, file: &str, overrides: &[String]) -> Result<S
         let segs = segments(key.trim());
         if segs.is_empty() {
             return Err(err("empty key path".to_string()));
+        }
+        if let Some(bad) = empty_segment(key.trim()) {
+            return Err(err(bad));
         }
         set_path(doc.as_item_mut(), &segs, value).map_err(|e| err(e.to_string()))?;
     }

@@ -26,9 +26,38 @@ pub(super) fn vec_len(path: &str, v: &[f64], d: usize) -> Check {
     Ok(())
 }
 
+/// A positive, finite number of normal size (a sub-normal value such as 1e-310 has
+/// lost its precision and is no length, time or speed the solver can work with).
 pub(super) fn positive(path: &str, x: f64) -> Check {
     if !(x.is_finite() && x > 0.0) {
         return fail(path, format!("must be a positive number, found {x:?}"));
+    }
+    if !x.is_normal() {
+        return fail(
+            path,
+            format!("must be a positive number of normal size (≥ 2.2e-308), found {x:?}"),
+        );
+    }
+    Ok(())
+}
+
+/// Densities the solver accepts (kg/m³): every real material, from light foams to the
+/// densest metals (22,590 kg/m³), lies well inside. Far outside, the products the solver
+/// forms (ρ², ρ c0², the particle mass ρ dp^D and its kernel sums) leave the range of
+/// floating-point numbers and the run stops at its first step.
+pub const DENSITY_RANGE: [f64; 2] = [1e-2, 1e5];
+
+/// A density within [`DENSITY_RANGE`].
+pub(super) fn density(path: &str, x: f64) -> Check {
+    let [lo, hi] = DENSITY_RANGE;
+    if !(x >= lo && x <= hi) {
+        return fail(
+            path,
+            format!(
+                "must lie in [{lo:?}, {hi:?}] kg/m³ (every real material does; far outside, \
+                 the solver's products of densities overflow), found {x:?}"
+            ),
+        );
     }
     Ok(())
 }
@@ -39,14 +68,7 @@ pub fn validate_shape(path: &str, s: &ShapeSpec, d: usize) -> Check {
         ShapeSpec::Box { min, max } => {
             vec_len(&format!("{path}.min"), min, d)?;
             vec_len(&format!("{path}.max"), max, d)?;
-            for k in 0..d {
-                if max[k] <= min[k] {
-                    return fail(
-                        format!("{path}.max[{k}]"),
-                        format!("must exceed min[{k}] = {}", min[k]),
-                    );
-                }
-            }
+            extents(path, min, max, d)?;
         }
         ShapeSpec::Cylinder {
             base,
@@ -138,7 +160,32 @@ pub fn validate_shape(path: &str, s: &ShapeSpec, d: usize) -> Check {
     Ok(())
 }
 
-/// A polygon: a 2D scene, three vertices or more, non-zero area.
+/// A box from `min` to `max` at `path`: each edge `max[k] − min[k]` positive, finite
+/// and of normal size.
+fn extents(path: &str, min: &[f64], max: &[f64], d: usize) -> Check {
+    for k in 0..d {
+        let size = max[k] - min[k];
+        if max[k] <= min[k] {
+            return fail(
+                format!("{path}.max[{k}]"),
+                format!("must exceed min[{k}] = {:?}", min[k]),
+            );
+        }
+        if !(size.is_finite() && size.is_normal()) {
+            return fail(
+                format!("{path}.max[{k}]"),
+                format!(
+                    "the edge max[{k}] − min[{k}] = {size:?} m is not a finite length of \
+                     normal size"
+                ),
+            );
+        }
+    }
+    Ok(())
+}
+
+/// A polygon: a 2D scene, three vertices or more, simple (no edges crossing), non-zero
+/// area.
 fn validate_polygon(path: &str, vertices: &[Vec<f64>], d: usize) -> Check {
     if d != 2 {
         return fail(format!("{path}.type"), "a polygon needs a 2D scene");
@@ -151,6 +198,18 @@ fn validate_polygon(path: &str, vertices: &[Vec<f64>], d: usize) -> Check {
     }
     for (i, v) in vertices.iter().enumerate() {
         vec_len(&format!("{path}.vertices[{i}]"), v, 2)?;
+    }
+    if let Some((i, j)) = super::polygon_check::crossing_edges(vertices) {
+        let n = vertices.len();
+        return fail(
+            format!("{path}.vertices"),
+            format!(
+                "the polygon intersects itself: its edge from vertex {i} to {} meets its \
+                 edge from vertex {j} to {}; list the vertices in order around the outline",
+                (i + 1) % n,
+                (j + 1) % n
+            ),
+        );
     }
     let mut area = 0.0;
     for i in 0..vertices.len() {
@@ -208,7 +267,7 @@ pub(super) fn validate_solid_shape(path: &str, s: &ShapeSpec, d: usize, role: &s
 
 /// Density, Young's modulus and Poisson's ratio of a material at `p`.
 fn elastic_constants(p: &str, density: f64, youngs: f64, poisson: f64) -> Check {
-    positive(&format!("{p}.density"), density)?;
+    self::density(&format!("{p}.density"), density)?;
     positive(&format!("{p}.youngs_modulus"), youngs)?;
     if !(poisson > -1.0 && poisson < 0.5) {
         return fail(
@@ -260,6 +319,17 @@ fn validate_simulation(s: &Scene) -> Check {
     vec_len("simulation.gravity", &sim.gravity, d)?;
     positive("simulation.end_time", sim.end_time)?;
     positive("simulation.dp", sim.dp)?;
+    let volume = sim.dp.powi(d as i32);
+    if volume < f64::MIN_POSITIVE {
+        return fail(
+            "simulation.dp",
+            format!(
+                "dp = {:?} m gives a particle volume dp^{d} = {volume:?}, below the smallest \
+                 normal number: no scene holds so many particles; coarsen dp",
+                sim.dp
+            ),
+        );
+    }
     if !(sim.memory_budget.is_finite() && sim.memory_budget >= 0.0) {
         return fail(
             "simulation.memory_budget".to_string(),
@@ -519,14 +589,7 @@ fn validate_walls(s: &Scene) -> Check {
         }
         vec_len(&format!("{p}.min"), &c.min, d)?;
         vec_len(&format!("{p}.max"), &c.max, d)?;
-        for k in 0..d {
-            if c.max[k] <= c.min[k] {
-                return fail(
-                    format!("{p}.max[{k}]"),
-                    format!("must exceed min[{k}] = {}", c.min[k]),
-                );
-            }
-        }
+        extents(&p, &c.min, &c.max, d)?;
         if let Some(open) = &c.open {
             for (k, f) in open.iter().enumerate() {
                 let ok = FACES[..2 * d].contains(&f.as_str());

@@ -3,7 +3,7 @@
 //! when the water is filled ([`world`](crate::world)); a scale given in the scene is
 //! checked here.
 
-use super::validate::{fail, positive, validate_solid_shape, vec_len, Check};
+use super::validate::{density, fail, positive, validate_solid_shape, vec_len, Check};
 use super::{validate_shape, Scene, ShapeSpec};
 use std::collections::HashSet;
 
@@ -90,7 +90,7 @@ pub(super) fn validate_water(s: &Scene) -> Check {
         return Ok(());
     };
     let d = s.simulation.dimension;
-    positive("water.density", w.density)?;
+    density("water.density", w.density)?;
     if !(w.viscosity.is_finite() && w.viscosity >= 0.0) {
         return fail(
             "water.viscosity",

@@ -124,12 +124,10 @@ impl<const D: usize> WaterParticles<D> {
             .fold(0.0, |a, e| a + e)
     }
 
-    /// The surge front: the largest x of any water particle (−∞ without water).
-    pub fn front(&self) -> Real {
-        self.pos
-            .iter()
-            .map(|x| x[0])
-            .fold(Real::NEG_INFINITY, Real::max)
+    /// The surge front: the largest x of any water particle; none without water (all
+    /// of it gone through an outflow, or not yet come in).
+    pub fn front(&self) -> Option<Real> {
+        self.pos.iter().map(|x| x[0]).reduce(Real::max)
     }
 
     /// Largest speed.
