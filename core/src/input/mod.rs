@@ -1,6 +1,9 @@
 //! Reading a scene: `--set` overrides, strict parsing, rock fills expanded into bodies,
-//! validation, the files that shapes name (meshes, terrain grids) and where regions
-//! lie. What comes out is a [`LoadedScene`] that nothing downstream needs to check again.
+//! validation, the files that shapes name (meshes, terrain grids), where regions and
+//! bodies lie, and what the build or the first step would refuse (a region holding no
+//! particle, the water's start, a run that could not finish). What comes out is a
+//! [`LoadedScene`] that nothing downstream needs to check again; every error names the
+//! key and where its value came from (a line of the file, or a `--set` argument).
 
 mod body_overlaps;
 mod placement;
