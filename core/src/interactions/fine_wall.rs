@@ -14,7 +14,7 @@ use crate::fine::material::FineMaterial;
 use crate::fine::source::Source;
 use crate::kernel::WendlandC2;
 use crate::math::{sub_outer, Real, Vect};
-use crate::periodic::{Open, Separation};
+use crate::periodic::Separation;
 use crate::riemann::Riemann;
 use crate::scene::WallStress;
 use crate::walls::Walls;
@@ -66,19 +66,22 @@ pub fn normal<const D: usize>(
 /// the others.
 const OBJECTS: usize = 4;
 
-/// The normal of each wall object near `xi`: Φ_o = −Σ_{w ∈ o} ∇_i W_iw V_w over the wall
-/// particles of object o in the list `wl`, normalised (Eq. 33 restricted to one object).
-/// The contact of [`wall_contact`] opens on the traction across the face of the object
-/// the pair belongs to: at a corner the normal of Eq. (33) leans towards the other face,
-/// whose compression then kept a receding barrier's contact closed and let it pull.
+/// In one pass over the wall list `wl` of the particle at `xi`: the wall normal of
+/// Eq. (33) over all of them (as [`normal`] gives it, bit for bit), and the normal of
+/// each wall object near `xi`, Φ_o = −Σ_{w ∈ o} ∇_i W_iw V_w over that object's wall
+/// particles, normalised (Eq. 33 restricted to one object). The contact of
+/// [`wall_contact`] opens on the traction across the face of the object the pair
+/// belongs to: at a corner the normal of Eq. (33) leans towards the other face, whose
+/// compression then kept a receding barrier's contact closed and let it pull.
 #[inline(always)]
-fn object_normals<const D: usize>(
+fn normals<const D: usize>(
     kernel: &WendlandC2,
     walls: &Walls<D>,
     xi: &Vect<D>,
     wl: &[u32],
-) -> ObjectNormals<D> {
+) -> (Vect<D>, ObjectNormals<D>) {
     let cut2 = kernel.cutoff * kernel.cutoff;
+    let mut phi = Vect::<D>::zeros();
     let mut out = ObjectNormals {
         object: [u16::MAX; OBJECTS],
         n: [Vect::<D>::zeros(); OBJECTS],
@@ -90,24 +93,25 @@ fn object_normals<const D: usize>(
         if r2 >= cut2 || r2 == 0.0 {
             continue;
         }
-        let o = walls.object[w];
-        let Some(k) = out.object.iter().position(|&x| x == o || x == u16::MAX) else {
-            continue;
-        };
-        out.object[k] = o;
         let r = r2.sqrt();
-        out.n[k] -= rij * (kernel.dw(r) / r * walls.volume);
+        let term = rij * (kernel.dw(r) / r * walls.volume);
+        phi -= term;
+        let o = walls.object[w];
+        if let Some(k) = out.object.iter().position(|&x| x == o || x == u16::MAX) {
+            out.object[k] = o;
+            out.n[k] -= term;
+        }
     }
-    for n in &mut out.n {
+    for n in out.n.iter_mut().chain(std::iter::once(&mut phi)) {
         let nrm = n.norm();
         if nrm > 0.0 {
             *n /= nrm;
         }
     }
-    out
+    (phi, out)
 }
 
-/// The contact normals of one particle's wall objects ([`object_normals`]).
+/// The contact normals of one particle's wall objects ([`normals`]).
 #[derive(Clone, Copy, Debug)]
 struct ObjectNormals<const D: usize> {
     /// Wall object of each entry (`u16::MAX`: unused).
@@ -164,7 +168,7 @@ impl<'a, const D: usize> FineAtWall<'a, D> {
         src: &'a Source,
         wl: &[u32],
     ) -> Self {
-        let n = normal(&law.kernel, walls, &pos, wl, &Open);
+        let (n, faces) = normals(&law.kernel, walls, &pos, wl);
         FineAtWall {
             pos,
             vel,
@@ -172,7 +176,7 @@ impl<'a, const D: usize> FineAtWall<'a, D> {
             src,
             inv_c: 1.0 / m.c0,
             n,
-            faces: object_normals(&law.kernel, walls, &pos, wl),
+            faces,
             ul: -n.dot(&vel),
             share: 1.0 / wl.len() as Real,
             strength: match law.stress {
