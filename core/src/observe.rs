@@ -7,11 +7,13 @@ use crate::sample::{ProbeValue, Sample};
 
 /// How run-out is measured. Particle volumes are binned by horizontal distance from the
 /// origin (bins of width dp); a bin is deposit where its thickness ΣV / bin-area is at
-/// least half a particle spacing. The deposit is the run of consecutive deposit bins
-/// holding the most volume, and the run-out is its outer edge: stray particles beyond
-/// the first thinner bin do not count, and neither do bins the flow has left behind (a
-/// debris flow that leaves its release area empties the bins at the origin, which
-/// ended the scan at 0 m before, issue 39). Each bin's thickness is first replaced by
+/// least half a particle spacing. The run-out is the outer edge of the farthest run of
+/// consecutive deposit bins that holds at least [`DEPOSIT_SHARE`] of the binned volume
+/// (of the fullest run when none does): stray particles beyond the first thinner bin do
+/// not count, a pile that came to rest beyond a sparse stretch does, and so do bins the
+/// flow has left behind only when nothing lies farther (a debris flow that leaves its
+/// release area empties the bins at the origin, which ended the scan at 0 m before,
+/// issue 39). Each bin's thickness is first replaced by
 /// the median of its own and its two neighbours' (an edge-preserving filter: a sharp
 /// front stays where it is). A bin of a
 /// deposit one grain thick holds a handful of particles, and its thickness alone wanders
@@ -94,8 +96,8 @@ pub fn runout<const D: usize>(
             v / area
         })
         .collect();
-    // runs of deposit bins: (volume, outer edge); the fullest one is the deposit
-    let (mut best, mut front) = (0.0, 0.0);
+    // runs of deposit bins, each (volume, outer edge)
+    let mut runs: Vec<(Real, Real)> = Vec::new();
     let mut run: Option<Real> = None;
     for k in 0..nb {
         // median of bins k − 1, k, k + 1 (the bin itself at either end)
@@ -109,15 +111,29 @@ pub fn runout<const D: usize>(
             run = None;
             continue;
         }
-        let v = run.unwrap_or(0.0) + vol[k];
-        run = Some(v);
-        if v > best {
-            best = v;
-            front = (k + 1) as Real * dp;
+        let edge = (k + 1) as Real * dp;
+        match run {
+            Some(v) => *runs.last_mut().expect("a run is open") = (v + vol[k], edge),
+            None => runs.push((vol[k], edge)),
         }
+        run = runs.last().map(|r| r.0);
     }
-    front
+    // the farthest run holding at least DEPOSIT_SHARE of the material, else the fullest
+    let total: Real = vol.iter().sum();
+    runs.iter()
+        .rev()
+        .find(|r| r.0 >= DEPOSIT_SHARE * total)
+        .or_else(|| runs.iter().fold(None, |b: Option<&(Real, Real)>, r| match b {
+            Some(b) if b.0 >= r.0 => Some(b),
+            _ => Some(r),
+        }))
+        .map_or(0.0, |r| r.1)
 }
+
+/// A run of deposit bins that holds at least this share of the binned volume counts as
+/// deposit even when a sparse stretch separates it from the main body (issue 39: 73 of
+/// the debris flow's 530 grains and a boulder came to rest 0.9 m beyond the rest).
+pub const DEPOSIT_SHARE: Real = 0.05;
 
 pub fn probe<const D: usize>(
     p: &FineParticles<D>,
@@ -265,5 +281,20 @@ mod tests {
         f.extend([0; 10]);
         f.extend([3; 8]);
         assert_eq!(front(&f), 24.0);
+    }
+
+    /// Issue 39: a pile that came to rest beyond a sparse stretch is part of the
+    /// deposit when it holds at least 5 % of the material (it was dropped before, and
+    /// the run-out stopped at the main body's edge); a smaller one is not.
+    #[test]
+    fn issue_39_runout_reaches_a_detached_pile() {
+        let mut d = vec![3; 20];
+        d.extend([0, 0, 0, 0]);
+        d.extend([3, 3, 3]); // 9 of 69 grains: 13 %
+        assert_eq!(front(&d), 27.0);
+        let mut e = vec![3; 40];
+        e.extend([0, 0, 0, 0]);
+        e.extend([2, 2]); // 4 of 124 grains: 3 %
+        assert_eq!(front(&e), 40.0);
     }
 }
