@@ -166,7 +166,7 @@ impl AnySimulation {
         dispatch!(self, s => s.stepper.water.as_ref().map(|w| w.steps).unwrap_or(0))
     }
     pub fn neighbor_builds(&self) -> usize {
-        dispatch!(self, s => s.stepper.lists.builds)
+        dispatch!(self, s => s.stepper.fine.family.lists.builds)
     }
 }
 

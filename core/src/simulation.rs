@@ -125,11 +125,15 @@ impl<const D: usize> Simulation<D> {
             self.peak[b] = self.peak[b].max(l.force.norm());
         }
         if let Some(w) = &self.stepper.water {
-            for (b, l) in self.water_impulse.iter_mut().zip(&w.step_loads) {
+            for (b, l) in self.water_impulse.iter_mut().zip(&w.family.step_loads) {
                 b.force += l.force * dt;
                 b.moment += l.moment * dt;
             }
-            for (p, l) in self.panel_water_impulse.iter_mut().zip(&w.slot_loads) {
+            for (p, l) in self
+                .panel_water_impulse
+                .iter_mut()
+                .zip(&w.family.slot_loads)
+            {
                 p.force += l.force * dt;
             }
         }
@@ -379,14 +383,14 @@ impl<const D: usize> Simulation<D> {
                     },
                     panels_water: match (&stepper.water, bar.panels.is_empty()) {
                         (Some(w), false) => (0..walls.panel_count(b))
-                            .map(|i| w.slot_loads[bar.slot0 + i].force.into())
+                            .map(|i| w.family.slot_loads[bar.slot0 + i].force.into())
                             .collect(),
                         _ => Vec::new(),
                     },
                     force_water: stepper
                         .water
                         .as_ref()
-                        .map_or([0.0; 3], |w| w.step_loads[b].force.into()),
+                        .map_or([0.0; 3], |w| w.family.step_loads[b].force.into()),
                 }
             })
             .collect())

@@ -2,28 +2,22 @@
 //! assembled from stages in their own files (drift and sweeps, neighbours, finalize
 //! and guard, coarse stages). The stepper holds scratch memory; the world holds state.
 
-use crate::fine::material::uniform_acoustics;
-use crate::fine::pair_sums::PairSums;
-use crate::fine::source::Source;
-use crate::guard::{Blowup, ChunkFailure};
+use crate::guard::{Blowup, Family};
 use crate::interactions::fine_coarse::CoarseSource;
 use crate::kernel::WendlandC2;
 use crate::load::Load;
-use crate::math::{Real, Sym, Vect};
-use crate::neighbors::{CellGrid, NeighborLists};
-use crate::permute::PermuteScratch;
+use crate::math::{Real, Vect};
 use crate::timers::{Stage, StageTimers};
-use crate::world::{geostatic_tensor, World};
-use build_marks::{CoarseBins, PositionMarks, WallBins};
+use crate::world::World;
 use coarse_substeps::CoarseStepper;
+use fine_stage::{FineContext, FineStepper};
 
 mod build_marks;
 mod coarse_stage;
 pub mod coarse_substeps;
-mod finalize;
-mod fine_sweeps;
+mod family;
+mod fine_stage;
 pub mod landing;
-mod neighbours;
 mod params;
 mod soil_water_stage;
 mod water_open;
@@ -35,54 +29,21 @@ pub use params::{choose_step, gravity_ramp, StepParams, StepStats};
 pub use soil_water_stage::SoilWater;
 pub use water_stage::WaterStepper;
 
-/// Scratch memory and stage assembly for the fine step.
+/// The step's orchestrator: it runs the families' stages in the order of seed 000
+/// §4.2 (and the water's and the soil–water coupling's in theirs), and holds what they
+/// share: the parameters, the kernel, gravity and its ramp, the coarse particles at
+/// the middle of the step, the barrier loads summed over the families, and the stage
+/// timers. The world holds the state.
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub struct Stepper<const D: usize> {
     pub params: StepParams,
     pub kernel: WendlandC2,
-    /// Binned afresh at every list build: a serialised state keeps only its geometry.
-    #[serde(with = "crate::neighbors::geometry_only")]
-    fine_grid: CellGrid<D>,
-    walls: WallBins<D>,
-    pub lists: NeighborLists,
-    at_build: PositionMarks<D>,
-    /// Largest displacement since the last list build (end of last step).
-    max_disp: Real,
-    vmax: Real,
-    /// Scratch: written in full by every step before it is read (not serialised).
-    #[serde(skip)]
-    vel_new: Vec<Vect<D>>,
-    #[serde(skip)]
-    art: Vec<Sym>,
-    #[serde(skip)]
-    src: Vec<Source>,
-    #[serde(skip)]
-    chunk_loads: Vec<Load>,
-    /// Load on each barrier during the last step.
+    /// The fine grains: their lists, sources and sweep buffers.
+    pub fine: FineStepper<D>,
+    /// Load on each barrier during the last step, all families.
     pub step_loads: Vec<Load>,
-    /// Fine-grain load on each barrier panel during the last step (`Walls::load_slot`).
+    /// The same per barrier panel (`Walls::load_slot`).
     pub slot_loads: Vec<Load>,
-    /// Scratch: written in full by every step before it is read (not serialised).
-    #[serde(skip)]
-    permute: PermuteScratch,
-    #[serde(skip)]
-    order: Vec<u32>,
-    /// Pair sums of the two sweeps (zero between steps, so a restored state starts
-    /// them from an empty buffer that the step fills with zeros).
-    #[serde(skip)]
-    pair_sums: Vec<PairSums<D>>,
-    geostatic: Vec<Sym>,
-    /// Per material: the geostatic pressure gradient of this step (ramp applied).
-    #[serde(skip)]
-    geostatic_pressure: Vec<Real>,
-    /// Per material: ξ G of the hourglass penalty (empty: off).
-    hourglass: Vec<Real>,
-    /// Per material: share of the stored penalty kept over this step (set per step).
-    hourglass_leak: Vec<f32>,
-    /// Per material: the grain–boulder interface carries tension (c > 0).
-    tension: Vec<bool>,
-    /// All fine materials share one impedance and sound speed (fixed for a run).
-    uniform: bool,
     /// The scene's full gravity, and the ramp factor of the current step.
     g_full: Vect<D>,
     g_scale: Real,
@@ -92,13 +53,9 @@ pub struct Stepper<const D: usize> {
     pub timers: StageTimers,
     /// Stages left out for this scene, with the reason.
     pub skipped: Vec<(String, String)>,
-    #[serde(skip)]
-    failures: Vec<(Real, Real, ChunkFailure)>,
     /// Coarse grains: sub-stepper (None without bodies).
     pub coarse: Option<CoarseStepper<D>>,
     csrc: Vec<CoarseSource<D>>,
-    coarse_bins: CoarseBins<D>,
-    reactions: Vec<Vec<(u32, Vect<D>)>>,
     coarse_vol: Real,
     /// Water: its stages' lists and scratch (None without water).
     #[serde(default)]
@@ -118,110 +75,30 @@ impl<const D: usize> Stepper<D> {
         } else {
             Vect::<D>::zeros()
         };
-        // a saturated soil's skeleton carries its submerged weight
-        let rho_w = world.water_material.map(|w| w.rho0);
-        let geostatic = world
-            .materials
-            .iter()
-            .map(|m| geostatic_tensor::<D>(&up, m.k0).scale(m.skeleton_density(rho_w) * g))
-            .collect();
-        let hourglass = if params.hourglass > 0.0 {
-            world
-                .materials
-                .iter()
-                .map(|m| params.hourglass * m.shear)
-                .collect()
-        } else {
-            Vec::new()
-        };
-        let tension = world.materials.iter().map(|m| m.cohesion > 0.0).collect();
         let cell = kernel.cutoff + params.skin;
-        let mut skipped = Vec::new();
-        if params.artificial.is_none() {
-            skipped.push((
-                "artificial_stress".into(),
-                "no cohesive material (c = 0)".into(),
-            ));
-        }
-        if params.zeta == 0.0 {
-            skipped.push((
-                "stress_diffusion".into(),
-                "numerics.stress_diffusion = 0".into(),
-            ));
-        }
-        if world.walls.is_empty() {
-            skipped.push(("wall_boundary".into(), "scene has no walls".into()));
-        } else if world.walls.barriers.is_empty() {
-            skipped.push(("barrier_loads".into(), "scene has no barriers".into()));
-        }
+        let skipped = skipped_stages(world, &params);
         let coarse = (!world.coarse.is_empty()).then(|| {
             CoarseStepper::new(&world.coarse, &params, world.resolution.dp, &world.gravity)
         });
-        if coarse.is_none() {
-            skipped.push((
-                "coarse_substeps".into(),
-                "scene has no coarse grains".into(),
-            ));
-            skipped.push(("contact".into(), "scene has no coarse grains".into()));
-        }
-        if coarse.is_none() || world.fine.is_empty() {
-            skipped.push((
-                "coupling".into(),
-                "needs both fine and coarse grains".into(),
-            ));
-        }
-        if world.fine.is_empty() {
-            skipped.push(("fine_grains".into(), "scene has no fine grains".into()));
-        }
         let water = world
             .water_material
             .is_some()
             .then(|| WaterStepper::new(world, cell, params.skin));
-        if water.is_none() {
-            skipped.push(("water".into(), "scene has no water".into()));
-        }
         let soil_water = SoilWater::new(world, &kernel, params.skin);
-        if soil_water.is_none() {
-            skipped.push((
-                "soil_water".into(),
-                "needs water and a soil with `permeability` or `grain_size`".into(),
-            ));
-        }
         let nb = world.walls.barriers.len();
         Stepper {
-            fine_grid: CellGrid::new(&world.domain.0, &world.domain.1, cell),
-            walls: WallBins::new(CellGrid::new(&world.domain.0, &world.domain.1, cell)),
+            fine: FineStepper::new(world, &params, cell, &up),
             params,
             kernel,
-            lists: NeighborLists::default(),
-            at_build: PositionMarks::default(),
-            max_disp: Real::INFINITY,
-            vmax: 0.0,
-            vel_new: Vec::new(),
-            art: Vec::new(),
-            src: Vec::new(),
-            chunk_loads: Vec::new(),
             step_loads: vec![Load::default(); nb],
             slot_loads: vec![Load::default(); world.walls.load_slots()],
-            permute: PermuteScratch::default(),
-            order: Vec::new(),
-            pair_sums: Vec::new(),
-            geostatic,
-            geostatic_pressure: Vec::new(),
-            hourglass_leak: vec![1.0; hourglass.len()],
-            hourglass,
-            tension,
-            uniform: uniform_acoustics(&world.materials),
             g_full: world.gravity,
             g_scale: 1.0,
             up,
             timers: StageTimers::default(),
             skipped,
-            failures: Vec::new(),
             coarse,
             csrc: Vec::new(),
-            coarse_bins: CoarseBins::new(CellGrid::new(&world.domain.0, &world.domain.1, cell)),
-            reactions: Vec::new(),
             coarse_vol: world.resolution.volume,
             water,
             soil_water,
@@ -251,7 +128,7 @@ impl<const D: usize> Stepper<D> {
         let fine = if world.fine.is_empty() {
             Real::INFINITY
         } else {
-            self.params.cfl * self.params.h / (world.max_c0() + self.vmax)
+            self.params.cfl * self.params.h / (world.max_c0() + self.fine_vmax())
         };
         let water = match (&self.water, &world.water_material) {
             (Some(w), Some(m)) => w.stable_dt(m, self.params.h, self.params.cfl),
@@ -280,22 +157,12 @@ impl<const D: usize> Stepper<D> {
 
     /// Bytes of scratch memory held by the stepper (lists, buffers, grids).
     pub fn bytes(&self) -> usize {
-        use std::mem::size_of;
-        self.lists.bytes()
-            + self.at_build.bytes()
-            + self.vel_new.capacity() * size_of::<Vect<D>>()
-            + self.art.capacity() * size_of::<Sym>()
-            + self.src.capacity() * size_of::<Source>()
-            + self.order.capacity() * 4
-            + self.pair_sums.capacity() * size_of::<PairSums<D>>()
-            + self.fine_grid.bytes()
-            + self.walls.grid.bytes()
-            + self.water.as_ref().map_or(0, |w| w.bytes())
+        self.fine.bytes() + self.water.as_ref().map_or(0, |w| w.bytes())
     }
 
     /// Largest fine-grain speed at the end of the last step.
     pub fn fine_vmax(&self) -> Real {
-        self.vmax
+        self.fine.family.vmax()
     }
 
     /// Advance the world by one fine step of size `dt` with `kappa` coarse sub-steps,
@@ -313,22 +180,31 @@ impl<const D: usize> Stepper<D> {
         if self.coarse.is_some() && !(world.fine.is_empty() && self.water.is_none()) {
             self.timed(Stage::Coupling, |s| s.pack_coarse(world, dt));
         }
-        // Eq. (54): x and ρ to the half step
-        self.timed(Stage::Drift, |s| s.drift(world, half));
-        let rebuilt = self.timed(Stage::Neighbors, |s| s.refresh_lists(world, dt));
+        // Eq. (54): x and ρ to the half step; the walls move with them
+        self.timed(Stage::Drift, |s| {
+            s.fine.drift(world, half);
+            world.walls.advance(half);
+        });
+        let rebuilt = self.timed(Stage::Neighbors, |s| {
+            s.fine.refresh_lists(world, &s.csrc, dt)
+        });
         // the water, in κ_w sub-steps, with the fine grains at the half step; its force
         // on the coarse grains feeds theirs, on a soil the fine sweeps
         let water_vmax = self.water_substeps(world, dt)?;
         // Eq. (27), cohesive soils only
-        let artificial = self
-            .params
-            .artificial
-            .and_then(|_| self.timed(Stage::ArtificialStress, |s| s.artificial_stress(world)));
+        let artificial = self.params.artificial.and_then(|_| {
+            self.timed(Stage::ArtificialStress, |s| {
+                s.fine.artificial_stress(world, &s.params, &s.kernel)
+            })
+        });
         // Eqs. (16), (55) then (15), (24)–(26), (7)–(12), with walls and coarse grains
         self.fine_sweeps(world, dt, artificial);
-        // Eq. (56) and the per-chunk stability checks
-        self.timed(Stage::Finalize, |s| s.finalize(world, half));
-        self.add_water_loads();
+        // Eq. (56) and the per-chunk stability checks; the walls to the end of the step
+        self.timed(Stage::Finalize, |s| {
+            s.fine.finalize(world, half, s.params.max_speed);
+            world.walls.advance(half);
+        });
+        self.sum_family_loads();
         // Eqs. (57)–(60): κ coarse sub-steps
         self.coarse_substeps(world, dt, kappa)?;
         world.time += dt;
@@ -339,6 +215,68 @@ impl<const D: usize> Stepper<D> {
             rebuilt,
             kappa,
         })
+    }
+
+    /// The fine sweeps of a step of `dt` ([`FineStepper::sweeps`]), with what they
+    /// read of the step.
+    fn fine_sweeps(
+        &mut self,
+        world: &mut World<D>,
+        dt: Real,
+        artificial: Option<crate::fine::momentum::ArtificialStress>,
+    ) {
+        let cx = FineContext {
+            params: &self.params,
+            kernel: self.kernel,
+            g_scale: self.g_scale,
+            up: self.up,
+            csrc: &self.csrc,
+            coarse: self.coarse.is_some(),
+            soil_water: self.soil_water.as_ref(),
+        };
+        self.fine
+            .sweeps(world, dt, artificial, &cx, &mut self.timers);
+    }
+
+    /// The step's barrier loads: the fine grains' and the water's (the coarse grains'
+    /// contact loads join in their sub-steps).
+    fn sum_family_loads(&mut self) {
+        self.step_loads.clone_from(&self.fine.family.step_loads);
+        self.slot_loads.clone_from(&self.fine.family.slot_loads);
+        let Some(w) = &self.water else {
+            return;
+        };
+        for (total, l) in self.step_loads.iter_mut().zip(&w.family.step_loads) {
+            total.add(l);
+        }
+        for (total, l) in self.slot_loads.iter_mut().zip(&w.family.slot_loads) {
+            total.add(l);
+        }
+    }
+
+    /// Stop on a wall object whose motion is not finite or faster than the bound, or
+    /// on the first failing fine particle of the step; otherwise return the fine
+    /// grains' largest speed.
+    fn guard(&mut self, world: &World<D>) -> Result<Real, Blowup> {
+        let max_speed = self.params.max_speed;
+        // the walls' rigid motion (prescribed or driven) first: a barrier sent to
+        // infinity stops the run as a particle would, and is the cause of what its
+        // neighbours do in the same step
+        if let Some((o, quantity, value, speed)) = world.walls.check(max_speed) {
+            let w = &world.walls.objects[o];
+            return Err(Blowup {
+                step: world.steps,
+                time: world.time,
+                particle: o as u32,
+                body: Some(w.name.clone()),
+                family: Family::Wall,
+                position: w.displacement.iter().copied().collect(),
+                quantity: quantity.to_string(),
+                value,
+                limit: speed.then_some(max_speed),
+            });
+        }
+        self.fine.guard(world, max_speed)
     }
 
     /// What changes with time at the start of a step: the wall velocities and the
@@ -359,4 +297,42 @@ impl<const D: usize> Stepper<D> {
         self.timers.add(stage, t.elapsed().as_secs_f64());
         r
     }
+}
+
+/// The stages a scene leaves out, with the reason (summary.json `skipped`).
+fn skipped_stages<const D: usize>(world: &World<D>, params: &StepParams) -> Vec<(String, String)> {
+    let mut skipped: Vec<(String, String)> = Vec::new();
+    let mut skip = |stage: &str, why: &str| skipped.push((stage.into(), why.into()));
+    if params.artificial.is_none() {
+        skip("artificial_stress", "no cohesive material (c = 0)");
+    }
+    if params.zeta == 0.0 {
+        skip("stress_diffusion", "numerics.stress_diffusion = 0");
+    }
+    if world.walls.is_empty() {
+        skip("wall_boundary", "scene has no walls");
+    } else if world.walls.barriers.is_empty() {
+        skip("barrier_loads", "scene has no barriers");
+    }
+    if world.coarse.is_empty() {
+        skip("coarse_substeps", "scene has no coarse grains");
+        skip("contact", "scene has no coarse grains");
+    }
+    if world.coarse.is_empty() || world.fine.is_empty() {
+        skip("coupling", "needs both fine and coarse grains");
+    }
+    if world.fine.is_empty() {
+        skip("fine_grains", "scene has no fine grains");
+    }
+    if world.water_material.is_none() {
+        skip("water", "scene has no water");
+    }
+    let pores = world.materials.iter().any(|m| m.pores.is_some());
+    if world.water_material.is_none() || !pores {
+        skip(
+            "soil_water",
+            "needs water and a soil with `permeability` or `grain_size`",
+        );
+    }
+    skipped
 }

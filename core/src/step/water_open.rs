@@ -27,7 +27,7 @@ impl<const D: usize> WaterStepper<D> {
             added += f.emit(&mut world.water, mat, (t, dt), res, (g, up));
         }
         if added > 0 {
-            self.lists.chunks.clear();
+            self.family.invalidate();
         }
         timers.add(Stage::WaterDriftFinalize, start.elapsed().as_secs_f64());
     }
@@ -41,7 +41,7 @@ impl<const D: usize> WaterStepper<D> {
             removed += o.remove(&mut world.water);
         }
         if removed > 0 {
-            self.lists.chunks.clear();
+            self.family.invalidate();
         }
         timers.add(Stage::WaterDriftFinalize, start.elapsed().as_secs_f64());
     }

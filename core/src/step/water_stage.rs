@@ -3,18 +3,17 @@
 //! neighbour lists (water–water and water–wall), the momentum sweep (v_{n+1}), the
 //! continuity sweep with v_{n+1}, and x, ρ to the end of the step with the guard.
 
-use super::build_marks::{CoarseBins, PositionMarks, WallBins};
+use super::build_marks::WallBins;
+use super::family::{Closing, FamilyLists};
 use super::soil_water_stage::SeepStep;
-use crate::guard::{check, Blowup, ChunkFailure, Family};
+use crate::guard::{Blowup, Family};
 use crate::interactions::fine_coarse::{self, CoarseSource};
 use crate::interactions::water_pass::{
     continuity_sweep, correction_sweep, momentum_sweep, WaterCoarse,
 };
 use crate::kernel::WendlandC2;
-use crate::load::Load;
 use crate::math::{Real, Vect};
-use crate::neighbors::{CellGrid, NeighborLists, CHUNK};
-use crate::permute::PermuteScratch;
+use crate::neighbors::CellGrid;
 use crate::scene::WallSlip;
 use crate::timers::{Stage, StageTimers};
 use crate::water::correction::Corr;
@@ -25,27 +24,15 @@ use crate::world::World;
 use rayon::prelude::*;
 use std::time::Instant;
 
-/// Scratch memory and lists of the water stages.
+/// The water's stepper: the family skeleton ([`FamilyLists`]) and the water's own
+/// sources and sweep buffers.
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub struct WaterStepper<const D: usize> {
-    #[serde(with = "crate::neighbors::geometry_only")]
-    grid: CellGrid<D>,
-    walls: WallBins<D>,
-    coarse_bins: CoarseBins<D>,
-    pub lists: NeighborLists,
-    at_build: PositionMarks<D>,
-    max_disp: Real,
-    vmax: Real,
-    skin: Real,
-    /// List radius: kernel cut-off plus skin.
-    radius: Real,
+    /// Lists, marks, loads and scratch of the family.
+    pub family: FamilyLists<D>,
     /// Water steps taken (sub-steps counted).
     #[serde(default)]
     pub steps: u64,
-    /// Load of the water on each barrier during the last step.
-    pub step_loads: Vec<Load>,
-    /// The same per barrier panel (`Walls::load_slot`).
-    pub slot_loads: Vec<Load>,
     #[serde(skip)]
     src: Vec<WaterSource>,
     #[serde(skip)]
@@ -58,18 +45,6 @@ pub struct WaterStepper<const D: usize> {
     /// (empty without a soil).
     #[serde(skip)]
     body: Vec<Vect<D>>,
-
-    #[serde(skip)]
-    chunk_loads: Vec<Load>,
-    #[serde(skip)]
-    permute: PermuteScratch,
-    #[serde(skip)]
-    order: Vec<u32>,
-    #[serde(skip)]
-    failures: Vec<(Real, Real, ChunkFailure)>,
-    /// Per chunk: the water's reactions on coarse particles in the last step.
-    #[serde(skip)]
-    reactions: Vec<Vec<(u32, Vect<D>)>>,
 }
 
 impl<const D: usize> WaterStepper<D> {
@@ -78,44 +53,34 @@ impl<const D: usize> WaterStepper<D> {
         let (lo, hi) = &world.domain;
         let grid = || CellGrid::periodic(lo, hi, cell, world.periodic);
         WaterStepper {
-            grid: grid(),
-            walls: WallBins::for_water(grid()),
-            coarse_bins: CoarseBins::new(grid()),
-            lists: NeighborLists::default(),
-            at_build: PositionMarks::default(),
+            family: FamilyLists::new(
+                grid(),
+                WallBins::for_water(grid()),
+                (cell, skin),
+                (world.walls.barriers.len(), world.walls.load_slots()),
+            ),
             steps: 0,
-            max_disp: Real::INFINITY,
-            vmax: 0.0,
-            skin,
-            radius: cell,
-            step_loads: vec![Load::default(); world.walls.barriers.len()],
-            slot_loads: vec![Load::default(); world.walls.load_slots()],
             src: Vec::new(),
             vel_new: Vec::new(),
             sums: Vec::new(),
             corr: Vec::new(),
             body: Vec::new(),
-            chunk_loads: Vec::new(),
-            permute: PermuteScratch::default(),
-            order: Vec::new(),
-            failures: Vec::new(),
-            reactions: Vec::new(),
         }
     }
 
     /// The cells the water was binned in at the last list build.
     pub fn grid(&self) -> &CellGrid<D> {
-        &self.grid
+        self.family.grid()
     }
 
     /// Largest water speed at the end of the last step.
     pub fn vmax(&self) -> Real {
-        self.vmax
+        self.family.vmax()
     }
 
     /// Largest stable Δt of the water (acoustic and viscous limits).
     pub fn stable_dt(&self, mat: &WaterMaterial, h: Real, cfl: Real) -> Real {
-        mat.stable_dt(h, cfl, self.vmax)
+        mat.stable_dt(h, cfl, self.family.vmax())
     }
 
     /// Sub-steps κ_w = ⌈Δt/Δt_w⌉ the water needs within a step of `dt` (1 where Δt
@@ -132,13 +97,10 @@ impl<const D: usize> WaterStepper<D> {
     /// Bytes of scratch memory held (lists, buffers, grids).
     pub fn bytes(&self) -> usize {
         use std::mem::size_of;
-        self.lists.bytes()
-            + self.at_build.bytes()
+        self.family.bytes()
             + self.vel_new.capacity() * size_of::<Vect<D>>()
             + self.src.capacity() * size_of::<WaterSource>()
             + self.sums.capacity() * size_of::<WaterSums<D>>()
-            + self.grid.bytes()
-            + self.walls.grid.bytes()
     }
 
     /// x and ρ to the half step, and the sources at the half step.
@@ -165,45 +127,16 @@ impl<const D: usize> WaterStepper<D> {
         t: &mut StageTimers,
     ) {
         let start = Instant::now();
-        let moved = self.max_disp + 0.5 * dt * self.vmax;
-        let wall = self.walls.moved_since_build(&world.walls);
-        // infinite when the coarse particles' count changed
-        let coarse = self.coarse_bins.moved_since_build(csrc);
-        if self.lists.chunks.is_empty()
-            || 2.0 * moved > self.skin
-            || moved + wall > self.skin
-            || moved + coarse > self.skin
-        {
-            self.rebuild(world, csrc);
+        let n = world.water.len();
+        if self.family.needs_rebuild(n, &world.walls, csrc, dt) {
+            let w = &mut world.water;
+            if let Some(p) = world.periodic {
+                w.pos.par_iter_mut().for_each(|x| p.wrap_point(x));
+            }
+            self.family.rebuild(w, &world.walls, csrc, &world.periodic);
             pack(&world.water, mat, &mut self.src);
         }
         t.add(Stage::WaterNeighbors, start.elapsed().as_secs_f64());
-    }
-
-    fn rebuild(&mut self, world: &mut World<D>, csrc: &[CoarseSource<D>]) {
-        let w = &mut world.water;
-        if let Some(p) = world.periodic {
-            w.pos.par_iter_mut().for_each(|x| p.wrap_point(x));
-        }
-        self.grid.bin(&w.pos);
-        self.order.clear();
-        self.order.extend_from_slice(self.grid.order());
-        w.permute(&self.order, &mut self.permute);
-        self.grid.bin(&w.pos);
-        self.at_build.mark(&w.pos);
-        self.walls.refresh(&world.walls);
-        self.coarse_bins.refresh(csrc);
-        self.lists.build(
-            &w.pos,
-            &self.grid,
-            self.walls.binned(&world.walls),
-            self.coarse_bins.binned(),
-            self.radius,
-            &world.periodic,
-        );
-        self.reactions
-            .resize_with(self.lists.chunks.len(), Vec::new);
-        self.max_disp = 0.0;
     }
 
     /// The two sweeps of sub-step `s` of `k`, from `t0` to `t0 + dt`: v_{n+1}, then
@@ -224,11 +157,9 @@ impl<const D: usize> WaterStepper<D> {
         t: &mut StageTimers,
     ) {
         let n = world.water.len();
-        let nbs = world.walls.load_slots().max(1);
         self.vel_new.resize(n, Vect::<D>::zeros());
         self.sums.resize(n, WaterSums::zero());
-        self.chunk_loads
-            .resize(self.lists.chunks.len() * nbs, Load::default());
+        self.family.prepare_pass(&world.walls);
         let prm = WaterParams {
             kernel,
             gravity: world.gravity,
@@ -243,17 +174,15 @@ impl<const D: usize> WaterStepper<D> {
         };
         let no_slip = mat.wall == WallSlip::NoSlip;
         self.corr.resize(n, Corr::<D>::identity());
-        // scratch, not serialised: a restored state has none yet
-        self.reactions
-            .resize_with(self.lists.chunks.len(), Vec::new);
 
+        let (lists, chunk_loads, reactions) = self.family.pass_outputs();
         t.time(Stage::WaterMomentum, || {
             correction_sweep(
                 &world.water,
                 &self.src,
                 &world.walls,
                 csrc,
-                &self.lists,
+                lists,
                 &prm,
                 mat.correction,
                 &mut self.corr,
@@ -265,13 +194,13 @@ impl<const D: usize> WaterStepper<D> {
                 &world.walls,
                 WaterCoarse {
                     src: csrc,
-                    reactions: &mut self.reactions,
+                    reactions,
                 },
-                &self.lists,
+                lists,
                 &prm,
                 (no_slip, &self.body),
                 &mut self.vel_new,
-                &mut self.chunk_loads,
+                chunk_loads,
                 &mut self.sums,
             )
         });
@@ -295,15 +224,9 @@ impl<const D: usize> WaterStepper<D> {
                 f.iter_mut().for_each(|x| *x = Vect::<D>::zeros());
             }
             // the mean over the k sub-steps
-            fine_coarse::add_reactions(&self.reactions, f, 1.0 / k as Real);
+            fine_coarse::add_reactions(self.family.reactions(), f, 1.0 / k as Real);
         }
-        crate::panels::sum_slots(
-            &world.walls,
-            &self.chunk_loads,
-            nbs,
-            &mut self.slot_loads,
-            &mut self.step_loads,
-        );
+        self.family.sum_loads(&world.walls);
         let mut drho = std::mem::take(&mut world.water.drho);
         t.time(Stage::WaterContinuity, || {
             continuity_sweep(
@@ -311,7 +234,7 @@ impl<const D: usize> WaterStepper<D> {
                 &self.src,
                 &world.walls,
                 csrc,
-                &self.lists,
+                &self.family.lists,
                 &prm,
                 &self.body,
                 &mut drho,
@@ -324,8 +247,7 @@ impl<const D: usize> WaterStepper<D> {
         world.water.drho = drho;
     }
 
-    /// x and ρ to the end of the step; each chunk records its largest speed and
-    /// displacement since the list build, and its first failing particle.
+    /// x and ρ to the end of the step (seed 000 Eq. 56, [`FamilyLists::close_step`]).
     pub fn finalize(
         &mut self,
         world: &mut World<D>,
@@ -334,42 +256,23 @@ impl<const D: usize> WaterStepper<D> {
         t: &mut StageTimers,
     ) {
         let start = Instant::now();
-        let (w, marks) = (&mut world.water, &self.at_build);
-        w.pos
-            .par_chunks_mut(CHUNK)
-            .zip(w.rho.par_chunks_mut(CHUNK))
-            .zip(w.vel.par_chunks(CHUNK))
-            .zip(w.drho.par_chunks(CHUNK))
-            .enumerate()
-            .map(|(c, (((x, r), v), d))| {
-                let mut vmax2: Real = 0.0;
-                let mut disp2: Real = 0.0;
-                let mut fail: ChunkFailure = None;
-                for k in 0..x.len() {
-                    let i = c * CHUNK + k;
-                    let (v2, d2) = marks.close_step(i, (&mut x[k], &mut r[k]), (&v[k], d[k]), half);
-                    vmax2 = vmax2.max(v2);
-                    disp2 = disp2.max(d2);
-                    if fail.is_none() {
-                        fail = check(i, v2, &x[k], r[k], || None, max_speed);
-                    }
-                }
-                (vmax2, disp2, fail)
-            })
-            .collect_into_vec(&mut self.failures);
+        let w = &mut world.water;
+        let closing = Closing {
+            pos: &mut w.pos,
+            rho: &mut w.rho,
+            vel: &w.vel,
+            drho: &w.drho,
+        };
+        self.family.close_step(closing, half, max_speed, |_| None);
         t.add(Stage::WaterDriftFinalize, start.elapsed().as_secs_f64());
     }
 
     /// Stop on the first failing water particle of the step; otherwise keep the
     /// step's largest speed and displacement.
     pub fn guard(&mut self, world: &World<D>, max_speed: Real) -> Result<Real, Blowup> {
-        let (vmax2, disp2) = crate::guard::reduce(&self.failures).map_err(|f| {
-            let (p, at) = (&world.water, (world.steps, world.time));
-            let x = p.pos[f.0].iter().copied().collect();
-            Blowup::of_particle(at, Family::Water, p.id[f.0], x, f, max_speed)
-        })?;
-        self.vmax = vmax2.sqrt();
-        self.max_disp = disp2.sqrt() + self.at_build.round_off;
-        Ok(self.vmax)
+        let w = &world.water;
+        let at = (world.steps, world.time);
+        self.family
+            .guard(Family::Water, (&w.id, &w.pos), at, max_speed)
     }
 }

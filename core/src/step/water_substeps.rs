@@ -21,8 +21,9 @@ use crate::world::World;
 
 impl<const D: usize> Stepper<D> {
     /// The water's κ_w sub-steps of a step of `dt` (inflow, drift, lists, sweeps,
-    /// finalize, guard and outflow each); the water's loads of the step kept for
-    /// [`add_water_loads`](Self::add_water_loads). Returns the water's largest speed (0 without water).
+    /// finalize, guard and outflow each); the water's loads of the step kept in its
+    /// family's loads for the step's totals. Returns the water's largest speed (0
+    /// without water).
     pub(super) fn water_substeps(
         &mut self,
         world: &mut World<D>,
@@ -36,8 +37,7 @@ impl<const D: usize> Stepper<D> {
             kernel,
             params,
             soil_water,
-            src,
-            lists,
+            fine,
             ..
         } = self;
         let Some((w, m)) = water.as_mut().zip(world.water_material) else {
@@ -68,8 +68,8 @@ impl<const D: usize> Stepper<D> {
             }
             if let Some(sw) = seep.as_mut().filter(|_| s == 0) {
                 timers.time(Stage::SoilWater, || {
-                    let builds = [lists.builds, w.lists.builds];
-                    sw.freeze(world, src, (builds, w.grid()), kernel, m.mu)
+                    let builds = [fine.family.lists.builds, w.family.lists.builds];
+                    sw.freeze(world, &fine.src, (builds, w.grid()), kernel, m.mu)
                 });
             }
             let step = seep.as_mut().map(|sw| sw.step(share));
@@ -78,14 +78,14 @@ impl<const D: usize> Stepper<D> {
             if k > 1 {
                 let (step, slot) = mean.get_or_insert_with(|| {
                     (
-                        vec![Load::default(); w.step_loads.len()],
-                        vec![Load::default(); w.slot_loads.len()],
+                        vec![Load::default(); w.family.step_loads.len()],
+                        vec![Load::default(); w.family.slot_loads.len()],
                     )
                 });
-                for (a, l) in step.iter_mut().zip(&w.step_loads) {
+                for (a, l) in step.iter_mut().zip(&w.family.step_loads) {
                     a.add(&l.scaled(share));
                 }
-                for (a, l) in slot.iter_mut().zip(&w.slot_loads) {
+                for (a, l) in slot.iter_mut().zip(&w.family.slot_loads) {
                     a.add(&l.scaled(share));
                 }
             }
@@ -102,23 +102,9 @@ impl<const D: usize> Stepper<D> {
             }
         }
         if let Some((step, slot)) = mean {
-            w.step_loads = step;
-            w.slot_loads = slot;
+            w.family.step_loads = step;
+            w.family.slot_loads = slot;
         }
         Ok(vmax)
-    }
-
-    /// The water's loads of the step added to the step's totals (after the fine
-    /// sweeps, which set them).
-    pub(super) fn add_water_loads(&mut self) {
-        let Some(w) = &self.water else {
-            return;
-        };
-        for (total, l) in self.step_loads.iter_mut().zip(&w.step_loads) {
-            total.add(l);
-        }
-        for (total, l) in self.slot_loads.iter_mut().zip(&w.slot_loads) {
-            total.add(l);
-        }
     }
 }

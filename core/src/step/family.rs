@@ -1,0 +1,284 @@
+//! The skeleton every SPH family's stepper shares (the fine grains and the water): its
+//! cell grid, the wall and coarse particles binned for its lists, the Verlet lists with
+//! their build marks and rebuild rule, the step's largest speed and displacement, the
+//! barrier loads of its pair passes, its particle order, and the one finalize-and-guard
+//! loop of seed 000 Eq. (56). A family's stepper is a thin layer over it: its packed
+//! sources, its sweeps' buffers, and what its guard checks beyond the common set.
+
+use super::build_marks::{CoarseBins, PositionMarks, WallBins};
+use crate::fine::state::FineParticles;
+use crate::guard::{check, Blowup, ChunkFailure, Family};
+use crate::interactions::fine_coarse::CoarseSource;
+use crate::load::Load;
+use crate::math::{Real, Vect};
+use crate::neighbors::{CellGrid, NeighborLists, CHUNK};
+use crate::periodic::Separation;
+use crate::permute::PermuteScratch;
+use crate::walls::Walls;
+use crate::water::state::WaterParticles;
+use rayon::prelude::*;
+
+/// What the skeleton needs of a family's particle arrays.
+pub trait FamilyParticles<const D: usize> {
+    fn positions(&self) -> &[Vect<D>];
+    /// Reorder every array by `order` (new index k holds old particle `order[k]`).
+    fn reorder(&mut self, order: &[u32], scratch: &mut PermuteScratch);
+}
+
+impl<const D: usize> FamilyParticles<D> for FineParticles<D> {
+    fn positions(&self) -> &[Vect<D>] {
+        &self.pos
+    }
+    fn reorder(&mut self, order: &[u32], scratch: &mut PermuteScratch) {
+        self.permute(order, scratch);
+    }
+}
+
+impl<const D: usize> FamilyParticles<D> for WaterParticles<D> {
+    fn positions(&self) -> &[Vect<D>] {
+        &self.pos
+    }
+    fn reorder(&mut self, order: &[u32], scratch: &mut PermuteScratch) {
+        self.permute(order, scratch);
+    }
+}
+
+/// A family's particle arrays that Eq. (56) closes the step on.
+pub struct Closing<'a, const D: usize> {
+    pub pos: &'a mut [Vect<D>],
+    pub rho: &'a mut [Real],
+    pub vel: &'a [Vect<D>],
+    pub drho: &'a [Real],
+}
+
+/// The lists, marks, loads and scratch of one SPH family (see the module docs).
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
+pub struct FamilyLists<const D: usize> {
+    /// Binned afresh at every list build: a serialised state keeps only its geometry.
+    #[serde(with = "crate::neighbors::geometry_only")]
+    grid: CellGrid<D>,
+    walls: WallBins<D>,
+    coarse_bins: CoarseBins<D>,
+    pub lists: NeighborLists,
+    at_build: PositionMarks<D>,
+    /// Largest displacement since the last list build (end of the last step).
+    max_disp: Real,
+    /// Largest speed at the end of the last step.
+    vmax: Real,
+    skin: Real,
+    /// List radius: kernel cut-off plus skin.
+    radius: Real,
+    /// The family's load on each barrier during the last step.
+    pub step_loads: Vec<Load>,
+    /// The same per barrier panel (`Walls::load_slot`).
+    pub slot_loads: Vec<Load>,
+    /// Scratch: written in full by every step before it is read (not serialised).
+    #[serde(skip)]
+    chunk_loads: Vec<Load>,
+    #[serde(skip)]
+    permute: PermuteScratch,
+    #[serde(skip)]
+    order: Vec<u32>,
+    #[serde(skip)]
+    failures: Vec<(Real, Real, ChunkFailure)>,
+    /// Per chunk: the family's reactions on coarse particles in the last pass.
+    #[serde(skip)]
+    reactions: Vec<Vec<(u32, Vect<D>)>>,
+}
+
+impl<const D: usize> FamilyLists<D> {
+    /// Lists over cells of `grid` with radius `radius` (kernel cut-off plus `skin`);
+    /// `walls` bins the walls the family sees. `barriers` and `slots` size the loads.
+    pub fn new(
+        grid: CellGrid<D>,
+        walls: WallBins<D>,
+        (radius, skin): (Real, Real),
+        (barriers, slots): (usize, usize),
+    ) -> Self {
+        FamilyLists {
+            coarse_bins: CoarseBins::new(grid.clone()),
+            grid,
+            walls,
+            lists: NeighborLists::default(),
+            at_build: PositionMarks::default(),
+            max_disp: Real::INFINITY,
+            vmax: 0.0,
+            skin,
+            radius,
+            step_loads: vec![Load::default(); barriers],
+            slot_loads: vec![Load::default(); slots],
+            chunk_loads: Vec::new(),
+            permute: PermuteScratch::default(),
+            order: Vec::new(),
+            failures: Vec::new(),
+            reactions: Vec::new(),
+        }
+    }
+
+    /// The cells the family was binned in at the last list build.
+    pub fn grid(&self) -> &CellGrid<D> {
+        &self.grid
+    }
+
+    /// Largest speed at the end of the last step.
+    pub fn vmax(&self) -> Real {
+        self.vmax
+    }
+
+    /// Forget the lists: the next step rebuilds them (particles came or went).
+    pub fn invalidate(&mut self) {
+        self.lists.chunks.clear();
+    }
+
+    /// Bytes of the lists, marks and grids.
+    pub fn bytes(&self) -> usize {
+        self.lists.bytes()
+            + self.at_build.bytes()
+            + self.order.capacity() * 4
+            + self.grid.bytes()
+            + self.walls.grid.bytes()
+    }
+
+    /// Whether the lists must be rebuilt before a step of `dt` of `n` particles: they
+    /// are gone (never built, or particles came or went) while there are particles, or
+    /// the motion of the particles, the walls or the coarse particles `csrc` since the
+    /// build may have used up the skin.
+    pub fn needs_rebuild(
+        &self,
+        n: usize,
+        walls: &Walls<D>,
+        csrc: &[CoarseSource<D>],
+        dt: Real,
+    ) -> bool {
+        if n == 0 {
+            return false;
+        }
+        if self.lists.chunks.is_empty() {
+            return true;
+        }
+        let moved = self.max_disp + 0.5 * dt * self.vmax;
+        let wall = self.walls.moved_since_build(walls);
+        // infinite when the coarse particles' count changed
+        let coarse = self.coarse_bins.moved_since_build(csrc);
+        2.0 * moved > self.skin || moved + wall > self.skin || moved + coarse > self.skin
+    }
+
+    /// Re-sort the particles by cell and rebuild the lists with their wall and coarse
+    /// neighbours; pairs are separated by `sep` (the minimum image across a period).
+    pub fn rebuild<P: FamilyParticles<D>>(
+        &mut self,
+        p: &mut P,
+        walls: &Walls<D>,
+        csrc: &[CoarseSource<D>],
+        sep: &impl Separation,
+    ) {
+        self.grid.bin(p.positions());
+        self.order.clear();
+        self.order.extend_from_slice(self.grid.order());
+        p.reorder(&self.order, &mut self.permute);
+        self.grid.bin(p.positions());
+        self.at_build.mark(p.positions());
+        self.walls.refresh(walls);
+        self.coarse_bins.refresh(csrc);
+        self.lists.build(
+            p.positions(),
+            &self.grid,
+            self.walls.binned(walls),
+            self.coarse_bins.binned(),
+            self.radius,
+            sep,
+        );
+        self.reactions
+            .resize_with(self.lists.chunks.len(), Vec::new);
+        self.max_disp = 0.0;
+    }
+
+    /// Size the per-chunk loads and reactions for a pass over the lists (a restored
+    /// state has none yet); returns the load slots per chunk.
+    pub fn prepare_pass(&mut self, walls: &Walls<D>) -> usize {
+        let nbs = walls.load_slots().max(1);
+        self.chunk_loads
+            .resize(self.lists.chunks.len() * nbs, Load::default());
+        self.reactions
+            .resize_with(self.lists.chunks.len(), Vec::new);
+        nbs
+    }
+
+    /// The lists a pass runs over, and the per-chunk loads and coarse reactions it
+    /// writes.
+    #[allow(clippy::type_complexity)]
+    pub fn pass_outputs(&mut self) -> (&NeighborLists, &mut [Load], &mut [Vec<(u32, Vect<D>)>]) {
+        (&self.lists, &mut self.chunk_loads, &mut self.reactions)
+    }
+
+    /// The coarse reactions of the last pass, per chunk.
+    pub fn reactions(&self) -> &[Vec<(u32, Vect<D>)>] {
+        &self.reactions
+    }
+
+    /// The pass's per-chunk loads summed into the family's panel and barrier loads.
+    pub fn sum_loads(&mut self, walls: &Walls<D>) {
+        let nbs = walls.load_slots().max(1);
+        crate::panels::sum_slots(
+            walls,
+            &self.chunk_loads,
+            nbs,
+            &mut self.slot_loads,
+            &mut self.step_loads,
+        );
+    }
+
+    /// Seed 000 Eq. (56): x and ρ to the end of the step by `half`; each chunk records
+    /// its largest speed and displacement since the list build, and its first failing
+    /// particle (`more(i)`: the family's own check of particle i, after the common ones).
+    pub fn close_step(
+        &mut self,
+        c: Closing<'_, D>,
+        half: Real,
+        max_speed: Real,
+        more: impl Fn(usize) -> Option<(&'static str, Real)> + Sync,
+    ) {
+        let marks = &self.at_build;
+        c.pos
+            .par_chunks_mut(CHUNK)
+            .zip(c.rho.par_chunks_mut(CHUNK))
+            .zip(c.vel.par_chunks(CHUNK))
+            .zip(c.drho.par_chunks(CHUNK))
+            .enumerate()
+            .map(|(c, (((x, r), v), d))| {
+                let mut vmax2: Real = 0.0;
+                let mut disp2: Real = 0.0;
+                let mut fail: ChunkFailure = None;
+                for k in 0..x.len() {
+                    let i = c * CHUNK + k;
+                    let (v2, d2) = marks.close_step(i, (&mut x[k], &mut r[k]), (&v[k], d[k]), half);
+                    vmax2 = vmax2.max(v2);
+                    disp2 = disp2.max(d2);
+                    if fail.is_none() {
+                        fail = check(i, v2, &x[k], r[k], || more(i), max_speed);
+                    }
+                }
+                (vmax2, disp2, fail)
+            })
+            .collect_into_vec(&mut self.failures);
+    }
+
+    /// Stop on the first failing particle of the step (`ids`, `pos`: the family's
+    /// arrays; `at`: step and time); otherwise keep the step's largest speed and
+    /// displacement for Δt and the skin, and return the speed.
+    pub fn guard(
+        &mut self,
+        family: Family,
+        (ids, pos): (&[u32], &[Vect<D>]),
+        at: (u64, Real),
+        max_speed: Real,
+    ) -> Result<Real, Blowup> {
+        let (vmax2, disp2) = crate::guard::reduce(&self.failures).map_err(|f| {
+            let x = pos[f.0].iter().copied().collect();
+            Blowup::of_particle(at, family, ids[f.0], x, f, max_speed)
+        })?;
+        self.vmax = vmax2.sqrt();
+        self.max_disp = disp2.sqrt() + self.at_build.round_off;
+        Ok(self.vmax)
+    }
+}

@@ -1,0 +1,344 @@
+//! The fine grains' stepper: the family skeleton ([`FamilyLists`]) and the fine
+//! grains' own stages: the drift to the half step (Eq. 54), the neighbour lists, the
+//! artificial stress of cohesive soils (Eq. 27), the momentum sweep (Eqs. 16, 55, with
+//! walls and coarse grains), the continuity and stress sweep (Eqs. 15, 24–26, 7–12)
+//! and x, ρ to the end of the step (Eq. 56) with the stress check.
+
+use super::build_marks::WallBins;
+use super::family::{Closing, FamilyLists};
+use super::params::StepParams;
+use super::soil_water_stage::SoilWater;
+use crate::fine::artificial_stress::gray2001_artificial_stress;
+use crate::fine::continuity::{ContinuityOut, ContinuityParams, JumpDiffusion};
+use crate::fine::material::uniform_acoustics;
+use crate::fine::momentum::{ArtificialStress, MomentumParams};
+use crate::fine::pair_sums::PairSums;
+use crate::fine::source::{drift_and_pack, pack, Source};
+use crate::guard::{Blowup, Family};
+use crate::interactions::continuity_pass::continuity_sweep;
+use crate::interactions::fine_coarse::{self, CoarseSide, CoarseSource, Coupling};
+use crate::interactions::fine_wall::WallLaw;
+use crate::interactions::momentum_pass::momentum_sweep;
+use crate::kernel::WendlandC2;
+use crate::math::{Real, Sym, Vect};
+use crate::neighbors::CellGrid;
+use crate::periodic::Open;
+use crate::riemann::Riemann;
+use crate::timers::{Stage, StageTimers};
+use crate::world::{geostatic_tensor, World};
+use rayon::prelude::*;
+
+/// What the fine stages read of the step that the orchestrator holds.
+pub(super) struct FineContext<'a, const D: usize> {
+    pub params: &'a StepParams,
+    pub kernel: WendlandC2,
+    /// The gravity ramp's factor of this step.
+    pub g_scale: Real,
+    pub up: Vect<D>,
+    /// The coarse particles at the middle of the step.
+    pub csrc: &'a [CoarseSource<D>],
+    /// Whether the scene has coarse grains (their reactions are gathered).
+    pub coarse: bool,
+    pub soil_water: Option<&'a SoilWater<D>>,
+}
+
+/// The fine grains' stepper: the family skeleton and the fine grains' sources, sweep
+/// buffers and per-material factors.
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
+pub struct FineStepper<const D: usize> {
+    /// Lists, marks, loads and scratch of the family.
+    pub family: FamilyLists<D>,
+    /// Scratch: written in full by every step before it is read (not serialised).
+    #[serde(skip)]
+    vel_new: Vec<Vect<D>>,
+    #[serde(skip)]
+    art: Vec<Sym>,
+    #[serde(skip)]
+    pub(super) src: Vec<Source>,
+    /// Pair sums of the two sweeps (zero between steps, so a restored state starts
+    /// them from an empty buffer that the step fills with zeros).
+    #[serde(skip)]
+    pair_sums: Vec<PairSums<D>>,
+    geostatic: Vec<Sym>,
+    /// Per material: the geostatic pressure gradient of this step (ramp applied).
+    #[serde(skip)]
+    geostatic_pressure: Vec<Real>,
+    /// Per material: ξ G of the hourglass penalty (empty: off).
+    hourglass: Vec<Real>,
+    /// Per material: share of the stored penalty kept over this step (set per step).
+    hourglass_leak: Vec<f32>,
+    /// Per material: the grain–boulder interface carries tension (c > 0).
+    tension: Vec<bool>,
+    /// All fine materials share one impedance and sound speed (fixed for a run).
+    uniform: bool,
+}
+
+impl<const D: usize> FineStepper<D> {
+    /// Lists with cells of `cell` over the world's domain; `up` and `params` set the
+    /// per-material factors.
+    pub fn new(world: &World<D>, params: &StepParams, cell: Real, up: &Vect<D>) -> Self {
+        let g = world.gravity.norm();
+        // a saturated soil's skeleton carries its submerged weight
+        let rho_w = world.water_material.map(|w| w.rho0);
+        let geostatic = world
+            .materials
+            .iter()
+            .map(|m| geostatic_tensor::<D>(up, m.k0).scale(m.skeleton_density(rho_w) * g))
+            .collect();
+        let hourglass: Vec<Real> = if params.hourglass > 0.0 {
+            world
+                .materials
+                .iter()
+                .map(|m| params.hourglass * m.shear)
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let grid = || CellGrid::new(&world.domain.0, &world.domain.1, cell);
+        FineStepper {
+            family: FamilyLists::new(
+                grid(),
+                WallBins::new(grid()),
+                (cell, params.skin),
+                (world.walls.barriers.len(), world.walls.load_slots()),
+            ),
+            vel_new: Vec::new(),
+            art: Vec::new(),
+            src: Vec::new(),
+            pair_sums: Vec::new(),
+            geostatic,
+            geostatic_pressure: Vec::new(),
+            hourglass_leak: vec![1.0; hourglass.len()],
+            hourglass,
+            tension: world.materials.iter().map(|m| m.cohesion > 0.0).collect(),
+            uniform: uniform_acoustics(&world.materials),
+        }
+    }
+
+    /// Bytes of scratch memory held (lists, buffers, grids).
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.family.bytes()
+            + self.vel_new.capacity() * size_of::<Vect<D>>()
+            + self.art.capacity() * size_of::<Sym>()
+            + self.src.capacity() * size_of::<Source>()
+            + self.pair_sums.capacity() * size_of::<PairSums<D>>()
+    }
+
+    /// Rebuild the lists (particles re-sorted by cell) if the skin may be used up over
+    /// a step of `dt`, and pack the sources again; true if it did.
+    pub(super) fn refresh_lists(
+        &mut self,
+        world: &mut World<D>,
+        csrc: &[CoarseSource<D>],
+        dt: Real,
+    ) -> bool {
+        if !self
+            .family
+            .needs_rebuild(world.fine.len(), &world.walls, csrc, dt)
+        {
+            return false;
+        }
+        self.family
+            .rebuild(&mut world.fine, &world.walls, csrc, &Open);
+        pack(&world.fine, &world.materials, &mut self.src);
+        true
+    }
+
+    /// Eq. (56): x and ρ to the end of the step, with the stress check of every
+    /// particle beside the common ones ([`FamilyLists::close_step`]).
+    pub(super) fn finalize(&mut self, world: &mut World<D>, half: Real, max_speed: Real) {
+        let f = &mut world.fine;
+        let stress = &f.stress;
+        let closing = Closing {
+            pos: &mut f.pos,
+            rho: &mut f.rho,
+            vel: &f.vel,
+            drho: &f.drho,
+        };
+        self.family.close_step(closing, half, max_speed, |i| {
+            (!stress[i].is_finite()).then(|| ("stress", stress[i].trace()))
+        });
+    }
+
+    /// Stop on the first failing fine particle of the step.
+    pub(super) fn guard(&mut self, world: &World<D>, max_speed: Real) -> Result<Real, Blowup> {
+        let f = &world.fine;
+        let at = (world.steps, world.time);
+        self.family
+            .guard(Family::Fine, (&f.id, &f.pos), at, max_speed)
+    }
+
+    /// Eq. (54): positions and density to the half step, packed for the sweeps.
+    pub(super) fn drift(&mut self, world: &mut World<D>, half: Real) {
+        drift_and_pack(&mut world.fine, &world.materials, half, &mut self.src);
+    }
+
+    /// Eq. (27): the artificial stress of every particle (cohesive soils only).
+    pub(super) fn artificial_stress(
+        &mut self,
+        world: &World<D>,
+        params: &StepParams,
+        kernel: &WendlandC2,
+    ) -> Option<ArtificialStress> {
+        let (exponent, eps) = params.artificial?;
+        self.art.clear();
+        self.art.par_extend(
+            world
+                .fine
+                .stress
+                .par_iter()
+                .map(|s| gray2001_artificial_stress::<D>(s, eps)),
+        );
+        Some(ArtificialStress {
+            exponent,
+            w_dp: kernel.w(world.resolution.dp),
+        })
+    }
+
+    /// Buffers sized for this step and the per-material factors of a step of `dt`.
+    fn prepare_sweeps(&mut self, world: &World<D>, dt: Real, cx: &FineContext<'_, D>) {
+        let n = world.fine.len();
+        self.vel_new.resize(n, Vect::<D>::zeros());
+        // the sweeps leave their sums zero, so only new entries need setting
+        self.pair_sums.resize(n, PairSums::zero());
+        self.family.prepare_pass(&world.walls);
+        // the stored penalty relaxes over `hourglass_memory` acoustic times h/c0
+        let memory = cx.params.hourglass_memory * cx.params.h;
+        for (k, m) in self.hourglass_leak.iter_mut().zip(&world.materials) {
+            *k = (-dt * m.c0 / memory).exp() as f32;
+        }
+        // the continuity sweep's parameters: its terms without velocity are taken in
+        // the momentum sweep's pair pass
+        self.geostatic_pressure.clear();
+        self.geostatic_pressure.extend(
+            self.geostatic
+                .iter()
+                .map(|g| g.scale(cx.g_scale).trace() / 3.0),
+        );
+    }
+
+    /// The two fine sweeps of a step of `dt`: v_{n+1} (Eqs. 16, 55), then density,
+    /// velocity gradient and stress with v_{n+1} (Eqs. 15, 24–26, 7–12).
+    pub(super) fn sweeps(
+        &mut self,
+        world: &mut World<D>,
+        dt: Real,
+        artificial: Option<ArtificialStress>,
+        cx: &FineContext<'_, D>,
+        timers: &mut StageTimers,
+    ) {
+        self.prepare_sweeps(world, dt, cx);
+        let cprm = ContinuityParams {
+            kernel: cx.kernel,
+            gravity: world.gravity,
+            dt,
+            zeta: cx.params.zeta,
+            geostatic: &self.geostatic,
+            geostatic_pressure: &self.geostatic_pressure,
+            geostatic_scale: cx.g_scale,
+            weight: cx.soil_water.map_or(&[], |s| &s.weight[..]),
+            up: cx.up,
+            jump: cx.params.continuity_jump,
+            uniform: self.uniform,
+        };
+        let mprm = MomentumParams {
+            kernel: cx.kernel,
+            riemann: Riemann { eta: cx.params.eta },
+            gravity: world.gravity,
+            dt,
+            artificial,
+            hourglass: &self.hourglass,
+            hourglass_leak: &self.hourglass_leak,
+            materials: &world.materials,
+            uniform: self.uniform,
+        };
+        let wall = WallLaw {
+            kernel: cx.kernel,
+            riemann: mprm.riemann,
+            gravity: world.gravity,
+            dt,
+            friction: cx.params.wall_friction,
+            stress: cx.params.wall_stress,
+        };
+        let (lists, chunk_loads, reactions) = self.family.pass_outputs();
+        let side = CoarseSide {
+            src: cx.csrc,
+            coupling: Coupling {
+                kernel: cx.kernel,
+                riemann: mprm.riemann,
+                mu_cf: cx.params.mu_cf,
+                dt,
+                dp: world.resolution.dp,
+            },
+            tension: &self.tension,
+            reactions,
+        };
+        // updated in place: a particle reads only its own accumulated penalty
+        let mut hourglass = std::mem::take(&mut world.fine.hourglass);
+        timers.time(Stage::Momentum, || {
+            momentum_sweep(
+                &world.fine,
+                &self.src,
+                &world.walls,
+                lists,
+                &self.art,
+                &mprm,
+                &wall,
+                &mut self.vel_new,
+                &mut hourglass,
+                chunk_loads,
+                side,
+                &JumpDiffusion::new(&cprm),
+                &mut self.pair_sums,
+                cx.soil_water.map_or(&[], |s| &s.force[..]),
+            )
+        });
+        world.fine.hourglass = hourglass;
+        if cx.coarse {
+            timers.time(Stage::Coupling, || {
+                fine_coarse::gather_reactions(
+                    self.family.reactions(),
+                    &mut world.coarse.particles.f_fine,
+                )
+            });
+        }
+        std::mem::swap(&mut world.fine.vel, &mut self.vel_new);
+        self.family.sum_loads(&world.walls);
+        // advanced in place: the sweep reads none of these of a neighbour (the
+        // neighbours' stress comes from the packed sources)
+        let f = &mut world.fine;
+        let mut stress = std::mem::take(&mut f.stress);
+        let mut drho = std::mem::take(&mut f.drho);
+        let mut eps = std::mem::take(&mut f.plastic_strain);
+        let mut vel_grad = std::mem::take(&mut f.vel_grad);
+        let mut hourglass_kept = std::mem::take(&mut f.hourglass_kept);
+        let out = ContinuityOut {
+            sums: &mut self.pair_sums,
+            drho: &mut drho,
+            stress: &mut stress,
+            plastic_strain: &mut eps,
+            vel_grad: &mut vel_grad,
+            hourglass_kept: &mut hourglass_kept,
+        };
+        timers.time(Stage::ContinuityStress, || {
+            let (f, mats, walls) = (&world.fine, &world.materials, &world.walls);
+            continuity_sweep(
+                f,
+                &self.src,
+                mats,
+                walls,
+                &self.family.lists,
+                &cprm,
+                cx.csrc,
+                out,
+            )
+        });
+        let f = &mut world.fine;
+        f.drho = drho;
+        f.stress = stress;
+        f.plastic_strain = eps;
+        f.vel_grad = vel_grad;
+        f.hourglass_kept = hourglass_kept;
+    }
+}
