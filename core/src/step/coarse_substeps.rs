@@ -3,7 +3,7 @@
 //! held over the fine step, then the time-averaged velocity of Eq. (60).
 //! Δt_c follows Eq. (52), tightened by the contact stiffness of nearby contacts.
 
-use super::StepParams;
+use super::params::StepParams;
 use crate::coarse::build::Coarse;
 use crate::coarse::rigid;
 use crate::coarse::tlsph::Tlsph;

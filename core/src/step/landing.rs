@@ -2,7 +2,7 @@
 //! its last step shortened to end there. The CLI runner (each output time), the
 //! `Simulation::advance_to` of the API and the FMU's `fmi2DoStep` all land through it.
 
-use super::StepStats;
+use super::params::StepStats;
 use crate::guard::Blowup;
 use crate::math::Real;
 
