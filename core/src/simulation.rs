@@ -169,33 +169,7 @@ impl<const D: usize> Simulation<D> {
         let span = w.time - self.interval_start;
         let inv = if span > 0.0 { 1.0 / span } else { 0.0 };
         let barriers = self.barrier_samples(inv);
-        let probes = w
-            .probes
-            .iter()
-            .map(|p| {
-                let mut v = observe::probe(&w.fine, &self.stepper.kernel, &p.position);
-                if let Some(m) = &w.water_material {
-                    // pressure and velocity in one pass: (p, v_x, v_y, v_z)
-                    let water = &w.water;
-                    let value = |i: usize| {
-                        let mut q = nalgebra::Vector4::<Real>::zeros();
-                        q[0] = m.pressure(water.rho[i]);
-                        for k in 0..D {
-                            q[k + 1] = water.vel[i][k];
-                        }
-                        q
-                    };
-                    let zero = nalgebra::Vector4::zeros();
-                    let at = &p.position;
-                    let kernel = &self.stepper.kernel;
-                    if let Some(q) = water.shepard(kernel, at, (value, zero), &w.periodic) {
-                        v.water_pressure = Some(q[0]);
-                        v.water_velocity = Some([q[1], q[2], q[3]]);
-                    }
-                }
-                (p.name.clone(), v)
-            })
-            .collect();
+        let probes = self.probe_samples();
         let bodies = self.body_samples(inv);
         let cp = &w.coarse.particles;
         let coarse_ke: Real = (0..cp.len())
@@ -260,6 +234,44 @@ impl<const D: usize> Simulation<D> {
                 }
             }),
         };
+        self.start_interval();
+        s
+    }
+
+    /// Every probe's fine-grain stress and velocity, and the water's pressure and
+    /// velocity there (Shepard-weighted kernel means).
+    fn probe_samples(&self) -> Vec<(String, crate::sample::ProbeValue)> {
+        let w = &self.world;
+        w.probes
+            .iter()
+            .map(|p| {
+                let mut v = observe::probe(&w.fine, &self.stepper.kernel, &p.position);
+                if let Some(m) = &w.water_material {
+                    // pressure and velocity in one pass: (p, v_x, v_y, v_z)
+                    let water = &w.water;
+                    let value = |i: usize| {
+                        let mut q = nalgebra::Vector4::<Real>::zeros();
+                        q[0] = m.pressure(water.rho[i]);
+                        for k in 0..D {
+                            q[k + 1] = water.vel[i][k];
+                        }
+                        q
+                    };
+                    let zero = nalgebra::Vector4::zeros();
+                    let at = &p.position;
+                    let kernel = &self.stepper.kernel;
+                    if let Some(q) = water.shepard(kernel, at, (value, zero), &w.periodic) {
+                        v.water_pressure = Some(q[0]);
+                        v.water_velocity = Some([q[1], q[2], q[3]]);
+                    }
+                }
+                (p.name.clone(), v)
+            })
+            .collect()
+    }
+
+    /// Start a new sampling interval: the accumulated impulses and peaks to zero.
+    fn start_interval(&mut self) {
         for l in &mut self.impulse {
             *l = Load::default();
         }
@@ -275,8 +287,7 @@ impl<const D: usize> Simulation<D> {
         {
             *l = Load::default();
         }
-        self.interval_start = w.time;
-        s
+        self.interval_start = self.world.time;
     }
 
     /// Each barrier's loads over the sampling interval (`inv` = 1 / its length).

@@ -305,8 +305,33 @@ impl<const D: usize> FineStepper<D> {
         }
         std::mem::swap(&mut world.fine.vel, &mut self.vel_new);
         self.family.sum_loads(&world.walls);
-        // advanced in place: the sweep reads none of these of a neighbour (the
-        // neighbours' stress comes from the packed sources)
+        let sweep = ContinuitySweep {
+            src: &self.src,
+            lists: &self.family.lists,
+            cprm: &cprm,
+            csrc: cx.csrc,
+        };
+        timers.time(Stage::ContinuityStress, || {
+            sweep.run(world, &mut self.pair_sums)
+        });
+    }
+}
+
+/// The continuity and stress sweep of a step (Eqs. 15, 24–26, 7–12) over the fine
+/// lists, with v_{n+1}.
+struct ContinuitySweep<'a, const D: usize> {
+    src: &'a [Source],
+    lists: &'a crate::neighbors::NeighborLists,
+    cprm: &'a ContinuityParams<'a, D>,
+    csrc: &'a [CoarseSource<D>],
+}
+
+impl<const D: usize> ContinuitySweep<'_, D> {
+    /// dρ/dt, the stress, the plastic strain, the velocity gradient and the kept
+    /// hourglass penalty of every fine particle, advanced in place: the sweep reads
+    /// none of these of a neighbour (the neighbours' stress comes from the packed
+    /// sources).
+    fn run(&self, world: &mut World<D>, sums: &mut [PairSums<D>]) {
         let f = &mut world.fine;
         let mut stress = std::mem::take(&mut f.stress);
         let mut drho = std::mem::take(&mut f.drho);
@@ -314,26 +339,17 @@ impl<const D: usize> FineStepper<D> {
         let mut vel_grad = std::mem::take(&mut f.vel_grad);
         let mut hourglass_kept = std::mem::take(&mut f.hourglass_kept);
         let out = ContinuityOut {
-            sums: &mut self.pair_sums,
+            sums,
             drho: &mut drho,
             stress: &mut stress,
             plastic_strain: &mut eps,
             vel_grad: &mut vel_grad,
             hourglass_kept: &mut hourglass_kept,
         };
-        timers.time(Stage::ContinuityStress, || {
-            let (f, mats, walls) = (&world.fine, &world.materials, &world.walls);
-            continuity_sweep(
-                f,
-                &self.src,
-                mats,
-                walls,
-                &self.family.lists,
-                &cprm,
-                cx.csrc,
-                out,
-            )
-        });
+        let (f, mats, walls) = (&world.fine, &world.materials, &world.walls);
+        continuity_sweep(
+            f, self.src, mats, walls, self.lists, self.cprm, self.csrc, out,
+        );
         let f = &mut world.fine;
         f.drho = drho;
         f.stress = stress;
