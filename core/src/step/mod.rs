@@ -189,8 +189,13 @@ impl<const D: usize> Stepper<D> {
             s.fine.refresh_lists(world, &s.csrc, dt)
         });
         // the water, in κ_w sub-steps, with the fine grains at the half step; its force
-        // on the coarse grains feeds theirs, on a soil the fine sweeps
+        // on the coarse grains feeds theirs. With a soil with pores the soil–water
+        // coupling (soil_water_stage.rs) runs in them: the soil is frozen at the half
+        // step before the first sub-step and the drag is implicit in each;
         let water_vmax = self.water_substeps(world, dt)?;
+        // after the last, the soil gathers the opposite of the water's drag and its
+        // buoyancy, which the fine sweeps add
+        self.soil_gathers(world);
         // Eq. (27), cohesive soils only
         let artificial = self.params.artificial.and_then(|_| {
             self.timed(Stage::ArtificialStress, |s| {

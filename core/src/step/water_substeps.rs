@@ -95,16 +95,36 @@ impl<const D: usize> Stepper<D> {
                 w.let_out(world, timers);
             }
         }
-        if let Some(sw) = seep {
-            timers.time(Stage::SoilWater, || sw.gather(world, &m, kernel));
-            if !world.water_outflows.is_empty() {
-                w.let_out(world, timers);
-            }
-        }
         if let Some((step, slot)) = mean {
             w.family.step_loads = step;
             w.family.slot_loads = slot;
         }
         Ok(vmax)
+    }
+
+    /// The soil side of the soil–water coupling after the water's sub-steps (nothing
+    /// without it): every soil particle gathers the exact opposite of the water's drag
+    /// impulse over the sub-steps and its buoyancy (seed 001 Eqs. 8–10), which its
+    /// momentum sweep adds; then the water leaves through the outflows, which with a
+    /// soil it does once per step.
+    pub(super) fn soil_gathers(&mut self, world: &mut World<D>) {
+        let Stepper {
+            water,
+            timers,
+            kernel,
+            soil_water,
+            ..
+        } = self;
+        let Some(((w, m), sw)) = water
+            .as_mut()
+            .zip(world.water_material)
+            .zip(soil_water.as_mut().filter(|_| !world.fine.is_empty()))
+        else {
+            return;
+        };
+        timers.time(Stage::SoilWater, || sw.gather(world, &m, kernel));
+        if !world.water_outflows.is_empty() {
+            w.let_out(world, timers);
+        }
     }
 }
