@@ -63,7 +63,7 @@ impl AnySimulation {
     }
     /// The scene has `[water]` (its particles may come later, through inflows).
     pub fn has_water(&self) -> bool {
-        dispatch!(self, s => s.world.water_material.is_some())
+        dispatch!(self, s => s.world.has_water())
     }
     pub fn water_count(&self) -> usize {
         dispatch!(self, s => s.water_count())
@@ -130,7 +130,7 @@ impl AnySimulation {
     /// Bytes held by the water particles' state (the water stage's scratch is in
     /// [`Self::fine_bytes`]).
     pub fn water_bytes(&self) -> usize {
-        dispatch!(self, s => s.world.water.bytes())
+        dispatch!(self, s => s.world.water.particles.bytes())
     }
     pub fn fine_bytes(&self) -> usize {
         dispatch!(self, s => s.world.fine.bytes() + s.stepper.bytes())

@@ -26,10 +26,10 @@ impl PoreField {
         coupling: Option<&SoilWater<D>>,
         kernel: &WendlandC2,
     ) -> Self {
-        let Some(mat) = world.water_material else {
+        let Some(mat) = world.water.material else {
             return PoreField::default();
         };
-        let w = &world.water;
+        let w = &world.water.particles;
         let g = world.hydrostatic_gravity();
         let gn = g.norm();
         let up = if gn > 0.0 {

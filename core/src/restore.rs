@@ -69,7 +69,7 @@ impl<const D: usize> Simulation<D> {
         if lens.iter().any(|&l| l != n) || f.material.iter().any(|&m| m as usize >= materials) {
             return Err(StateMismatch::FineArrays(n));
         }
-        let wa = &w.water;
+        let wa = &w.water.particles;
         let nw = wa.pos.len();
         if [
             wa.vel.len(),
@@ -80,9 +80,9 @@ impl<const D: usize> Simulation<D> {
         ]
         .iter()
         .any(|&l| l != nw)
-            || w.water_material.is_some() != t.water_material.is_some()
-            || w.water_inflows.len() != t.water_inflows.len()
-            || w.water_outflows.len() != t.water_outflows.len()
+            || w.has_water() != t.has_water()
+            || w.water.inflows.len() != t.water.inflows.len()
+            || w.water.outflows.len() != t.water.outflows.len()
             || self.stepper.water.is_some() != template.stepper.water.is_some()
         {
             return Err(StateMismatch::WaterArrays(nw));

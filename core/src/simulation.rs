@@ -222,8 +222,8 @@ impl<const D: usize> Simulation<D> {
             coarse_potential_energy: coarse_pe,
             momentum: momentum.into(),
             bodies,
-            water: w.water_material.map(|_| {
-                let wp = &w.water;
+            water: w.water.material.map(|_| {
+                let wp = &w.water.particles;
                 WaterSample {
                     particles: wp.len(),
                     kinetic_energy: wp.kinetic_energy(),
@@ -246,9 +246,9 @@ impl<const D: usize> Simulation<D> {
             .iter()
             .map(|p| {
                 let mut v = observe::probe(&w.fine, &self.stepper.kernel, &p.position);
-                if let Some(m) = &w.water_material {
+                if let Some(m) = &w.water.material {
                     // pressure and velocity in one pass: (p, v_x, v_y, v_z)
-                    let water = &w.water;
+                    let water = &w.water.particles;
                     let value = |i: usize| {
                         let mut q = nalgebra::Vector4::<Real>::zeros();
                         q[0] = m.pressure(water.rho[i]);
@@ -312,7 +312,7 @@ impl<const D: usize> Simulation<D> {
                             .map(|i| (self.panel_impulse[bar.slot0 + i].force * inv).into())
                             .collect()
                     },
-                    panels_water: if bar.panels.is_empty() || w.water_material.is_none() {
+                    panels_water: if bar.panels.is_empty() || !w.has_water() {
                         Vec::new()
                     } else {
                         (0..w.walls.panel_count(b))
@@ -421,7 +421,7 @@ impl<const D: usize> Simulation<D> {
         water_out
             .par_iter_mut()
             .with_min_len(4096)
-            .take(self.world.water.len())
+            .take(self.world.water.particles.len())
             .enumerate()
             .for_each(|(i, o)| *o = self.water_record(i, pores));
         fine_out
@@ -481,10 +481,11 @@ impl<const D: usize> Simulation<D> {
 
     /// The record of water particle `i`.
     fn water_record(&self, i: usize, pores: &PoreField) -> ParticleRecord {
-        let w = &self.world.water;
+        let w = &self.world.water.particles;
         let p = self
             .world
-            .water_material
+            .water
+            .material
             .map_or(0.0, |m| m.pressure(w.rho[i]));
         ParticleRecord {
             position: arr(&w.pos[i]),
@@ -501,7 +502,7 @@ impl<const D: usize> Simulation<D> {
 
     /// Water particles.
     pub fn water_count(&self) -> usize {
-        self.world.water.len()
+        self.world.water.particles.len()
     }
 
     /// Fine and coarse particle counts.
@@ -536,10 +537,10 @@ impl<const D: usize> Simulation<D> {
                 .collect(),
             wall_pos: w.walls.pos.iter().map(arr).collect(),
             wall_object: w.walls.object.clone(),
-            water: (0..w.water.len())
+            water: (0..w.water.particles.len())
                 .map(|i| self.water_record(i, &pores))
                 .collect(),
-            water_density: w.water.rho.iter().map(|&r| r as f32).collect(),
+            water_density: w.water.particles.rho.iter().map(|&r| r as f32).collect(),
         }
     }
 }

@@ -79,7 +79,7 @@ impl<const D: usize> FineStepper<D> {
     pub fn new(world: &World<D>, params: &StepParams, cell: Real, up: &Vect<D>) -> Self {
         let g = world.gravity.norm();
         // a saturated soil's skeleton carries its submerged weight
-        let rho_w = world.water_material.map(|w| w.rho0);
+        let rho_w = world.water.material.map(|w| w.rho0);
         let geostatic = world
             .materials
             .iter()

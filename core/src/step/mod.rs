@@ -81,8 +81,7 @@ impl<const D: usize> Stepper<D> {
             CoarseStepper::new(&world.coarse, &params, world.resolution.dp, &world.gravity)
         });
         let water = world
-            .water_material
-            .is_some()
+            .has_water()
             .then(|| WaterStepper::new(world, cell, params.skin));
         let soil_water = SoilWater::new(world, &kernel, params.skin);
         let nb = world.walls.barriers.len();
@@ -130,7 +129,7 @@ impl<const D: usize> Stepper<D> {
         } else {
             self.params.cfl * self.params.h / (world.max_c0() + self.fine_vmax())
         };
-        let water = match (&self.water, &world.water_material) {
+        let water = match (&self.water, &world.water.material) {
             (Some(w), Some(m)) => w.stable_dt(m, self.params.h, self.params.cfl),
             _ => Real::INFINITY,
         };
@@ -329,11 +328,11 @@ fn skipped_stages<const D: usize>(world: &World<D>, params: &StepParams) -> Vec<
     if world.fine.is_empty() {
         skip("fine_grains", "scene has no fine grains");
     }
-    if world.water_material.is_none() {
+    if !world.has_water() {
         skip("water", "scene has no water");
     }
     let pores = world.materials.iter().any(|m| m.pores.is_some());
-    if world.water_material.is_none() || !pores {
+    if !world.has_water() || !pores {
         skip(
             "soil_water",
             "needs water and a soil with `permeability` or `grain_size`",

@@ -120,7 +120,7 @@ impl<'a, const D: usize> SeepStep<'a, D> {
 impl<const D: usize> SoilWater<D> {
     /// The coupling of a world with water and a soil with pores (None otherwise).
     pub fn new(world: &World<D>, kernel: &WendlandC2, skin: Real) -> Option<Self> {
-        let w = world.water_material?;
+        let w = world.water.material?;
         let dt_max = world
             .materials
             .iter()
@@ -165,7 +165,7 @@ impl<const D: usize> SoilWater<D> {
             let m: &FineMaterial = &mats[f.material[i] as usize];
             SoilPoint::of(m, mu, f.pos[i], f.vel[i], src[i].vol)
         }));
-        let w = &world.water;
+        let w = &world.water.particles;
         let now = [builds[0], builds[1], f.len(), w.len()];
         if self.built_at != Some(now) {
             self.build_lists(world, src, water_grid, kernel);
@@ -193,7 +193,7 @@ impl<const D: usize> SoilWater<D> {
         water_grid: &CellGrid<D>,
         kernel: &WendlandC2,
     ) {
-        let (f, w) = (&world.fine, &world.water);
+        let (f, w) = (&world.fine, &world.water.particles);
         let (lo, hi) = &world.domain;
         let radius = self.radius;
         let grid = self
@@ -232,7 +232,7 @@ impl<const D: usize> SoilWater<D> {
     /// After the water's sub-steps: every soil particle's force from the water (the
     /// opposite of the drag, and its buoyancy) and its pore pressure.
     pub fn gather(&mut self, world: &World<D>, mat: &WaterMaterial, kernel: &WendlandC2) {
-        let w = &world.water;
+        let w = &world.water.particles;
         self.vol.clear();
         self.vol
             .extend(w.mass.iter().zip(&w.rho).map(|(m, r)| m / r));
@@ -285,7 +285,7 @@ impl<const D: usize> SoilWater<D> {
         mat: &WaterMaterial,
         kernel: &WendlandC2,
     ) -> Vec<Option<Real>> {
-        let w = &world.water;
+        let w = &world.water.particles;
         let vol: Vec<Real> = w.mass.iter().zip(&w.rho).map(|(m, r)| m / r).collect();
         let p: Vec<Real> = w.rho.iter().map(|&r| mat.pressure(r)).collect();
         let fresh = self

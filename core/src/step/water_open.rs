@@ -23,8 +23,8 @@ impl<const D: usize> WaterStepper<D> {
         let g = world.gravity.norm();
         let res = (world.resolution.dp, world.resolution.volume);
         let mut added = 0;
-        for f in &mut world.water_inflows {
-            added += f.emit(&mut world.water, mat, (t, dt), res, (g, up));
+        for f in &mut world.water.inflows {
+            added += f.emit(&mut world.water.particles, mat, (t, dt), res, (g, up));
         }
         if added > 0 {
             self.family.invalidate();
@@ -37,8 +37,8 @@ impl<const D: usize> WaterStepper<D> {
     pub fn let_out(&mut self, world: &mut World<D>, timers: &mut StageTimers) {
         let start = Instant::now();
         let mut removed = 0;
-        for o in &world.water_outflows {
-            removed += o.remove(&mut world.water);
+        for o in &world.water.outflows {
+            removed += o.remove(&mut world.water.particles);
         }
         if removed > 0 {
             self.family.invalidate();

@@ -112,7 +112,7 @@ impl<const D: usize> WaterStepper<D> {
         t: &mut StageTimers,
     ) {
         t.time(Stage::WaterDriftFinalize, || {
-            drift_and_pack(&mut world.water, mat, half, &mut self.src)
+            drift_and_pack(&mut world.water.particles, mat, half, &mut self.src)
         });
     }
 
@@ -127,14 +127,14 @@ impl<const D: usize> WaterStepper<D> {
         t: &mut StageTimers,
     ) {
         let start = Instant::now();
-        let n = world.water.len();
+        let n = world.water.particles.len();
         if self.family.needs_rebuild(n, &world.walls, csrc, dt) {
-            let w = &mut world.water;
+            let w = &mut world.water.particles;
             if let Some(p) = world.periodic {
                 w.pos.par_iter_mut().for_each(|x| p.wrap_point(x));
             }
             self.family.rebuild(w, &world.walls, csrc, &world.periodic);
-            pack(&world.water, mat, &mut self.src);
+            pack(&world.water.particles, mat, &mut self.src);
         }
         t.add(Stage::WaterNeighbors, start.elapsed().as_secs_f64());
     }
@@ -156,7 +156,7 @@ impl<const D: usize> WaterStepper<D> {
         seep: Option<SeepStep<'_, D>>,
         t: &mut StageTimers,
     ) {
-        let n = world.water.len();
+        let n = world.water.particles.len();
         self.vel_new.resize(n, Vect::<D>::zeros());
         self.sums.resize(n, WaterSums::zero());
         self.family.prepare_pass(&world.walls);
@@ -178,7 +178,7 @@ impl<const D: usize> WaterStepper<D> {
         let (lists, chunk_loads, reactions) = self.family.pass_outputs();
         t.time(Stage::WaterMomentum, || {
             correction_sweep(
-                &world.water,
+                &world.water.particles,
                 &self.src,
                 &world.walls,
                 csrc,
@@ -188,7 +188,7 @@ impl<const D: usize> WaterStepper<D> {
                 &mut self.corr,
             );
             momentum_sweep(
-                &world.water,
+                &world.water.particles,
                 &self.src,
                 &self.corr,
                 &world.walls,
@@ -212,11 +212,15 @@ impl<const D: usize> WaterStepper<D> {
                 seep.apply(&mut self.vel_new, &self.src, dt, &mut self.body)
             });
         }
-        std::mem::swap(&mut world.water.vel, &mut self.vel_new);
+        std::mem::swap(&mut world.water.particles.vel, &mut self.vel_new);
         // the inlets move their water at the inflow speed
         let mid = t0 + 0.5 * dt;
-        for f in &world.water_inflows {
-            f.drive(&world.water.pos, &mut world.water.vel, mid);
+        for f in &world.water.inflows {
+            f.drive(
+                &world.water.particles.pos,
+                &mut world.water.particles.vel,
+                mid,
+            );
         }
         if !csrc.is_empty() {
             let f = &mut world.coarse.particles.f_water;
@@ -227,10 +231,10 @@ impl<const D: usize> WaterStepper<D> {
             fine_coarse::add_reactions(self.family.reactions(), f, 1.0 / k as Real);
         }
         self.family.sum_loads(&world.walls);
-        let mut drho = std::mem::take(&mut world.water.drho);
+        let mut drho = std::mem::take(&mut world.water.particles.drho);
         t.time(Stage::WaterContinuity, || {
             continuity_sweep(
-                &world.water,
+                &world.water.particles,
                 &self.src,
                 &world.walls,
                 csrc,
@@ -241,10 +245,10 @@ impl<const D: usize> WaterStepper<D> {
                 &mut self.sums,
             )
         });
-        for f in &world.water_inflows {
-            f.hold_density(&world.water.pos, &mut drho);
+        for f in &world.water.inflows {
+            f.hold_density(&world.water.particles.pos, &mut drho);
         }
-        world.water.drho = drho;
+        world.water.particles.drho = drho;
     }
 
     /// x and ρ to the end of the step (seed 000 Eq. 56, [`FamilyLists::close_step`]).
@@ -256,7 +260,7 @@ impl<const D: usize> WaterStepper<D> {
         t: &mut StageTimers,
     ) {
         let start = Instant::now();
-        let w = &mut world.water;
+        let w = &mut world.water.particles;
         let closing = Closing {
             pos: &mut w.pos,
             rho: &mut w.rho,
@@ -270,7 +274,7 @@ impl<const D: usize> WaterStepper<D> {
     /// Stop on the first failing water particle of the step; otherwise keep the
     /// step's largest speed and displacement.
     pub fn guard(&mut self, world: &World<D>, max_speed: Real) -> Result<Real, Blowup> {
-        let w = &world.water;
+        let w = &world.water.particles;
         let at = (world.steps, world.time);
         self.family
             .guard(Family::Water, (&w.id, &w.pos), at, max_speed)

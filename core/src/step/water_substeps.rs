@@ -40,7 +40,7 @@ impl<const D: usize> Stepper<D> {
             fine,
             ..
         } = self;
-        let Some((w, m)) = water.as_mut().zip(world.water_material) else {
+        let Some((w, m)) = water.as_mut().zip(world.water.material) else {
             return Ok(0.0);
         };
         let k = w.substeps(&m, params.h, params.cfl, dt);
@@ -57,7 +57,7 @@ impl<const D: usize> Stepper<D> {
         for s in 0..k {
             let t0 = world.time + s as Real * dt_w;
             let first = !block || s == 0;
-            if !world.water_inflows.is_empty() && first {
+            if !world.water.inflows.is_empty() && first {
                 let span = if block { dt } else { dt_w };
                 w.let_in(world, &m, (t0, span, &*up), timers);
             }
@@ -91,7 +91,7 @@ impl<const D: usize> Stepper<D> {
             }
             w.finalize(world, half, params.max_speed, timers);
             vmax = vmax.max(w.guard(world, params.max_speed)?);
-            if !world.water_outflows.is_empty() && seep.is_none() {
+            if !world.water.outflows.is_empty() && seep.is_none() {
                 w.let_out(world, timers);
             }
         }
@@ -117,13 +117,13 @@ impl<const D: usize> Stepper<D> {
         } = self;
         let Some(((w, m), sw)) = water
             .as_mut()
-            .zip(world.water_material)
+            .zip(world.water.material)
             .zip(soil_water.as_mut().filter(|_| !world.fine.is_empty()))
         else {
             return;
         };
         timers.time(Stage::SoilWater, || sw.gather(world, &m, kernel));
-        if !world.water_outflows.is_empty() {
+        if !world.water.outflows.is_empty() {
             w.let_out(world, timers);
         }
     }

@@ -32,6 +32,19 @@ pub struct Probe<const D: usize> {
     pub position: Vect<D>,
 }
 
+/// The water family as the world holds it (seed 001): its particles, its material
+/// (None without `[water]`), the particles of each water region, and where water
+/// enters and leaves.
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct Water<const D: usize> {
+    pub particles: WaterParticles<D>,
+    pub material: Option<WaterMaterial>,
+    /// Per water region particle counts, in scene order.
+    pub counts: Vec<(String, usize)>,
+    pub inflows: Vec<Inflow<D>>,
+    pub outflows: Vec<Outflow<D>>,
+}
+
 /// Everything that evolves or is looked up during a run.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct World<const D: usize> {
@@ -50,20 +63,10 @@ pub struct World<const D: usize> {
     pub probes: Vec<Probe<D>>,
     /// Per-region particle counts, in scene order.
     pub region_counts: Vec<(String, usize)>,
-    /// Water particles (empty without `[water]`).
+    /// The water family: particles, material, counts, inflows and outflows (empty,
+    /// without a material, in a scene without `[water]`).
     #[serde(default)]
-    pub water: WaterParticles<D>,
-    /// The water's material (`None` without `[water]`).
-    #[serde(default)]
-    pub water_material: Option<WaterMaterial>,
-    /// Per water region particle counts, in scene order.
-    #[serde(default)]
-    pub water_counts: Vec<(String, usize)>,
-    /// Where water enters and leaves.
-    #[serde(default)]
-    pub water_inflows: Vec<Inflow<D>>,
-    #[serde(default)]
-    pub water_outflows: Vec<Outflow<D>>,
+    pub water: Water<D>,
     /// The periodic axis, if any (`simulation.periodic`).
     #[serde(default)]
     pub periodic: Wrap,
@@ -137,21 +140,12 @@ impl<const D: usize> World<D> {
         let g_hyd = hydrostatic(gravity, periodic);
         let pores = pore_water(scene, &materials, &fine, &region_counts, &up, dp);
         let filled = water_fill::fill(scene, &g_hyd, (dp, vol), (lo, hi), &pores)?;
-        let (water, water_material, water_counts, water_inflows, water_outflows) = match filled {
-            Some(f) => (f.water, Some(f.material), f.counts, f.inflows, f.outflows),
-            None => (
-                WaterParticles::default(),
-                None,
-                Vec::new(),
-                Vec::new(),
-                Vec::new(),
-            ),
-        };
-        for p in water.pos.iter() {
+        let water = filled.unwrap_or_default();
+        for p in water.particles.pos.iter() {
             lo = lo.inf(p);
             hi = hi.sup(p);
         }
-        for f in &water_inflows {
+        for f in &water.inflows {
             lo = lo.inf(&f.lo);
             hi = hi.sup(&f.hi);
         }
@@ -161,6 +155,7 @@ impl<const D: usize> World<D> {
             // exactly one period along the axis; the water must lie within it
             (domain.0[p.axis], domain.1[p.axis]) = (p.lo, p.lo + p.len);
             if let Some(x) = water
+                .particles
                 .pos
                 .iter()
                 .find(|x| x[p.axis] < p.lo || x[p.axis] >= p.lo + p.len)
@@ -201,12 +196,13 @@ impl<const D: usize> World<D> {
             probes,
             region_counts,
             water,
-            water_material,
-            water_counts,
-            water_inflows,
-            water_outflows,
             periodic,
         })
+    }
+
+    /// Whether the scene has water (a `[water]` section), whatever its particle count.
+    pub fn has_water(&self) -> bool {
+        self.water.material.is_some()
     }
 
     /// The gravity of a hydrostatic state: g without its component along the periodic

@@ -4,6 +4,7 @@
 
 use super::regions::Solids;
 use super::v;
+use super::Water;
 use crate::build_error::BuildError;
 use crate::geometry::Shape;
 use crate::math::{Real, Vect};
@@ -11,16 +12,6 @@ use crate::scene::{Hydrograph, Scene, ShapeSpec, WaterSpec};
 use crate::water::boundary::{Inflow, InflowSpeed, Outflow};
 use crate::water::material::WaterMaterial;
 use crate::water::state::WaterParticles;
-
-/// The water of a scene: its particles, material, the particle count of each region
-/// (scene order) and its open boundaries.
-pub(super) struct Filled<const D: usize> {
-    pub water: WaterParticles<D>,
-    pub material: WaterMaterial,
-    pub counts: Vec<(String, usize)>,
-    pub inflows: Vec<Inflow<D>>,
-    pub outflows: Vec<Outflow<D>>,
-}
 
 /// The pore water of a saturated soil region: its particles' positions, its name and
 /// its top (along `up`), below which the pore pressure is hydrostatic.
@@ -42,7 +33,7 @@ pub(super) fn fill<const D: usize>(
     (dp, vol): (Real, Real),
     reach: (Vect<D>, Vect<D>),
     pores: &[PoreWater<D>],
-) -> Result<Option<Filled<D>>, BuildError> {
+) -> Result<Option<Water<D>>, BuildError> {
     let defaults: WaterSpec;
     let spec = match &scene.water {
         Some(s) => s,
@@ -177,9 +168,9 @@ pub(super) fn fill<const D: usize>(
             }
         })
         .collect();
-    Ok(Some(Filled {
-        water,
-        material: mat,
+    Ok(Some(Water {
+        particles: water,
+        material: Some(mat),
         counts,
         inflows,
         outflows,
