@@ -460,7 +460,8 @@ impl Recorder {
 
     /// The `/geometry` message of this frame: every wall object with the first frame
     /// (keeping the solids of those that can move), the moving ones at their current
-    /// offset with each later frame; nothing without walls or once nothing moves.
+    /// offset with each later frame; nothing in a scene without walls, and nothing
+    /// after the first when no object can move.
     fn write_geometry(&mut self, sim: &AnySimulation) -> Result<(), IpcError> {
         if self.counts.geometry == 0 {
             let all = sim.wall_solids();
