@@ -4,7 +4,8 @@
 # and nm, which the FMU portability test reads the library with) and a Python venv in
 # .venv with zig (the `ziglang` package: it links the FMU's library against glibc 2.28,
 # see scripts/fmu-link-gcc) and, for the FMU and IPC tests, fmpy, pytest, iceoryx2, mcap
-# and numpy, meshio and vtk (the outputs test reads the ParaView files with both), the
+# and numpy, meshio and vtk (the outputs test reads the ParaView files with both),
+# mcap-protobuf-support (it decodes the recordings' Foxglove messages), the
 # granmix study package (python/, editable, with dask + distributed, bokeh, pandas,
 # pyarrow, matplotlib and tqdm) and ruff (the Python lint of the test script). Safe to
 # run again.
@@ -28,6 +29,11 @@ fi
 # meshio and VTK's Python package: the outputs test reads the ParaView files with both
 if ! .venv/bin/python -c "import meshio, vtk" >/dev/null 2>&1; then
     .venv/bin/pip install --quiet meshio==5.3.5 vtk==9.7.2
+fi
+# mcap-protobuf-support (and protobuf): the recording test decodes the Foxglove messages
+# with the schemas stored in the file
+if ! .venv/bin/python -c "import mcap_protobuf.decoder" >/dev/null 2>&1; then
+    .venv/bin/pip install --quiet mcap-protobuf-support==0.6.0 protobuf==7.36.2
 fi
 # the granmix study package (python/), editable: the tests import it from the checkout;
 # with its dependencies (bokeh for the Dask dashboard, tqdm for the progress bar)

@@ -72,6 +72,18 @@ impl AnySimulation {
     pub fn wall_points(&self) -> (Vec<[f32; 3]>, Vec<u16>) {
         dispatch!(self, s => s.wall_points())
     }
+    /// The wall objects as solids ([`Simulation::wall_solids`]).
+    pub fn wall_solids(&self) -> Vec<crate::solids::WallSolid> {
+        dispatch!(self, s => s.wall_solids())
+    }
+    /// Each wall object's offset since t = 0 ([`Simulation::wall_offsets`]).
+    pub fn wall_offsets(&self) -> Vec<[Real; 3]> {
+        dispatch!(self, s => s.wall_offsets())
+    }
+    /// The wall particles' pressure ([`Simulation::wall_pressure`]).
+    pub fn wall_pressure(&self) -> (Vec<f32>, Option<Vec<f32>>) {
+        dispatch!(self, s => s.wall_pressure())
+    }
     pub fn wall_count(&self) -> usize {
         dispatch!(self, s => s.world.walls.len())
     }

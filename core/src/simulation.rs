@@ -5,6 +5,7 @@ use crate::build_error::BuildError;
 use crate::guard::Blowup;
 use crate::load::Load;
 use crate::math::{to3, Real, Vect};
+use crate::neighbors::CellGrid;
 use crate::observe::{self, RunoutSpec};
 use crate::pore_field::PoreField;
 use crate::resolution::Resolution;
@@ -510,7 +511,57 @@ impl<const D: usize> Simulation<D> {
         (self.world.fine.len(), self.world.coarse.particles.len())
     }
 
-    /// Particle snapshot for writers.
+    /// The wall objects as solids for viewers, at t = 0 ([`crate::solids`]).
+    pub fn wall_solids(&self) -> Vec<crate::solids::WallSolid> {
+        crate::solids::wall_solids(&self.world.walls, self.world.resolution.dp)
+    }
+
+    /// Each wall object's rigid offset (m) since t = 0, in 3D coordinates.
+    pub fn wall_offsets(&self) -> Vec<[Real; 3]> {
+        crate::solids::offsets(&self.world.walls)
+    }
+
+    /// The pressure (Pa) of every wall particle: the fine grains' P̄_w plus the
+    /// water's, and the water's part alone (`None` without water), each the Shepard
+    /// mean of its wall law's extrapolation
+    /// ([`wall_pressure`](crate::interactions::wall_pressure)). Taken when asked
+    /// (output time), in one pass over the particles.
+    pub fn wall_pressure(&self) -> (Vec<f32>, Option<Vec<f32>>) {
+        use crate::interactions::wall_pressure::{shepard, Family, Law};
+        let w = &self.world;
+        let kernel = &self.stepper.kernel;
+        let mut grid = CellGrid::periodic(&w.domain.0, &w.domain.1, kernel.cutoff, w.periodic);
+        grid.bin(&w.walls.pos);
+        let fine_p: Vec<Real> = w.fine.stress.iter().map(|s| -s.trace() / 3.0).collect();
+        let fine = Family {
+            pos: &w.fine.pos,
+            rho: &w.fine.rho,
+            mass: &w.fine.mass,
+            p: &fine_p,
+        };
+        let law = Law::Fine { gravity: w.gravity };
+        let mut total = shepard(&w.walls, &grid, kernel, &w.periodic, &fine, law);
+        let water = w.water.material.map(|m| {
+            let wp = &w.water.particles;
+            let p: Vec<Real> = wp.rho.iter().map(|&r| m.pressure(r)).collect();
+            let water = Family {
+                pos: &wp.pos,
+                rho: &wp.rho,
+                mass: &wp.mass,
+                p: &p,
+            };
+            let law = Law::Water {
+                hydrostatic: w.hydrostatic_gravity(),
+            };
+            let pw = shepard(&w.walls, &grid, kernel, &w.periodic, &water, law);
+            for (t, p) in total.iter_mut().zip(&pw) {
+                *t += p;
+            }
+            pw.iter().map(|&p| p as f32).collect()
+        });
+        (total.iter().map(|&p| p as f32).collect(), water)
+    }
+
     /// The wall particles (3D layout) and each one's object index (walls, barriers
     /// and container faces in scene order), for writers that draw the geometry once.
     pub fn wall_points(&self) -> (Vec<[f32; 3]>, Vec<u16>) {
@@ -518,6 +569,7 @@ impl<const D: usize> Simulation<D> {
         (walls.pos.iter().map(arr).collect(), walls.object.clone())
     }
 
+    /// Particle snapshot for writers.
     pub fn frame(&self) -> Frame {
         let (f, w) = (&self.world.fine, &self.world);
         let (nf, nc) = self.particle_counts();

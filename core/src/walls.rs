@@ -4,10 +4,39 @@
 use crate::geometry::Shape;
 use crate::math::{Real, Vect};
 
+/// What a wall object is in the scene: viewers colour by it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum WallKind {
+    /// An entry of `[[walls]]` (a slope, a floor, a plane patch).
+    #[default]
+    Wall,
+    /// An entry of `[[walls]]` whose shape is a heightmap.
+    Terrain,
+    /// An entry of `[[barriers]]`.
+    Barrier,
+    /// One face of a `[[containers]]` entry.
+    Container,
+}
+
+impl WallKind {
+    /// Lower-case name (`wall`, `terrain`, `barrier`, `container`).
+    pub fn name(self) -> &'static str {
+        match self {
+            WallKind::Wall => "wall",
+            WallKind::Terrain => "terrain",
+            WallKind::Barrier => "barrier",
+            WallKind::Container => "container",
+        }
+    }
+}
+
 /// One rigid wall object.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct WallObject<const D: usize> {
     pub name: String,
+    /// Where it comes from in the scene.
+    #[serde(default)]
+    pub kind: WallKind,
     /// Current rigid velocity (m/s): `prescribed` inside the motion window, else zero.
     pub velocity: Vect<D>,
     /// Prescribed rigid velocity (m/s).
@@ -88,6 +117,12 @@ impl<const D: usize> Walls<D> {
     /// True when water passes through any wall object.
     pub fn any_permeable(&self) -> bool {
         self.objects.iter().any(|o| o.permeable)
+    }
+    /// True when object `o` can move during the run: a prescribed velocity or a
+    /// co-simulation input drives it.
+    pub fn can_move(&self, o: usize) -> bool {
+        let o = &self.objects[o];
+        o.driven || o.prescribed.norm_squared() > 0.0
     }
     /// True when any wall object moves.
     pub fn any_moving(&self) -> bool {

@@ -3,13 +3,13 @@
 use crate::series::{self, CsvSeries, Layout};
 use crate::vtk::VtkSeries;
 use anyhow::{bail, Context, Result};
-use granmix_core::guard::Blowup;
 use granmix_core::input::{load_scene_file, LoadedScene};
 use granmix_core::runner::{self, RunEnd};
 use granmix_core::sample::BodySample;
 use granmix_core::simulation::Sample;
-use granmix_core::timers::Stage;
 use granmix_core::AnySimulation;
+use granmix_core::Blowup;
+use granmix_core::Stage;
 use granmix_ipc::{ChannelSink, FramePublisher, Recorder, SceneInfo, Sinks};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{json, Map, Value};

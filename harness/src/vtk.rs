@@ -1,6 +1,7 @@
 //! ParaView output: `.vtu` unstructured-grid snapshots (raw appended binary) and a
 //! `.pvd` collection indexing them by time, one named part per family (soil, bodies,
-//! water) and the walls. docs/scenes.md lists every array with its unit.
+//! water) and the walls, whose particles carry their pressure at each snapshot.
+//! docs/scenes.md lists every array with its unit.
 
 use granmix_core::simulation::{Frame, Sample};
 use granmix_core::AnySimulation;
@@ -14,8 +15,6 @@ pub struct VtkSeries {
     dir: PathBuf,
     stem: String,
     entries: Vec<Entry>,
-    /// The walls' file, written with the first snapshot.
-    walls: Option<String>,
 }
 
 struct Arrays {
@@ -141,7 +140,6 @@ impl VtkSeries {
             dir: dir.to_path_buf(),
             stem: stem.to_string(),
             entries: Vec::new(),
-            walls: None,
         }
     }
 
@@ -270,9 +268,27 @@ impl VtkSeries {
         write_vtu(&self.dir.join(name), &pos, a)
     }
 
-    /// Write the parts of `frame` that have particles (and, on the first call, the
-    /// walls, which every snapshot then lists).
-    pub fn write(&mut self, frame: &Frame) -> std::io::Result<()> {
+    /// The wall particles where they are now: object index, pressure and, with
+    /// water, the water's part of it ([`AnySimulation::wall_pressure`]).
+    fn walls(&self, frame: &Frame, sim: &AnySimulation, name: &str) -> std::io::Result<()> {
+        let (pressure, water) = sim.wall_pressure();
+        let mut w = Arrays::new();
+        w.push(
+            "object",
+            "UInt16",
+            1,
+            &bytes_u16(frame.wall_object.iter().copied()),
+        );
+        w.push("pressure", "Float32", 1, &bytes_f32(&pressure));
+        if let Some(water) = water {
+            w.push("pressure_water", "Float32", 1, &bytes_f32(&water));
+        }
+        write_vtu(&self.dir.join(name), &frame.wall_pos, w)
+    }
+
+    /// Write the parts of `sim`'s state that have particles, the walls included.
+    pub fn write(&mut self, sim: &AnySimulation) -> std::io::Result<()> {
+        let frame = &sim.frame();
         let k = self.entries.len();
         let mut parts = Vec::new();
         if !frame.fine.is_empty() {
@@ -290,20 +306,10 @@ impl VtkSeries {
             self.water(frame, &name)?;
             parts.push((WATER, name));
         }
-        if k == 0 && !frame.wall_pos.is_empty() {
-            let mut w = Arrays::new();
-            w.push(
-                "object",
-                "UInt16",
-                1,
-                &bytes_u16(frame.wall_object.iter().copied()),
-            );
-            let name = format!("{}_walls.vtu", self.stem);
-            write_vtu(&self.dir.join(&name), &frame.wall_pos, w)?;
-            self.walls = Some(name);
-        }
-        if let Some(w) = &self.walls {
-            parts.push((WALLS, w.clone()));
+        if !frame.wall_pos.is_empty() {
+            let name = format!("{}_walls_{k:05}.vtu", self.stem);
+            self.walls(frame, sim, &name)?;
+            parts.push((WALLS, name));
         }
         self.entries.push((frame.time, parts));
         self.write_pvd()
@@ -332,13 +338,13 @@ impl Sink for VtkSeries {
         "vtk"
     }
     fn sample(&mut self, sim: &AnySimulation, _s: &Sample) -> Result<(), SinkError> {
-        self.write(&sim.frame())
+        self.write(sim)
             .map_err(|e| SinkError::new("writing VTK snapshot", e))
     }
     /// The state the guard stopped on, as the last snapshot, so that the blow-up can
     /// be looked at in ParaView.
     fn blowup(&mut self, sim: &AnySimulation) -> Result<(), SinkError> {
-        self.write(&sim.frame())
+        self.write(sim)
             .map_err(|e| SinkError::new("writing the VTK snapshot of the blow-up", e))
     }
 }

@@ -2,7 +2,7 @@
 //! `granmix` binary: pattern frames bit for bit, a run that a stalled or killed
 //! subscriber cannot stop or change, and a recording read back with the Rust reader.
 
-use granmix_ipc::foxglove::messages::{FrameTransforms, PointCloud};
+use granmix_ipc::foxglove::messages::{FrameTransforms, PointCloud, SceneUpdate};
 use granmix_ipc::foxglove::{Decode, Encode};
 use granmix_ipc::pattern::{pattern_info, pattern_record};
 use granmix_ipc::payload::record_bytes;
@@ -221,6 +221,15 @@ fn recording_reads_back_with_the_rust_reader() {
                 let walls = s["wall_particles"].as_u64().unwrap();
                 assert_eq!(pc.data.len() as u64, 16 * walls);
             }
+            "/geometry" => {
+                // the walls' solids, once (nothing moves): one entity per wall object
+                assert_eq!(schema.name, "foxglove.SceneUpdate");
+                let fox = SceneUpdate::get_schema().unwrap();
+                assert_eq!(&schema.data[..], &fox.data[..]);
+                let su = SceneUpdate::decode(&m.data[..]).unwrap();
+                let objects: Vec<&str> = su.entities.iter().map(|e| e.id.as_str()).collect();
+                assert_eq!(objects, ["tank.left", "tank.bottom"]);
+            }
             "/barriers" | "/energy" => {
                 assert_eq!(schema.encoding, "jsonschema");
                 assert_eq!(m.channel.message_encoding, "json");
@@ -241,6 +250,8 @@ fn recording_reads_back_with_the_rust_reader() {
     }
     assert_eq!(per_topic.get("/walls").copied(), Some(1));
     assert_eq!(counts["walls"].as_u64(), Some(1));
+    assert_eq!(per_topic.get("/geometry").copied(), Some(1));
+    assert_eq!(counts["geometry"].as_u64(), Some(1));
     let summary = mcap::Summary::read(&bytes).unwrap().unwrap();
     let scene_text = std::fs::read_to_string(tmp.join("scene.toml")).unwrap();
     let idx = &summary.attachment_indexes;

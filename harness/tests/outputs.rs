@@ -263,7 +263,8 @@ fn quick_look_plot_is_on_by_default() {
 
 /// Issue 39: the recording's `/barriers` gave neither the water/grain split nor the
 /// panels, `/energy` had no water energies, and no geometry showed where the walls,
-/// slope and barrier are.
+/// slope and barrier are: `/walls` has their particles, `/geometry` their solids (one
+/// entity per object; tests/python/test_outputs_mcap.py decodes them).
 #[test]
 fn issue_39_mcap_carries_the_load_split_panels_and_water_energy() {
     let dir = std::env::temp_dir().join(format!("granmix_outputs_mcap_{}", std::process::id()));
@@ -285,9 +286,16 @@ fn issue_39_mcap_carries_the_load_split_panels_and_water_energy() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let bytes = std::fs::read(&rec).unwrap();
-    let (mut barriers, mut energies, mut walls) = (0, 0, 0);
+    let (mut barriers, mut energies, mut walls, mut geometry) = (0, 0, 0, 0);
     for m in mcap::MessageStream::new(&bytes).unwrap() {
         let m = m.unwrap();
+        if m.channel.topic == "/geometry" {
+            geometry += 1;
+            assert_eq!(
+                m.channel.schema.as_ref().unwrap().name,
+                "foxglove.SceneUpdate"
+            );
+        }
         if m.channel.topic == "/walls" {
             walls += 1;
             assert_eq!(
@@ -323,5 +331,6 @@ fn issue_39_mcap_carries_the_load_split_panels_and_water_energy() {
         }
     }
     assert!(barriers >= 3 && energies >= 3, "{barriers} {energies}");
-    assert_eq!(walls, 1, "the walls' geometry goes once");
+    assert_eq!(walls, 1, "the walls' particles go once");
+    assert_eq!(geometry, 1, "nothing moves: the walls' solids go once");
 }

@@ -4,14 +4,16 @@
 //!   `granmix/<instance>/particles`, a [`payload::FrameHeader`] plus a slice of
 //!   [`payload::ParticleRecord`]s, zero-copy between processes.
 //! - [`recorder`]: MCAP recordings with Foxglove schemas (particles as
-//!   `foxglove.PointCloud`, bodies as `foxglove.FrameTransforms`, loads and energies as
-//!   JSON with JSON Schema, the scene as an attachment).
+//!   `foxglove.PointCloud`, bodies as `foxglove.FrameTransforms`, the walls' solids as
+//!   `foxglove.SceneUpdate` ([`geometry`]), loads and energies as JSON with JSON
+//!   Schema, the scene as an attachment).
 //!
 //! - [`sink`]: the one interface of bulk outputs ([`Sink`], [`Sinks`]) that the CLI
 //!   (`granmix run --publish/--record`, CSV and VTK) and the FMU (`ipc.enabled`,
 //!   `ipc.service`, `record.path`) feed alike.
 
 pub mod error;
+pub mod geometry;
 pub mod pattern;
 pub mod payload;
 pub mod publisher;

@@ -6,24 +6,32 @@
 //! | `/water` | `foxglove.PointCloud` | protobuf | recorded frame, scenes with water |
 //! | `/bodies` | `foxglove.FrameTransforms` | protobuf | sample, scenes with bodies |
 //! | `/walls` | `foxglove.PointCloud` | protobuf | recording (once, with the first frame): the wall particles (walls, slope, barriers), fields x, y, z, object |
+//! | `/geometry` | `foxglove.SceneUpdate` | protobuf | first frame: every wall object as a solid entity; each later frame: the objects that can move, at their current offset |
 //! | `/barriers` | `granmix.BarrierLoads` | JSON (JSON Schema) | sample: loads, their water/grain split, panels |
 //! | `/energy` | `granmix.Energies` | JSON (JSON Schema) | sample: every family's energies |
 //!
 //! Message log times are simulation time in ns. The PointCloud's data are the
 //! [`ParticleRecord`] bytes themselves (stride 52), so `/particles` and `/water` hold
-//! exactly what the particle channel carries. The scene goes in as the attachment `scene.toml` and
+//! exactly what the particle channel carries. `/geometry` has one entity a wall object,
+//! `id` its name, frame `world`, metadata `object`, `kind` and `moving`: boxes as
+//! cubes, spheres and cylinders as such, polygons, rings, polyhedra, meshes and terrain
+//! as triangle lists, 2D solids extruded along z into a slab
+//! [`SLAB_SPACINGS`](granmix_core::solids::SLAB_SPACINGS) dp thick
+//! ([`geometry`](crate::geometry)). The scene goes in as the attachment `scene.toml` and
 //! the metadata record `granmix`. The protobuf schemas are foxglove's own descriptors
 //! (from the `foxglove` crate).
 
 use crate::error::IpcError;
+use crate::geometry;
 use crate::payload::{append_record, ParticleRecord};
 use foxglove::messages::packed_element_field::NumericType;
 use foxglove::messages::{
-    FrameTransform, FrameTransforms, PackedElementField, PointCloud, Pose, Quaternion, Timestamp,
-    Vector3,
+    FrameTransform, FrameTransforms, PackedElementField, PointCloud, Pose, Quaternion, SceneUpdate,
+    Timestamp, Vector3,
 };
 use foxglove::Encode;
 use granmix_core::simulation::Sample;
+use granmix_core::solids::WallSolid;
 use granmix_core::AnySimulation;
 use serde_json::json;
 use std::collections::BTreeMap;
@@ -38,6 +46,8 @@ pub const TOPIC_WATER: &str = "/water";
 pub const TOPIC_BODIES: &str = "/bodies";
 /// The walls' particles, sent once: the geometry the particles move in.
 pub const TOPIC_WALLS: &str = "/walls";
+/// The wall objects as solids: all once, then the moving ones at every frame.
+pub const TOPIC_GEOMETRY: &str = "/geometry";
 pub const TOPIC_BARRIERS: &str = "/barriers";
 pub const TOPIC_ENERGY: &str = "/energy";
 /// Frame id of the simulation's coordinates.
@@ -121,6 +131,10 @@ pub struct RecordCounts {
     /// `/walls` messages: 1 once a frame is recorded in a scene with walls.
     #[serde(skip_serializing_if = "is_zero")]
     pub walls: u64,
+    /// `/geometry` messages: the first frame's, then one a frame while an object can
+    /// move (0 without walls).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub geometry: u64,
 }
 
 /// The scene stored in a recording.
@@ -144,6 +158,7 @@ fn is_zero(n: &u64) -> bool {
 struct Channels {
     particles: u16,
     walls: u16,
+    geometry: u16,
     water: Option<u16>,
     bodies: u16,
     barriers: u16,
@@ -156,6 +171,8 @@ pub struct Recorder {
     writer: mcap::Writer<BufWriter<File>>,
     channels: Channels,
     counts: RecordCounts,
+    /// The solids of the wall objects that can move (taken with the first frame).
+    moving: Vec<WallSolid>,
     /// Scratch for particle records and the encoded message (reused).
     records: Vec<ParticleRecord>,
     bytes: Vec<u8>,
@@ -239,6 +256,7 @@ impl Recorder {
         };
         let bodies = add_channel::<FrameTransforms>(&mut w, TOPIC_BODIES).map_err(e)?;
         let walls = add_channel::<PointCloud>(&mut w, TOPIC_WALLS).map_err(e)?;
+        let geometry = add_channel::<SceneUpdate>(&mut w, TOPIC_GEOMETRY).map_err(e)?;
         let json_channel = |w: &mut mcap::Writer<_>, name: &str, schema: &str, topic: &str| {
             let id = w.add_schema(name, "jsonschema", schema.as_bytes())?;
             w.add_channel(id, topic, "json", &BTreeMap::new())
@@ -280,12 +298,14 @@ impl Recorder {
             channels: Channels {
                 particles,
                 walls,
+                geometry,
                 water,
                 bodies,
                 barriers,
                 energy,
             },
             counts: RecordCounts::default(),
+            moving: Vec::new(),
             records: Vec::new(),
             bytes: Vec::new(),
             out: Vec::new(),
@@ -378,6 +398,7 @@ impl Recorder {
         if self.counts.walls == 0 && sim.wall_count() > 0 {
             self.write_walls(sim)?;
         }
+        self.write_geometry(sim)?;
         let (f, c) = sim.particle_counts();
         let nw = sim.water_count();
         let mut records = std::mem::take(&mut self.records);
@@ -434,6 +455,43 @@ impl Recorder {
         msg.encode(&mut out).map_err(|e| rec_err(&self.path, e))?;
         self.write(self.channels.walls, 0, sim.time(), &out)?;
         self.counts.walls = 1;
+        Ok(())
+    }
+
+    /// The `/geometry` message of this frame: every wall object with the first frame
+    /// (keeping the solids of those that can move), the moving ones at their current
+    /// offset with each later frame; nothing in a scene without walls, and nothing
+    /// after the first when no object can move.
+    fn write_geometry(&mut self, sim: &AnySimulation) -> Result<(), IpcError> {
+        if self.counts.geometry == 0 {
+            let all = sim.wall_solids();
+            if all.is_empty() {
+                return Ok(());
+            }
+            self.moving = all.iter().filter(|s| s.moving).cloned().collect();
+            self.write_solids(&all, sim)
+        } else if !self.moving.is_empty() {
+            let moving = std::mem::take(&mut self.moving);
+            let r = self.write_solids(&moving, sim);
+            self.moving = moving;
+            r
+        } else {
+            Ok(())
+        }
+    }
+
+    /// One `/geometry` message of `solids` at their offsets now.
+    fn write_solids(&mut self, solids: &[WallSolid], sim: &AnySimulation) -> Result<(), IpcError> {
+        let msg = geometry::update(solids, &sim.wall_offsets(), stamp(sim.time()));
+        let mut out = Vec::new();
+        msg.encode(&mut out).map_err(|e| rec_err(&self.path, e))?;
+        self.write(
+            self.channels.geometry,
+            self.counts.geometry,
+            sim.time(),
+            &out,
+        )?;
+        self.counts.geometry += 1;
         Ok(())
     }
 

@@ -207,8 +207,7 @@ impl<'a, const D: usize> FineAtWall<'a, D> {
         let uw = -n.dot(&walls.velocity(w));
         // Eq. (34): U_R = −U_L + 2u_w, so U_L − U_R = 2(U_L − u_w).
         let du = 2.0 * (self.ul - uw);
-        // Eq. (35): hydrostatic increase towards the wall.
-        let pr = si.p + self.rho * r * law.gravity.dot(&(-e)).max(0.0);
+        let pr = wall_pressure(si.p, self.rho, r, law.gravity.dot(&(-e)));
         let beta = law.riemann.limiter(du, self.inv_c);
         let pstar = 0.5 * (si.p + pr) + 0.5 * beta * si.z * du;
         let mut sstar = si.dev.scale(0.5 * (1.0 + self.strength.ratio(pr)));
@@ -234,6 +233,15 @@ impl<'a, const D: usize> FineAtWall<'a, D> {
         }
         Some(a)
     }
+}
+
+/// Eq. (35): the pressure of wall particle w against fine particle i at pressure
+/// `p` and density `rho`, a distance `r` away, with `g_to_wall` = g·e_wi (e_wi the unit
+/// vector from i to w): P_w = P_i + ρ_i r max(0, g·e_wi), the hydrostatic increase
+/// towards walls below the particle and none towards walls above.
+#[inline(always)]
+pub fn wall_pressure(p: Real, rho: Real, r: Real, g_to_wall: Real) -> Real {
+    p + rho * r * g_to_wall.max(0.0)
 }
 
 /// The continuity terms of wall particle `w` on fine particle i at `xi` moving with

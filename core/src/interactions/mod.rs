@@ -10,7 +10,9 @@
 //! - [`water_coarse`]: water on coarse grains, the same law on moving particles;
 //! - [`water_pass`]: the water sweeps' particle passes;
 //! - [`soil_water`]: soil and water, the seepage and pore-pressure forces of seed 001
-//!   Eqs. (8)–(10).
+//!   Eqs. (8)–(10);
+//! - [`wall_pressure`]: the pressure the wall particles carry, from the fine grains'
+//!   and the water's wall laws, for output.
 
 pub mod barrier_load;
 pub mod contact;
@@ -22,6 +24,7 @@ pub mod soil_water;
 #[cfg(test)]
 mod symmetric_tests;
 pub mod wall_contact;
+pub mod wall_pressure;
 pub mod water_coarse;
 pub mod water_pass;
 pub mod water_wall;

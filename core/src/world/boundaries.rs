@@ -7,7 +7,7 @@ use crate::geometry::Shape;
 use crate::math::{Real, Vect};
 use crate::periodic::Wrap;
 use crate::scene::{ContainerSpec, Scene, ShapeSpec};
-use crate::walls::{Barrier, WallObject, Walls};
+use crate::walls::{Barrier, WallKind, WallObject, Walls};
 
 /// The wall particles of every wall, barrier and container face, barriers split into
 /// their panels.
@@ -64,6 +64,11 @@ pub(super) fn build<const D: usize>(
             if let Some(o) = walls.objects.last_mut() {
                 o.driven = w.input.is_some();
                 o.permeable = w.permeable;
+                o.kind = match (&w.shape, is_barrier) {
+                    (_, true) => WallKind::Barrier,
+                    (ShapeSpec::Heightmap { .. }, false) => WallKind::Terrain,
+                    _ => WallKind::Wall,
+                };
             }
         }
     }
@@ -129,6 +134,9 @@ fn container<const D: usize>(
                 c.report_loads.then_some(reference),
                 solid,
             );
+            if let Some(o) = walls.objects.last_mut() {
+                o.kind = WallKind::Container;
+            }
         }
     }
 }
@@ -160,6 +168,7 @@ fn add_object<const D: usize>(
     });
     walls.objects.push(WallObject {
         name: name.to_string(),
+        kind: WallKind::Wall,
         velocity: vel,
         prescribed: vel,
         window,
