@@ -16,8 +16,8 @@ use std::path::Path;
 
 /// One curve: a case under one scheme at several resolutions.
 struct Series {
-    case: &'static str,
-    scheme: &'static str,
+    case: String,
+    scheme: String,
     scene: &'static str,
     /// Resolution label and its overrides, coarsest first.
     levels: Vec<(String, Vec<String>)>,
@@ -46,8 +46,8 @@ fn series() -> Vec<Series> {
     ] {
         let (levels, common, metric) = crate::metric::collapse_3d(a);
         v.push(Series {
-            case,
-            scheme: "single-rate",
+            case: case.into(),
+            scheme: "single-rate".into(),
             scene: "column_collapse_3d.toml",
             levels,
             common,
@@ -56,8 +56,8 @@ fn series() -> Vec<Series> {
         });
     }
     v.push(Series {
-        case: "collapse_2d",
-        scheme: "single-rate",
+        case: "collapse_2d".into(),
+        scheme: "single-rate".into(),
         scene: "column_collapse_2d.toml",
         levels: dp_levels(&[0.008, 0.004, 0.002], 0.001, " mm"),
         common: vec!["materials.0.friction_angle=30".into()],
@@ -65,8 +65,8 @@ fn series() -> Vec<Series> {
         note: "Lube et al. 2005 (quasi-2D), φ = 30°: L∞ = L0 (1 + 1.2 a)",
     });
     v.push(Series {
-        case: "geostatic",
-        scheme: "single-rate",
+        case: "geostatic".into(),
+        scheme: "single-rate".into(),
         scene: "geostatic_layer.toml",
         levels: dp_levels(&[0.02, 0.01, 0.005], 0.001, " mm"),
         common: vec!["simulation.end_time=1.0".into()],
@@ -93,8 +93,8 @@ fn series() -> Vec<Series> {
         let mut common = crater.overrides();
         common.extend(set);
         v.push(Series {
-            case: "crater_R0.02_mu0.3_H0.2",
-            scheme,
+            case: "crater_R0.02_mu0.3_H0.2".into(),
+            scheme: scheme.into(),
             scene: "impact_crater.toml",
             levels: dp_levels(&[0.006, 0.005, 0.004], 0.001, " mm"),
             common,
@@ -106,8 +106,8 @@ fn series() -> Vec<Series> {
     let (theta, mu, t) = (30f64.to_radians(), 0.3, 0.5);
     let slide = 0.5 * g * (theta.sin() - mu * theta.cos()) * t * t;
     v.push(Series {
-        case: "incline",
-        scheme: "rigid",
+        case: "incline".into(),
+        scheme: "rigid".into(),
         scene: "incline_block.toml",
         levels: dp_levels(&[0.02, 0.01, 0.005], 0.001, " mm"),
         common: vec![],
@@ -115,8 +115,8 @@ fn series() -> Vec<Series> {
         note: "½ g (sin θ − μ cos θ) t², θ = 30°, μ = 0.3, t = 0.5 s",
     });
     v.push(Series {
-        case: "water_tank",
-        scheme: "water",
+        case: "water_tank".into(),
+        scheme: "water".into(),
         scene: "hydrostatic_tank.toml",
         levels: dp_levels(&[0.02, 0.01, 0.005], 0.001, " mm"),
         common: vec!["simulation.end_time=3.0".into()],
@@ -124,8 +124,8 @@ fn series() -> Vec<Series> {
         note: "resting tank H = 0.5 m: side-wall load ½ ρ_w g H²",
     });
     v.push(Series {
-        case: "water_tank_rest",
-        scheme: "water",
+        case: "water_tank_rest".into(),
+        scheme: "water".into(),
         scene: "hydrostatic_tank.toml",
         levels: dp_levels(&[0.04, 0.02, 0.01], 0.001, " mm"),
         common: vec![
@@ -136,8 +136,8 @@ fn series() -> Vec<Series> {
         note: "resting tank H = 0.5 m: kinetic energy per volume over 25–30 s under 1e-8 ρ_w g H²",
     });
     v.push(Series {
-        case: "rising_disc",
-        scheme: "water",
+        case: "rising_disc".into(),
+        scheme: "water".into(),
         scene: "boulder_in_water.toml",
         levels: [10, 20, 40]
             .iter()
@@ -153,8 +153,8 @@ fn series() -> Vec<Series> {
         ("dam_break_3d", "dam_break_3d.toml", [10.0, 15.0, 20.0]),
     ] {
         v.push(Series {
-            case,
-            scheme: "water",
+            case: case.into(),
+            scheme: "water".into(),
             scene,
             levels: fractions
                 .iter()
@@ -166,8 +166,8 @@ fn series() -> Vec<Series> {
         });
     }
     v.push(Series {
-        case: "poiseuille_2d",
-        scheme: "water",
+        case: "poiseuille_2d".into(),
+        scheme: "water".into(),
         scene: "poiseuille_2d.toml",
         levels: [20, 40, 80]
             .iter()
@@ -184,15 +184,44 @@ fn series() -> Vec<Series> {
             "seed 001 §2.1: centreline velocity against Morris et al. (1997), t = 5, 10, 20, 80 s",
     });
     v.push(Series {
-        case: "rubber_rings",
-        scheme: "multi-rate, elastic",
+        case: "rubber_rings".into(),
+        scheme: "multi-rate, elastic".into(),
         scene: "rubber_rings.toml",
         levels: dp_levels(&[0.001, 0.0007, 0.0005], 0.001, " mm"),
         common: vec![],
         metric: Metric::MomentumDrift,
         note: "total momentum conserved: drift relative to Σ|p| at the start",
     });
+    v.extend(bench_cases_not_covered(&v));
     v
+}
+
+/// Bench cases whose runs the accuracy suite makes under another name: the crater of
+/// R = 0.02 m, μ = 0.3, H = 0.2 m runs under all three schemes there.
+const COVERED_BY: [(&str, &str); 2] = [
+    ("crater_schemes", "crater_R0.02_mu0.3_H0.2"),
+    ("crater_models", "crater_R0.02_mu0.3_H0.2"),
+];
+
+/// Every `granmix bench` case with a reference that the series above do not run,
+/// at the bench's own levels and under the scene's own scheme, so that the report
+/// covers every case with a reference (issue 39).
+fn bench_cases_not_covered(explicit: &[Series]) -> Vec<Series> {
+    crate::bench::cases()
+        .into_iter()
+        .filter(|c| c.metric.has_reference())
+        .filter(|c| !explicit.iter().any(|s| s.case == c.name))
+        .filter(|c| !COVERED_BY.iter().any(|(name, _)| *name == c.name))
+        .map(|c| Series {
+            case: c.name,
+            scheme: "scene default".into(),
+            scene: c.scene,
+            levels: c.levels,
+            common: c.common,
+            metric: c.metric,
+            note: c.note,
+        })
+        .collect()
 }
 
 /// Zero the process's peak resident set (Linux `clear_refs` 5) so that the next
@@ -230,12 +259,8 @@ pub struct AccuracyOptions<'a> {
 pub fn accuracy(o: &AccuracyOptions) -> Result<()> {
     let (scenes, out, quick, report) = (o.scenes, o.out, o.quick, o.report);
     let all = series();
-    if let Some(bad) = o
-        .cases
-        .iter()
-        .find(|c| !all.iter().any(|s| s.case == c.as_str()))
-    {
-        let mut names: Vec<&str> = all.iter().map(|s| s.case).collect();
+    if let Some(bad) = o.cases.iter().find(|c| !all.iter().any(|s| &s.case == *c)) {
+        let mut names: Vec<&str> = all.iter().map(|s| s.case.as_str()).collect();
         names.dedup();
         anyhow::bail!(
             "bench --suite accuracy: unknown --case {bad:?}; cases are {}",
@@ -259,7 +284,7 @@ pub fn accuracy(o: &AccuracyOptions) -> Result<()> {
         "error"
     );
     for s in all {
-        if !o.cases.is_empty() && !o.cases.iter().any(|c| c == s.case) {
+        if !o.cases.is_empty() && !o.cases.iter().any(|c| c == &s.case) {
             continue;
         }
         let levels: Vec<_> = if quick {
@@ -275,7 +300,7 @@ pub fn accuracy(o: &AccuracyOptions) -> Result<()> {
                 set.push("simulation.end_time=0.002".into());
             }
             let dir = out
-                .join(s.case)
+                .join(&s.case)
                 .join(s.scheme.replace([',', ' '], "_"))
                 .join(label.replace(['/', ' '], "_"));
             let record = dir.join("record.json");
@@ -399,9 +424,12 @@ pub fn markdown(doc: &Value, plot: &str) -> String {
     let mut s = format!(
         "# Benchmarks: run time against error\n\n\
          Generated by `granmix bench --suite accuracy` from `accuracy.json`; do not edit.\n\
-         {} thread(s). Each validation case with a reference runs at three resolutions,\n\
-         under each scheme that applies; *error* is relative to the reference (for the\n\
-         rings, the momentum drift itself). *cpu* is the process's user + system time,\n\
+         {} thread(s). Every `granmix bench` case with a reference runs here, at three\n\
+         resolutions where the suite defines them (at the bench's own levels otherwise),\n\
+         under each scheme that applies; the crater of R = 0.02 m, μ = 0.3, H = 0.2 m\n\
+         also stands for the bench's `crater_schemes` and `crater_models`. *error* is\n\
+         relative to the reference (for the rings, the momentum drift itself; 0 inside a\n\
+         band or under a bound). *cpu* is the process's user + system time,\n\
          which other jobs on the machine disturb less than the wall time.\n\n\
          ![error against wall time, one curve per case and scheme]({plot})\n",
         doc["threads"]
@@ -497,4 +525,44 @@ pub fn markdown(doc: &Value, plot: &str) -> String {
         }
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 39: every bench case with a reference has a section in the committed
+    /// report, docs/benchmarks.md (directly or through the case that stands for it), so
+    /// a case added to the bench without regenerating the report fails here.
+    #[test]
+    fn every_bench_case_with_a_reference_is_in_the_report() {
+        let report = std::fs::read_to_string(
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/benchmarks.md"),
+        )
+        .expect("docs/benchmarks.md");
+        let all = series();
+        let mut missing = Vec::new();
+        for c in crate::bench::cases() {
+            if !c.metric.has_reference() {
+                continue;
+            }
+            let name = COVERED_BY
+                .iter()
+                .find(|(n, _)| *n == c.name)
+                .map_or(c.name.as_str(), |(_, by)| by);
+            assert!(
+                all.iter().any(|s| s.case == name),
+                "bench case {} is not in the accuracy suite",
+                c.name
+            );
+            if !report.contains(&format!("\n## {name}\n")) {
+                missing.push(c.name.clone());
+            }
+        }
+        assert!(
+            missing.is_empty(),
+            "docs/benchmarks.md has no section for {missing:?}: regenerate it with \
+             `granmix bench --suite accuracy --report docs/benchmarks.md`"
+        );
+    }
 }

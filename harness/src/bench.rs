@@ -42,20 +42,20 @@ pub struct BenchArgs {
     resume: bool,
 }
 
-struct Case {
-    name: String,
-    scene: &'static str,
+pub(crate) struct Case {
+    pub(crate) name: String,
+    pub(crate) scene: &'static str,
     /// Resolution label and its overrides.
-    levels: Vec<(String, Vec<String>)>,
+    pub(crate) levels: Vec<(String, Vec<String>)>,
     /// Overrides shared by all levels.
-    common: Vec<String>,
-    metric: Metric,
+    pub(crate) common: Vec<String>,
+    pub(crate) metric: Metric,
     /// Relative tolerance at the finest level.
     tolerance: Option<f64>,
-    note: &'static str,
+    pub(crate) note: &'static str,
 }
 
-fn cases() -> Vec<Case> {
+pub(crate) fn cases() -> Vec<Case> {
     let mut v = Vec::new();
     for a in [0.5, 1.0, 1.5] {
         let (levels, common, metric) = collapse_3d(a);
