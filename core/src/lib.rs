@@ -42,6 +42,7 @@ pub mod scene;
 pub mod shape_file;
 pub mod simulation;
 pub mod slabs;
+pub mod solids;
 pub mod step;
 pub mod timers;
 pub mod walls;

@@ -123,10 +123,13 @@ pub fn runout<const D: usize>(
     runs.iter()
         .rev()
         .find(|r| r.0 >= DEPOSIT_SHARE * total)
-        .or_else(|| runs.iter().fold(None, |b: Option<&(Real, Real)>, r| match b {
-            Some(b) if b.0 >= r.0 => Some(b),
-            _ => Some(r),
-        }))
+        .or_else(|| {
+            runs.iter()
+                .fold(None, |b: Option<&(Real, Real)>, r| match b {
+                    Some(b) if b.0 >= r.0 => Some(b),
+                    _ => Some(r),
+                })
+        })
         .map_or(0.0, |r| r.1)
 }
 

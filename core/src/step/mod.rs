@@ -9,7 +9,7 @@ use crate::guard::{Blowup, ChunkFailure};
 use crate::interactions::fine_coarse::CoarseSource;
 use crate::kernel::WendlandC2;
 use crate::load::Load;
-use crate::math::{Real, Sym, Vect};
+use crate::math::{up, Real, Sym, Vect};
 use crate::neighbors::{CellGrid, NeighborLists};
 use crate::permute::PermuteScratch;
 use crate::timers::{Stage, StageTimers};
@@ -113,11 +113,7 @@ impl<const D: usize> Stepper<D> {
     pub fn new(world: &World<D>, params: StepParams) -> Self {
         let kernel = WendlandC2::new(params.h, D);
         let g = world.gravity.norm();
-        let up = if g > 0.0 {
-            -world.gravity / g
-        } else {
-            Vect::<D>::zeros()
-        };
+        let up = up(&world.gravity);
         // a saturated soil's skeleton carries its submerged weight
         let rho_w = world.water_material.map(|w| w.rho0);
         let geostatic = world
