@@ -10,6 +10,7 @@
 use crate::estimate::{estimate, Estimate};
 use crate::math::Real;
 use crate::neighbors::MAX_CELLS;
+use crate::resolution::Resolution;
 use crate::scene::Scene;
 
 /// Share of the available memory a scene may use by default.
@@ -91,8 +92,8 @@ pub struct OverBudget {
 
 /// Estimate `scene` and refuse it when the estimate exceeds its budget. The error
 /// names dp, the estimated particles and bytes, the budget and how to change it.
-pub fn enforce(scene: &Scene) -> Result<Estimate, OverBudget> {
-    let estimate = estimate(scene);
+pub fn enforce(scene: &Scene, res: &Resolution) -> Result<Estimate, OverBudget> {
+    let estimate = estimate(scene, res);
     let budget = budget(scene);
     if !passes(&estimate, &budget) {
         return Err(OverBudget {

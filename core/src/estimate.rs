@@ -13,7 +13,7 @@
 use crate::fine::pair_sums::PairSums;
 use crate::fine::pores::Pores;
 use crate::fine::source::Source;
-use crate::flow_speed::{saturated, water_speed};
+use crate::flow_speed::{saturated, water_spec, water_speed, WaterSpeed};
 use crate::geometry::Shape;
 use crate::math::{from3, to3, Real, Sym, Vect};
 use crate::neighbors::BYTES_PER_CELL;
@@ -75,11 +75,12 @@ impl Estimate {
     }
 }
 
-/// Estimate a validated scene (its assets loaded).
-pub fn estimate(scene: &Scene) -> Estimate {
+/// Estimate a validated scene (its assets loaded) at its resolution `res`
+/// ([`Resolution::of_scene`]).
+pub fn estimate(scene: &Scene, res: &Resolution) -> Estimate {
     match scene.simulation.dimension {
-        2 => estimate_in::<2>(scene),
-        _ => estimate_in::<3>(scene),
+        2 => estimate_in::<2>(scene, res),
+        _ => estimate_in::<3>(scene, res),
     }
 }
 
@@ -103,8 +104,7 @@ impl<const D: usize> Solid<D> {
     }
 }
 
-fn estimate_in<const D: usize>(scene: &Scene) -> Estimate {
-    let res = Resolution::of::<D>(scene);
+fn estimate_in<const D: usize>(scene: &Scene, res: &Resolution) -> Estimate {
     let dp = res.dp;
     let n = &scene.numerics;
     // one stream of samples, drawn by regions, walls and bodies in that order
@@ -116,21 +116,21 @@ fn estimate_in<const D: usize>(scene: &Scene) -> Estimate {
         .iter()
         .map(|r| (r.name.as_str(), &r.shape))
         .collect();
-    let regions = count_regions(scene, &fine, &res, &solids, &mut rng, &mut bounds);
+    let regions = count_regions(scene, &fine, res, &solids, &mut rng, &mut bounds);
     let water: Vec<(&str, &ShapeSpec)> = scene
         .water
         .iter()
         .flat_map(|w| w.regions.iter().map(|r| (r.name.as_str(), &r.shape)))
         .collect();
-    let mut water = count_regions(scene, &water, &res, &solids, &mut rng, &mut bounds);
+    let mut water = count_regions(scene, &water, res, &solids, &mut rng, &mut bounds);
     // a saturated soil's pores hold one water particle per soil particle
     for (r, (_, n)) in scene.regions.iter().zip(&regions) {
         if saturated(scene, &r.material) {
             water.push((format!("pores of {}", r.name), *n));
         }
     }
-    let walls = count_walls(scene, &mut rng, &mut bounds);
-    let (bodies, largest_body_fill) = count_bodies(scene, &res, &solids, &mut rng, &mut bounds);
+    let walls = count_walls(scene, dp, &mut rng, &mut bounds);
+    let (bodies, largest_body_fill) = count_bodies(scene, res, &solids, &mut rng, &mut bounds);
     let (lo_all, hi_all) = (bounds.lo, bounds.hi);
 
     // the domain: everything plus the builder's margin; one cell per list radius
@@ -166,7 +166,7 @@ fn estimate_in<const D: usize>(scene: &Scene) -> Estimate {
         per_particle,
         bytes: 0.0,
     };
-    let water = water_speed(scene).is_some() && (e.water() > 0.0 || has_inflows(scene));
+    let water = water_spec(scene).is_some() && (e.water() > 0.0 || has_inflows(scene));
     let seepage = water && scene.materials.iter().any(|m| Pores::of(m).is_some());
     // the soil–water lists' cells are 2h + 1.5 skin wide (one kept grid and one built
     // for the outputs)
@@ -320,8 +320,13 @@ fn count_regions<const D: usize>(
 }
 
 /// Wall particles of walls, barriers and container faces.
-fn count_walls<const D: usize>(scene: &Scene, rng: &mut Rng, bounds: &mut Bounds<D>) -> Real {
-    let (dp, n) = (scene.simulation.dp, &scene.numerics);
+fn count_walls<const D: usize>(
+    scene: &Scene,
+    dp: Real,
+    rng: &mut Rng,
+    bounds: &mut Bounds<D>,
+) -> Real {
+    let n = &scene.numerics;
     let depth = n.wall_layers as Real * dp;
     let mut walls = 0.0;
     for w in scene.walls.iter().chain(&scene.barriers) {
@@ -590,8 +595,9 @@ fn overlaps<const D: usize>(a0: &Vect<D>, a1: &Vect<D>, b0: &Vect<D>, b1: &Vect<
 /// Δt of Eq. (51) at rest, CFL · h / c0 over the fastest fine material and the water
 /// (no particle moves yet, so |v|max = 0), and the water's viscous limit; infinite
 /// without fine grains or water.
-pub fn rest_dt(scene: &Scene) -> Real {
-    rest_dt_bound(scene).dt
+pub fn rest_dt(scene: &Scene, res: &Resolution) -> Real {
+    let water = water_speed(scene, res).ok().flatten();
+    rest_dt_bound(scene, res, water.as_ref()).dt
 }
 
 /// The time step at rest ([`rest_dt`]) and the bound that sets it.
@@ -607,12 +613,12 @@ pub struct RestDt {
     pub acoustic: bool,
 }
 
-/// [`rest_dt`] with the bound that sets it: the acoustic step of each fine material
-/// and of the water, the water's viscous limit ⅛ h² ρ/μ and the soils' explicit side
-/// of the seepage force, ½ ρ_d k / μ.
-pub fn rest_dt_bound(scene: &Scene) -> RestDt {
-    let h = scene.numerics.smoothing_ratio * scene.simulation.dp;
-    let cfl = scene.simulation.cfl;
+/// [`rest_dt`] with the bound that sets it, for the water of speeds `water`
+/// ([`water_speed`]): the acoustic step of each fine material and of the water, the
+/// water's viscous limit ⅛ h² ρ/μ and the soils' explicit side of the seepage force
+/// ([`seepage_dt`]).
+pub fn rest_dt_bound(scene: &Scene, res: &Resolution, water: Option<&WaterSpeed>) -> RestDt {
+    let (h, cfl) = (res.h, scene.simulation.cfl);
     let mut bounds: Vec<RestDt> = Vec::new();
     let take = |bounds: &mut Vec<RestDt>, dt: Real, key: String, what: String, acoustic| {
         bounds.push(RestDt {
@@ -637,23 +643,23 @@ pub fn rest_dt_bound(scene: &Scene) -> RestDt {
             );
         }
     }
-    if let Some(w) = water_speed(scene) {
-        if w.c0 > 0.0 {
-            take(
-                &mut bounds,
-                cfl * h / w.c0,
-                w.key.to_string(),
-                format!(
-                    "CFL · h / c0 with the water's sound speed c0 = {:?} m/s",
-                    w.c0
-                ),
-                true,
-            );
-        }
+    if let Some(w) = water.filter(|w| w.c0 > 0.0) {
+        take(
+            &mut bounds,
+            cfl * h / w.c0,
+            w.key.to_string(),
+            format!(
+                "CFL · h / c0 with the water's sound speed c0 = {:?} m/s",
+                w.c0
+            ),
+            true,
+        );
     }
-    // without a sound speed nothing moves: no step bound at all
-    if !bounds.is_empty() {
-        if let Some(w) = scene.water.as_ref().filter(|w| w.viscosity > 0.0) {
+    // without a sound speed nothing moves: no step bound at all; without water, no
+    // viscous or seepage limit
+    let spec = water.and(water_spec(scene));
+    if let Some(w) = spec.filter(|_| !bounds.is_empty()) {
+        if w.viscosity > 0.0 {
             take(
                 &mut bounds,
                 0.125 * h * h * w.density / w.viscosity,
@@ -665,27 +671,18 @@ pub fn rest_dt_bound(scene: &Scene) -> RestDt {
                 false,
             );
         }
-        // the soil's explicit side of the seepage force, ½ ρ_d k / μ
-        let mu = scene.water.as_ref().map_or(1e-3, |w| w.viscosity);
-        for (i, m) in scene.materials.iter().enumerate() {
-            if let Some(p) = crate::fine::pores::Pores::of(m) {
-                let key = if m.permeability.is_some() {
-                    "permeability"
-                } else {
-                    "grain_size"
-                };
-                take(
-                    &mut bounds,
-                    0.5 * m.density * p.permeability / mu,
-                    format!("materials[{i}].{key}"),
-                    format!(
-                        "the seepage limit ρ_d k / (2 μ) with the permeability k = {:?} m² of \
-                         material `{}`",
-                        p.permeability, m.name
-                    ),
-                    false,
-                );
-            }
+        for (i, key, k, dt) in seepage_dt(scene, w.viscosity) {
+            take(
+                &mut bounds,
+                dt,
+                format!("materials[{i}].{key}"),
+                format!(
+                    "the seepage limit ρ_d k / (2 μ) with the permeability k = {k:?} m² of \
+                     material `{}`",
+                    scene.materials[i].name
+                ),
+                false,
+            );
         }
     }
     // the tightest bound; NaN counts as the tightest, so that it never hides
@@ -700,8 +697,83 @@ pub fn rest_dt_bound(scene: &Scene) -> RestDt {
         })
 }
 
-/// The water's sound speed as the build will choose it ([`water_speed`]); 0 without
-/// water.
-pub fn water_c0(scene: &Scene) -> Real {
-    water_speed(scene).map_or(0.0, |w| w.c0)
+/// The seepage limit of each soil with pores in water of viscosity `mu`, as the build
+/// takes it ([`Pores::seepage_dt`]): its index, the key that sets its permeability
+/// (`permeability` or `grain_size`), the permeability k and ½ ρ_d k / μ.
+pub fn seepage_dt(scene: &Scene, mu: Real) -> Vec<(usize, &'static str, Real, Real)> {
+    scene
+        .materials
+        .iter()
+        .enumerate()
+        .filter_map(|(i, m)| {
+            let p = Pores::of(m)?;
+            let key = if m.permeability.is_some() {
+                "permeability"
+            } else {
+                "grain_size"
+            };
+            Some((i, key, p.permeability, p.seepage_dt(m.density, mu)))
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::input::bundled_scenes;
+    use crate::kernel::WendlandC2;
+    use crate::step::SoilWater;
+    use crate::world::World;
+
+    fn built_seepage<const D: usize>(scene: &Scene) -> Option<Real> {
+        let res = Resolution::of::<D>(scene);
+        let world = World::<D>::build(scene, res).expect("builds");
+        let kernel = WendlandC2::new(res.h, D);
+        SoilWater::new(&world, &kernel, res.skin).map(|s| s.dt_max)
+    }
+
+    /// The seepage limit of the time step at rest is the build's, bit for bit, in every
+    /// bundled scene with water and a soil with pores, at the water's own viscosity.
+    #[test]
+    fn the_estimate_takes_the_built_seepage_limit() {
+        let mut checked = Vec::new();
+        for (name, loaded) in bundled_scenes() {
+            let scene = &loaded.scene;
+            if !scene.materials.iter().any(|m| Pores::of(m).is_some()) {
+                continue;
+            }
+            let res = Resolution::of_scene(scene);
+            let water = water_speed(scene, &res).expect("loaded");
+            let mu = water_spec(scene).map_or(Real::NAN, |w| w.viscosity);
+            let estimated = water.and_then(|_| {
+                seepage_dt(scene, mu)
+                    .into_iter()
+                    .map(|b| b.3)
+                    .reduce(Real::min)
+            });
+            let built = match scene.simulation.dimension {
+                2 => built_seepage::<2>(scene),
+                _ => built_seepage::<3>(scene),
+            };
+            assert_eq!(estimated, built, "{name}");
+            checked.push(name);
+        }
+        assert!(checked.len() >= 5, "{checked:?}");
+    }
+
+    /// The estimate and the build see the scene at one resolution: the one the load
+    /// derives ([`Resolution::of_scene`]) is the build's, in every bundled scene.
+    #[test]
+    fn the_estimate_and_the_build_share_the_resolution() {
+        for (name, loaded) in bundled_scenes() {
+            let scene = &loaded.scene;
+            let built = match scene.simulation.dimension {
+                2 => Resolution::of::<2>(scene),
+                _ => Resolution::of::<3>(scene),
+            };
+            let res = Resolution::of_scene(scene);
+            assert_eq!(res, built, "{name}");
+            assert_eq!(estimate(scene, &res).dp, built.dp, "{name}");
+        }
+    }
 }

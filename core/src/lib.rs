@@ -43,6 +43,7 @@ pub mod shape_file;
 pub mod simulation;
 pub mod slabs;
 pub mod solids;
+pub mod start_solids;
 pub mod step;
 pub mod tessellate;
 pub mod timers;

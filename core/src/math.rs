@@ -31,6 +31,49 @@ pub fn from3<const D: usize>(v: &Vector3<Real>) -> Vect<D> {
     o
 }
 
+/// The unit vector against gravity `g`, −g/|g|, along which "up", a region's top and a
+/// depth are measured; zero without gravity.
+#[inline]
+pub fn up<const D: usize>(g: &Vect<D>) -> Vect<D> {
+    let n = g.norm();
+    if n > 0.0 {
+        -g / n
+    } else {
+        Vect::<D>::zeros()
+    }
+}
+
+/// The extent of the box [lo, hi] along `dir`: the least and the greatest projection of
+/// its corners.
+pub fn box_extent<const D: usize>(lo: &Vect<D>, hi: &Vect<D>, dir: &Vect<D>) -> (Real, Real) {
+    let (mut a, mut b) = (Real::INFINITY, Real::NEG_INFINITY);
+    for corner in 0..(1usize << D) {
+        let mut c = Vect::<D>::zeros();
+        for k in 0..D {
+            c[k] = if corner & (1 << k) != 0 { hi[k] } else { lo[k] };
+        }
+        a = a.min(c.dot(dir));
+        b = b.max(c.dot(dir));
+    }
+    (a, b)
+}
+
+/// The extent along `up` of particles of spacing `dp`, each the centre of a lattice
+/// cell dp wide: the lowest projection less dp/2 and the highest plus dp/2.
+pub fn extent<'a, const D: usize>(
+    pts: impl IntoIterator<Item = &'a Vect<D>>,
+    up: &Vect<D>,
+    dp: Real,
+) -> (Real, Real) {
+    let (lo, hi) = pts
+        .into_iter()
+        .map(|p| p.dot(up))
+        .fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), z| {
+            (lo.min(z), hi.max(z))
+        });
+    (lo - 0.5 * dp, hi + 0.5 * dp)
+}
+
 /// m −= a ⊗ b (the accumulation of Eq. 24's velocity gradient), element by element.
 #[inline(always)]
 pub fn sub_outer<const D: usize>(m: &mut nalgebra::SMatrix<Real, D, D>, a: &Vect<D>, b: &Vect<D>) {
@@ -179,6 +222,15 @@ mod tests {
         assert!((s.j2() - 9.0).abs() < 1e-12);
         let p = Sym::iso(-5.0);
         assert!(p.j2().abs() < 1e-12);
+    }
+
+    /// Up is −g/|g| for any gravity, and zero without one.
+    #[test]
+    fn up_opposes_gravity() {
+        let g = Vect::<3>::new(3.0, 0.0, -4.0);
+        assert_eq!(up(&g), Vect::<3>::new(-0.6, 0.0, 0.8));
+        assert_eq!(up(&Vect::<2>::new(0.0, -9.81)), Vect::<2>::new(-0.0, 1.0));
+        assert_eq!(up(&Vect::<2>::zeros()), Vect::<2>::zeros());
     }
 
     #[test]

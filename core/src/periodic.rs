@@ -73,6 +73,18 @@ impl Separation for Wrap {
     }
 }
 
+/// The gravity of a hydrostatic state: `g` without its component along the periodic
+/// axis `axis`, where a body force drives a flow and builds no pressure gradient (seed
+/// 001 §2.1). The water's hydrostatic start, its sound speed, wall pressure and
+/// potential energy use it.
+pub fn hydrostatic<const D: usize>(g: Vect<D>, axis: Option<usize>) -> Vect<D> {
+    let mut h = g;
+    if let Some(a) = axis {
+        h[a] = 0.0;
+    }
+    h
+}
+
 /// Index of axis name `x`, `y` or `z`.
 pub fn axis_index(name: &str) -> Option<usize> {
     match name {

@@ -5,7 +5,7 @@
 //! the water surface of their vertical column, ρ_w g (z_s − z).
 
 use crate::kernel::WendlandC2;
-use crate::math::{Real, Vect};
+use crate::math::{up, Real, Vect};
 use crate::step::SoilWater;
 use crate::world::{column_key, World};
 use std::collections::HashMap;
@@ -31,12 +31,7 @@ impl PoreField {
         };
         let w = &world.water.particles;
         let g = world.hydrostatic_gravity();
-        let gn = g.norm();
-        let up = if gn > 0.0 {
-            -g / gn
-        } else {
-            Vect::<D>::zeros()
-        };
+        let (gn, up) = (g.norm(), up(&g));
         let dp = world.resolution.dp;
         let surfaces = Surfaces::of(&w.pos, &up, dp);
         let hydro = |x: &Vect<D>| match surfaces.above(x) {

@@ -25,11 +25,21 @@ pub struct Resolution {
 impl Resolution {
     /// The resolution of `scene` in `D` dimensions.
     pub fn of<const D: usize>(scene: &Scene) -> Self {
+        Self::in_dimension(scene, D)
+    }
+
+    /// The resolution of `scene` in its own dimension (`simulation.dimension`), for
+    /// what runs before the build: the load checks and the estimates.
+    pub fn of_scene(scene: &Scene) -> Self {
+        Self::in_dimension(scene, scene.simulation.dimension)
+    }
+
+    fn in_dimension(scene: &Scene, d: usize) -> Self {
         let dp = scene.simulation.dp;
         let n = &scene.numerics;
         Resolution {
             dp,
-            volume: dp.powi(D as i32),
+            volume: dp.powi(d as i32),
             h: n.smoothing_ratio * dp,
             skin: n.neighbor_skin * dp,
             trim: (2.0 * n.smoothing_ratio + n.neighbor_skin + 1.0) * dp,

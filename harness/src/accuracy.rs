@@ -7,193 +7,13 @@
 //! the JSON (`--report docs/benchmarks.md`), with the multi-rate speed-up next to seed
 //! 000 Table 3.
 
-use crate::metric::{CraterRef, Metric};
+use crate::accuracy_series::{series, Series};
+use crate::metric::Level;
 use crate::plot::{loglog, Curve};
 use crate::run::{run, RunOptions};
 use anyhow::Result;
 use serde_json::{json, Value};
 use std::path::Path;
-
-/// One curve: a case under one scheme at several resolutions.
-struct Series {
-    case: &'static str,
-    scheme: &'static str,
-    scene: &'static str,
-    /// Resolution label and its overrides, coarsest first.
-    levels: Vec<(String, Vec<String>)>,
-    common: Vec<String>,
-    metric: Metric,
-    note: &'static str,
-}
-
-fn dp_levels(dps: &[f64], unit: f64, name: &str) -> Vec<(String, Vec<String>)> {
-    dps.iter()
-        .map(|d| {
-            (
-                format!("{}{name}", d / unit),
-                vec![format!("simulation.dp={d}")],
-            )
-        })
-        .collect()
-}
-
-fn series() -> Vec<Series> {
-    let mut v = Vec::new();
-    for (a, case) in [
-        (0.5, "collapse_3d_a0.5"),
-        (1.0, "collapse_3d_a1"),
-        (1.5, "collapse_3d_a1.5"),
-    ] {
-        let (levels, common, metric) = crate::metric::collapse_3d(a);
-        v.push(Series {
-            case,
-            scheme: "single-rate",
-            scene: "column_collapse_3d.toml",
-            levels,
-            common,
-            metric,
-            note: "Lube et al. 2004: r∞ = r0 (1 + 1.24 a)",
-        });
-    }
-    v.push(Series {
-        case: "collapse_2d",
-        scheme: "single-rate",
-        scene: "column_collapse_2d.toml",
-        levels: dp_levels(&[0.008, 0.004, 0.002], 0.001, " mm"),
-        common: vec!["materials.0.friction_angle=30".into()],
-        metric: Metric::Runout(0.2 * (1.0 + 1.2 * 0.5)),
-        note: "Lube et al. 2005 (quasi-2D), φ = 30°: L∞ = L0 (1 + 1.2 a)",
-    });
-    v.push(Series {
-        case: "geostatic",
-        scheme: "single-rate",
-        scene: "geostatic_layer.toml",
-        levels: dp_levels(&[0.02, 0.01, 0.005], 0.001, " mm"),
-        common: vec!["simulation.end_time=1.0".into()],
-        metric: Metric::ProbeSigmaYy(-2040.0 * 9.81 * 0.1),
-        note: "σ_v = −ρ g (H − z) at mid-depth",
-    });
-    let crater = CraterRef {
-        radius: 0.02,
-        mu: 0.3,
-        height: 0.2,
-        surface: 0.1,
-    };
-    for (scheme, set) in [
-        ("multi-rate, elastic", vec![]),
-        (
-            "single-rate, elastic",
-            vec!["simulation.time_stepping=\"single-rate\"".to_string()],
-        ),
-        (
-            "multi-rate, rigid",
-            vec!["bodies.0.model=\"rigid\"".to_string()],
-        ),
-    ] {
-        let mut common = crater.overrides();
-        common.extend(set);
-        v.push(Series {
-            case: "crater_R0.02_mu0.3_H0.2",
-            scheme,
-            scene: "impact_crater.toml",
-            levels: dp_levels(&[0.006, 0.005, 0.004], 0.001, " mm"),
-            common,
-            metric: Metric::Crater(crater),
-            note: "Uehara et al. 2003, seed 000 Eq. (62)",
-        });
-    }
-    let g = 9.81_f64;
-    let (theta, mu, t) = (30f64.to_radians(), 0.3, 0.5);
-    let slide = 0.5 * g * (theta.sin() - mu * theta.cos()) * t * t;
-    v.push(Series {
-        case: "incline",
-        scheme: "rigid",
-        scene: "incline_block.toml",
-        levels: dp_levels(&[0.02, 0.01, 0.005], 0.001, " mm"),
-        common: vec![],
-        metric: Metric::Slide(slide),
-        note: "½ g (sin θ − μ cos θ) t², θ = 30°, μ = 0.3, t = 0.5 s",
-    });
-    v.push(Series {
-        case: "water_tank",
-        scheme: "water",
-        scene: "hydrostatic_tank.toml",
-        levels: dp_levels(&[0.02, 0.01, 0.005], 0.001, " mm"),
-        common: vec!["simulation.end_time=3.0".into()],
-        metric: Metric::WaterWallLoad(0.5 * 1000.0 * 9.81 * 0.25),
-        note: "resting tank H = 0.5 m: side-wall load ½ ρ_w g H²",
-    });
-    v.push(Series {
-        case: "water_tank_rest",
-        scheme: "water",
-        scene: "hydrostatic_tank.toml",
-        levels: dp_levels(&[0.04, 0.02, 0.01], 0.001, " mm"),
-        common: vec![
-            "simulation.end_time=30.0".into(),
-            "simulation.output_interval=0.5".into(),
-        ],
-        metric: Metric::RestingEnergy(0.25, 1e-8 * 1000.0 * 9.81 * 0.25),
-        note: "resting tank H = 0.5 m: kinetic energy per volume over 25–30 s under 1e-8 ρ_w g H²",
-    });
-    v.push(Series {
-        case: "rising_disc",
-        scheme: "water",
-        scene: "boulder_in_water.toml",
-        levels: [10, 20, 40]
-            .iter()
-            .map(|n| (format!("R/{n}"), vec![format!("simulation.dp={}", 0.05 / *n as f64)]))
-            .collect(),
-        common: vec!["simulation.end_time=0.065".into()],
-        metric: Metric::StartingAcceleration(0.05, 500.0 * 9.81 / 1500.0),
-        note: "disc of ρ_w/2 released in still water: mean acceleration over R/10 against (ρ_w − ρ_b) g/(ρ_b + ρ_w)",
-    });
-    let a = 0.05715;
-    for (case, scene, fractions) in [
-        ("dam_break_2d", "dam_break_2d.toml", [20.0, 40.0, 80.0]),
-        ("dam_break_3d", "dam_break_3d.toml", [10.0, 15.0, 20.0]),
-    ] {
-        v.push(Series {
-            case,
-            scheme: "water",
-            scene,
-            levels: fractions
-                .iter()
-                .map(|n| (format!("a/{n}"), vec![format!("simulation.dp={}", a / n)]))
-                .collect(),
-            common: vec![],
-            metric: Metric::DamFront(a),
-            note: "largest error of the surge front against Martin & Moyce (1952), T ≤ 3",
-        });
-    }
-    v.push(Series {
-        case: "poiseuille_2d",
-        scheme: "water",
-        scene: "poiseuille_2d.toml",
-        levels: [20, 40, 80]
-            .iter()
-            .map(|n| {
-                (
-                    format!("H/{n}"),
-                    vec![format!("simulation.dp={}", 0.1 / *n as f64)],
-                )
-            })
-            .collect(),
-        common: vec![],
-        metric: Metric::Poiseuille(crate::metric::PoiseuilleRef::SEED_001),
-        note:
-            "seed 001 §2.1: centreline velocity against Morris et al. (1997), t = 5, 10, 20, 80 s",
-    });
-    v.push(Series {
-        case: "rubber_rings",
-        scheme: "multi-rate, elastic",
-        scene: "rubber_rings.toml",
-        levels: dp_levels(&[0.001, 0.0007, 0.0005], 0.001, " mm"),
-        common: vec![],
-        metric: Metric::MomentumDrift,
-        note: "total momentum conserved: drift relative to Σ|p| at the start",
-    });
-    v
-}
 
 /// Zero the process's peak resident set (Linux `clear_refs` 5) so that the next
 /// reading of VmHWM is the peak of what runs in between.
@@ -228,21 +48,16 @@ pub struct AccuracyOptions<'a> {
 
 /// Run the accuracy suite.
 pub fn accuracy(o: &AccuracyOptions) -> Result<()> {
-    let (scenes, out, quick, report) = (o.scenes, o.out, o.quick, o.report);
     let all = series();
-    if let Some(bad) = o
-        .cases
-        .iter()
-        .find(|c| !all.iter().any(|s| s.case == c.as_str()))
-    {
-        let mut names: Vec<&str> = all.iter().map(|s| s.case).collect();
+    if let Some(bad) = o.cases.iter().find(|c| !all.iter().any(|s| &s.case == *c)) {
+        let mut names: Vec<&str> = all.iter().map(|s| s.case.as_str()).collect();
         names.dedup();
         anyhow::bail!(
             "bench --suite accuracy: unknown --case {bad:?}; cases are {}",
             names.join(", ")
         );
     }
-    std::fs::create_dir_all(out)?;
+    std::fs::create_dir_all(o.out)?;
     let mut runs = Vec::new();
     let mut curves = Vec::new();
     println!(
@@ -258,82 +73,19 @@ pub fn accuracy(o: &AccuracyOptions) -> Result<()> {
         "reference",
         "error"
     );
-    for s in all {
-        if !o.cases.is_empty() && !o.cases.iter().any(|c| c == s.case) {
-            continue;
-        }
-        let levels: Vec<_> = if quick {
-            s.levels.iter().take(1).collect()
+    for s in all
+        .iter()
+        .filter(|s| o.cases.is_empty() || o.cases.iter().any(|c| c == &s.case))
+    {
+        let levels = if o.quick {
+            &s.levels[..1.min(s.levels.len())]
         } else {
-            s.levels.iter().collect()
+            &s.levels[..]
         };
         let mut pts = Vec::new();
-        for (label, over) in levels {
-            let mut set = s.common.clone();
-            set.extend(over.iter().cloned());
-            if quick {
-                set.push("simulation.end_time=0.002".into());
-            }
-            let dir = out
-                .join(s.case)
-                .join(s.scheme.replace([',', ' '], "_"))
-                .join(label.replace(['/', ' '], "_"));
-            let record = dir.join("record.json");
-            let cached = o
-                .resume
-                .then(|| std::fs::read_to_string(&record).ok())
-                .flatten()
-                .and_then(|t| serde_json::from_str::<Value>(&t).ok())
-                .filter(|r| r["overrides"] == json!(set));
-            let r = match cached {
-                Some(r) => r,
-                None => {
-                    reset_peak_rss();
-                    let cpu0 = cpu_time();
-                    let rep = run(&RunOptions::batch(scenes.join(s.scene), dir, set.clone()))?;
-                    let cpu = cpu_time().zip(cpu0).map(|(b, a)| b - a);
-                    let rss = crate::scale::peak_rss();
-                    let (value, reference) = s.metric.evaluate(&rep);
-                    let err = s.metric.error(value, reference);
-                    if let Some(b) = &rep.blowup {
-                        eprintln!("{} {} {label}: {b}", s.case, s.scheme);
-                    }
-                    let r = json!({
-                        "case": s.case, "scheme": s.scheme, "level": label, "scene": s.scene,
-                        "note": s.note, "overrides": set, "particles": rep.particles,
-                        "steps_fine": rep.summary["steps_fine"], "steps_coarse": rep.summary["steps_coarse"],
-                        "kappa": rep.summary["kappa"], "dt_fine": rep.summary["dt_fine"],
-                        "dt_coarse": rep.summary["dt_coarse"], "wall_time_s": rep.wall_time,
-                        "cpu_time_s": cpu,
-                        "particle_steps_per_s": rep.particle_steps_per_s, "peak_rss_bytes": rss,
-                        "value": value, "reference": reference, "rel_error": err,
-                        "blowup": rep.blowup.as_ref().map(|b| b.to_string()),
-                    });
-                    std::fs::write(&record, serde_json::to_string_pretty(&r)?)?;
-                    r
-                }
-            };
-            let fmt = |k: &str| {
-                r[k].as_f64()
-                    .map(|v| format!("{v:.4e}"))
-                    .unwrap_or("-".into())
-            };
-            println!(
-                "{:<24} {:<22} {:<8} {:>9} {:>9.1} {:>11.3} {:>9.0} {:>11} {:>11} {:>8}",
-                s.case,
-                s.scheme,
-                label,
-                r["particles"],
-                r["wall_time_s"].as_f64().unwrap_or(0.0),
-                r["particle_steps_per_s"].as_f64().unwrap_or(0.0) / 1e6,
-                r["peak_rss_bytes"].as_f64().unwrap_or(0.0) / 1e6,
-                fmt("value"),
-                fmt("reference"),
-                r["rel_error"]
-                    .as_f64()
-                    .map(|e| format!("{:.2}%", 100.0 * e))
-                    .unwrap_or("-".into()),
-            );
+        for level in levels {
+            let r = run_level(o, s, level)?;
+            print_row(s, &level.0, &r);
             if let (Some(e), Some(w)) = (r["rel_error"].as_f64(), r["wall_time_s"].as_f64()) {
                 pts.push((w.max(1e-3), e.max(1e-16)));
             }
@@ -347,26 +99,108 @@ pub fn accuracy(o: &AccuracyOptions) -> Result<()> {
         }
     }
     let doc = json!({
-        "suite": "accuracy", "quick": quick, "threads": rayon::current_num_threads(),
+        "suite": "accuracy", "quick": o.quick, "threads": rayon::current_num_threads(),
         "runs": runs,
     });
-    let path = out.join("accuracy.json");
-    std::fs::write(&path, serde_json::to_string_pretty(&doc)?)?;
+    write_outputs(o, &doc, &curves)
+}
+
+/// The record of series `s` at `level`: the one under --out when --resume finds it made
+/// with the same overrides, else that of a new run (written there).
+fn run_level(o: &AccuracyOptions, s: &Series, (label, over): &Level) -> Result<Value> {
+    let mut set = s.common.clone();
+    set.extend(over.iter().cloned());
+    if o.quick {
+        set.push("simulation.end_time=0.002".into());
+    }
+    let dir = o
+        .out
+        .join(&s.case)
+        .join(s.scheme.replace([',', ' '], "_"))
+        .join(label.replace(['/', ' '], "_"));
+    let record = dir.join("record.json");
+    let cached = o
+        .resume
+        .then(|| std::fs::read_to_string(&record).ok())
+        .flatten()
+        .and_then(|t| serde_json::from_str::<Value>(&t).ok())
+        .filter(|r| r["overrides"] == json!(set));
+    if let Some(r) = cached {
+        return Ok(r);
+    }
+    reset_peak_rss();
+    let cpu0 = cpu_time();
+    let rep = run(&RunOptions::batch(o.scenes.join(s.scene), dir, set.clone()))?;
+    let cpu = cpu_time().zip(cpu0).map(|(b, a)| b - a);
+    let rss = crate::scale::peak_rss();
+    let (value, reference) = s.metric.evaluate(&rep);
+    let err = s.metric.error(value, reference);
+    if let Some(b) = &rep.blowup {
+        eprintln!("{} {} {label}: {b}", s.case, s.scheme);
+    }
+    let r = json!({
+        "case": s.case, "scheme": s.scheme, "level": label, "scene": s.scene,
+        "note": s.note, "overrides": set, "particles": rep.particles,
+        "steps_fine": rep.summary["steps_fine"], "steps_coarse": rep.summary["steps_coarse"],
+        "kappa": rep.summary["kappa"], "dt_fine": rep.summary["dt_fine"],
+        "dt_coarse": rep.summary["dt_coarse"], "wall_time_s": rep.wall_time,
+        "cpu_time_s": cpu,
+        "particle_steps_per_s": rep.particle_steps_per_s, "peak_rss_bytes": rss,
+        "value": value, "reference": reference, "rel_error": err,
+        "blowup": rep.blowup.as_ref().map(|b| b.to_string()),
+    });
+    std::fs::write(&record, serde_json::to_string_pretty(&r)?)?;
+    Ok(r)
+}
+
+/// A number of a record in scientific notation, or `none`.
+fn sci(v: &Value, none: &str) -> String {
+    v.as_f64()
+        .map(|x| format!("{x:.4e}"))
+        .unwrap_or(none.into())
+}
+
+/// One row of the suite's table: run `r` of series `s` at level `label`.
+fn print_row(s: &Series, label: &str, r: &Value) {
+    let fmt = |k: &str| sci(&r[k], "-");
+    println!(
+        "{:<24} {:<22} {:<8} {:>9} {:>9.1} {:>11.3} {:>9.0} {:>11} {:>11} {:>8}",
+        s.case,
+        s.scheme,
+        label,
+        r["particles"],
+        r["wall_time_s"].as_f64().unwrap_or(0.0),
+        r["particle_steps_per_s"].as_f64().unwrap_or(0.0) / 1e6,
+        r["peak_rss_bytes"].as_f64().unwrap_or(0.0) / 1e6,
+        fmt("value"),
+        fmt("reference"),
+        r["rel_error"]
+            .as_f64()
+            .map(|e| format!("{:.2}%", 100.0 * e))
+            .unwrap_or("-".into()),
+    );
+}
+
+/// accuracy.json, accuracy.png and accuracy.md under --out, and the report with its
+/// plot beside it where --report names one.
+fn write_outputs(o: &AccuracyOptions, doc: &Value, curves: &[Curve]) -> Result<()> {
+    let path = o.out.join("accuracy.json");
+    std::fs::write(&path, serde_json::to_string_pretty(doc)?)?;
     println!("wrote {}", path.display());
     if !curves.is_empty() {
-        let png = out.join("accuracy.png");
+        let png = o.out.join("accuracy.png");
         loglog(
             &png,
             "granmix bench --suite accuracy: error against run time",
             "wall time [s]",
             "relative error",
-            &curves,
+            curves,
             &[(0.05, "5 %".into())],
         )?;
         println!("wrote {}", png.display());
     }
-    std::fs::write(out.join("accuracy.md"), markdown(&doc, "accuracy.png"))?;
-    if let Some(r) = report {
+    std::fs::write(o.out.join("accuracy.md"), markdown(doc, "accuracy.png"))?;
+    if let Some(r) = o.report {
         // the plot goes beside the report, under the report's name
         let png = r.with_extension("png");
         let name = png
@@ -374,9 +208,9 @@ pub fn accuracy(o: &AccuracyOptions) -> Result<()> {
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
         if !curves.is_empty() {
-            std::fs::copy(out.join("accuracy.png"), &png)?;
+            std::fs::copy(o.out.join("accuracy.png"), &png)?;
         }
-        std::fs::write(r, markdown(&doc, &name))?;
+        std::fs::write(r, markdown(doc, &name))?;
         println!("wrote {} and {}", r.display(), png.display());
     }
     Ok(())
@@ -399,9 +233,12 @@ pub fn markdown(doc: &Value, plot: &str) -> String {
     let mut s = format!(
         "# Benchmarks: run time against error\n\n\
          Generated by `granmix bench --suite accuracy` from `accuracy.json`; do not edit.\n\
-         {} thread(s). Each validation case with a reference runs at three resolutions,\n\
-         under each scheme that applies; *error* is relative to the reference (for the\n\
-         rings, the momentum drift itself). *cpu* is the process's user + system time,\n\
+         {} thread(s). Every `granmix bench` case with a reference runs here, at three\n\
+         resolutions where the suite defines them (at the bench's own levels otherwise),\n\
+         under each scheme that applies; the crater of R = 0.02 m, μ = 0.3, H = 0.2 m\n\
+         also stands for the bench's `crater_schemes` and `crater_models`. *error* is\n\
+         relative to the reference (for the rings, the momentum drift itself; 0 inside a\n\
+         band or under a bound). *cpu* is the process's user + system time,\n\
          which other jobs on the machine disturb less than the wall time.\n\n\
          ![error against wall time, one curve per case and scheme]({plot})\n",
         doc["threads"]
@@ -420,49 +257,56 @@ pub fn markdown(doc: &Value, plot: &str) -> String {
             mine.first().and_then(|r| r["note"].as_str()).unwrap_or("")
         );
         for r in mine {
-            let f = |k: &str| {
-                r[k].as_f64()
-                    .map(|x| format!("{x:.4e}"))
-                    .unwrap_or("–".into())
-            };
-            s += &format!(
-                "| {} | {} | {} | {:.1} | {} | {:.3} | {} | {} | {} | {} |\n",
-                r["scheme"].as_str().unwrap_or(""),
-                r["level"].as_str().unwrap_or(""),
-                r["particles"],
-                r["wall_time_s"].as_f64().unwrap_or(0.0),
-                r["cpu_time_s"]
-                    .as_f64()
-                    .map(|x| format!("{x:.1}"))
-                    .unwrap_or("–".into()),
-                r["particle_steps_per_s"].as_f64().unwrap_or(0.0) / 1e6,
-                r["peak_rss_bytes"]
-                    .as_f64()
-                    .map(|x| format!("{:.0}", x / 1e6))
-                    .unwrap_or("–".into()),
-                f("value"),
-                f("reference"),
-                r["rel_error"]
-                    .as_f64()
-                    .map(|e| format!("{:.2} %", 100.0 * e))
-                    .unwrap_or(
-                        r["blowup"]
-                            .as_str()
-                            .map(|b| format!("blow-up: {}", b.replace('|', "/")))
-                            .unwrap_or("–".into())
-                    ),
-            );
+            s += &report_row(r);
         }
     }
-    // multi-rate speed-up next to seed 000 Table 3
+    s + &speedup_table(doc, &runs)
+}
+
+/// One run of the report's table of its case.
+fn report_row(r: &Value) -> String {
+    let f = |k: &str| sci(&r[k], "–");
+    format!(
+        "| {} | {} | {} | {:.1} | {} | {:.3} | {} | {} | {} | {} |\n",
+        r["scheme"].as_str().unwrap_or(""),
+        r["level"].as_str().unwrap_or(""),
+        r["particles"],
+        r["wall_time_s"].as_f64().unwrap_or(0.0),
+        r["cpu_time_s"]
+            .as_f64()
+            .map(|x| format!("{x:.1}"))
+            .unwrap_or("–".into()),
+        r["particle_steps_per_s"].as_f64().unwrap_or(0.0) / 1e6,
+        r["peak_rss_bytes"]
+            .as_f64()
+            .map(|x| format!("{:.0}", x / 1e6))
+            .unwrap_or("–".into()),
+        f("value"),
+        f("reference"),
+        r["rel_error"]
+            .as_f64()
+            .map(|e| format!("{:.2} %", 100.0 * e))
+            .unwrap_or(
+                r["blowup"]
+                    .as_str()
+                    .map(|b| format!("blow-up: {}", b.replace('|', "/")))
+                    .unwrap_or("–".into())
+            ),
+    )
+}
+
+/// The multi-rate speed-up of the crater runs next to seed 000 Table 3.
+fn speedup_table(doc: &Value, runs: &[Value]) -> String {
     let crater = |scheme: &str, level: &str| {
         runs.iter().find(|r| {
             r["case"] == "crater_R0.02_mu0.3_H0.2" && r["scheme"] == scheme && r["level"] == level
         })
     };
-    s += "\n## Multi-rate speed-up (crater R = 0.02 m, H = 0.2 m) against seed 000 Table 3\n\n\
+    let mut s = String::from(
+        "\n## Multi-rate speed-up (crater R = 0.02 m, H = 0.2 m) against seed 000 Table 3\n\n\
           | source | dp [mm] | particles | Δt_f [s] | Δt_c [s] | κ | single-rate | multi-rate | speed-up (wall) | speed-up (cpu) |\n\
-          |---|---|---|---|---|---|---|---|---|---|\n";
+          |---|---|---|---|---|---|---|---|---|---|\n",
+    );
     for (dp, n, dtf, dtc, k, single, multi, up) in TABLE3 {
         s += &format!(
             "| seed 000 (32 cores) | {dp} | {n} | {dtf:.1e} | {dtc:.1e} | {k} | {single} min | {multi} min | {up}× | – |\n"

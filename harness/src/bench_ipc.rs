@@ -13,7 +13,7 @@ use anyhow::{bail, Context, Result};
 use granmix_core::AnySimulation;
 use granmix_ipc::pattern::{pattern_info, pattern_record};
 use granmix_ipc::{FramePublisher, Outcome, ParticleRecord};
-use serde_json::json;
+use serde_json::{json, Value};
 use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
@@ -86,7 +86,49 @@ fn mean(v: &[f64]) -> f64 {
 
 pub fn bench_ipc(a: &BenchIpcArgs) -> Result<()> {
     let tag = format!("bench-{}", std::process::id());
-    // 1. publish cost against memcpy
+    let publish = publish_cost(a, &tag)?;
+    let solver = solver_overhead(a, &tag)?;
+    std::fs::create_dir_all(&a.out)?;
+    let report = json!({
+        "publish": publish.json(),
+        "solver": solver.json(a),
+    });
+    let path = a.out.join("bench_ipc.json");
+    std::fs::write(&path, serde_json::to_string_pretty(&report)?)?;
+    println!("written {}", path.display());
+    Ok(())
+}
+
+/// Part 1: the median time to publish one frame to a subscriber process, copied in and
+/// filled in place, against a memcpy of the same bytes.
+struct PublishCost {
+    particles: usize,
+    bytes: usize,
+    /// Frames published (loan, copy, send) and sent.
+    frames: usize,
+    /// Medians (s): memcpy, publish (loan, copy, send), publish into a loan zeroed and
+    /// filled in place.
+    medians: [f64; 3],
+}
+
+impl PublishCost {
+    fn json(&self) -> Value {
+        let [m_copy, m_pub, m_fill] = self.medians;
+        json!({
+            "particles": self.particles,
+            "bytes": self.bytes,
+            "frames": self.frames,
+            "publish_copy_ms_median": 1e3 * m_pub,
+            "publish_fill_ms_median": 1e3 * m_fill,
+            "memcpy_ms_median": 1e3 * m_copy,
+            "ratio_copy": m_pub / m_copy,
+            "ratio_fill": m_fill / m_copy,
+        })
+    }
+}
+
+/// Part 1, measured and printed.
+fn publish_cost(a: &BenchIpcArgs, tag: &str) -> Result<PublishCost> {
     let n = a.particles;
     let src: Vec<ParticleRecord> = (0..n).map(|i| pattern_record(0, i)).collect();
     let mut dst = vec![ParticleRecord::default(); n];
@@ -117,32 +159,52 @@ pub fn bench_ipc(a: &BenchIpcArgs) -> Result<()> {
     }
     drop(watcher);
     let bytes = n * std::mem::size_of::<ParticleRecord>();
-    let (m_copy, m_pub, m_fill) = (
-        median(memcpy),
-        median(publish.clone()),
-        median(publish_fill.clone()),
-    );
+    let frames = publish.len();
+    let medians = [median(memcpy), median(publish), median(publish_fill)];
+    let [m_copy, m_pub, m_fill] = medians;
     println!(
         "publish {} records ({:.1} MB) to a subscriber process, median per frame: {:.3} ms (loan, copy, send; {} frames), {:.3} ms (loan zeroed, fill in place, send); memcpy of the same bytes {:.3} ms ({:.2}x and {:.2}x)",
         n,
         bytes as f64 / 1e6,
         1e3 * m_pub,
-        publish.len(),
+        frames,
         1e3 * m_fill,
         1e3 * m_copy,
         m_pub / m_copy,
         m_fill / m_copy
     );
+    Ok(PublishCost {
+        particles: n,
+        bytes,
+        frames,
+        medians,
+    })
+}
 
-    // 2. solver steps with and without publishing
+/// Part 2: a scene's step times without a publisher, publishing with no subscriber
+/// and publishing to a subscriber process, and the publish call on its own.
+struct SolverOverhead {
+    particles: usize,
+    /// Seconds per step in each mode: plain, no subscriber, subscriber.
+    times: [Vec<f64>; 3],
+    /// Median seconds of a publish call that sent its frame.
+    frame: f64,
+    /// Median seconds of a memcpy of one frame's bytes.
+    copy: f64,
+    sent: u64,
+    dropped: u64,
+}
+
+/// Part 2, measured: one step in each mode in turn, the first mode rotating, so noise,
+/// drifts and memory layout hit all three alike.
+fn solver_overhead(a: &BenchIpcArgs, tag: &str) -> Result<SolverOverhead> {
     let loaded = load(&a.scene, &a.set)?;
-    let mut base = AnySimulation::new(&loaded).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let mut sim = AnySimulation::new(&loaded).map_err(|e| anyhow::anyhow!("{e}"))?;
     for _ in 0..2 {
-        base.step(f64::INFINITY)
+        sim.step(f64::INFINITY)
             .map_err(|e| anyhow::anyhow!("{e}"))?;
     }
-    let (f, c) = base.particle_counts();
-    let mut sim = base;
+    let (f, c) = sim.particle_counts();
     let mut quiet = FramePublisher::open(&format!("{tag}-quiet"), f + c)?;
     let mut loud = FramePublisher::open(&format!("{tag}-loud"), f + c)?;
     let watcher = Watcher::start(loud.name())?;
@@ -182,51 +244,62 @@ pub fn bench_ipc(a: &BenchIpcArgs) -> Result<()> {
         sim_copy.push(t.elapsed().as_secs_f64());
         std::hint::black_box(&to);
     }
-    let (m_frame, m_sim_copy) = (median(frame_times.clone()), median(sim_copy));
-    println!(
-        "publish from the solver's arrays ({} particles, {:.1} MB): {:.3} ms per frame (median of {}); memcpy of the same bytes {:.3} ms ({:.2}x)",
-        f + c,
-        sim_bytes as f64 / 1e6,
-        1e3 * m_frame,
-        frame_times.len(),
-        1e3 * m_sim_copy,
-        m_frame / m_sim_copy
-    );
-    // medians: a neighbour rebuild makes a few steps much longer
-    let [plain, no_sub, with_sub] = times.clone().map(median);
-    let [plain_mean, no_sub_mean, with_sub_mean] = times.clone().map(|v| mean(&v));
-    let overhead = |x: f64| 100.0 * (x - plain) / plain;
-    println!(
-        "publishing one frame per step costs {:.3} % of a step without publisher (measured inside the step)",
-        100.0 * m_frame / plain
-    );
-    println!(
-        "solver, {} particles, {} steps in each mode, median: {:.2} ms/step without publisher; {:.2} ms ({:+.2} %) publishing with no subscriber; {:.2} ms ({:+.2} %) publishing every step to a subscriber ({} frames sent)",
-        f + c,
-        a.steps,
-        1e3 * plain,
-        1e3 * no_sub,
-        overhead(no_sub),
-        1e3 * with_sub,
-        overhead(with_sub),
-        loud.stats().sent
-    );
-    std::fs::create_dir_all(&a.out)?;
-    let report = json!({
-        "publish": {
-            "particles": n,
-            "bytes": bytes,
-            "frames": publish.len(),
-            "publish_copy_ms_median": 1e3 * m_pub,
-            "publish_fill_ms_median": 1e3 * m_fill,
-            "memcpy_ms_median": 1e3 * m_copy,
-            "ratio_copy": m_pub / m_copy,
-            "ratio_fill": m_fill / m_copy,
-        },
-        "solver": {
+    let s = SolverOverhead {
+        particles: f + c,
+        times,
+        frame: median(frame_times.clone()),
+        copy: median(sim_copy),
+        sent: loud.stats().sent,
+        dropped: loud.stats().dropped,
+    };
+    s.print(a, sim_bytes, frame_times.len());
+    Ok(s)
+}
+
+impl SolverOverhead {
+    /// Medians of the three modes (a neighbour rebuild makes a few steps much longer).
+    fn medians(&self) -> [f64; 3] {
+        self.times.clone().map(median)
+    }
+
+    fn print(&self, a: &BenchIpcArgs, bytes: usize, frames: usize) {
+        let [plain, no_sub, with_sub] = self.medians();
+        let overhead = |x: f64| 100.0 * (x - plain) / plain;
+        println!(
+            "publish from the solver's arrays ({} particles, {:.1} MB): {:.3} ms per frame (median of {}); memcpy of the same bytes {:.3} ms ({:.2}x)",
+            self.particles,
+            bytes as f64 / 1e6,
+            1e3 * self.frame,
+            frames,
+            1e3 * self.copy,
+            self.frame / self.copy
+        );
+        println!(
+            "publishing one frame per step costs {:.3} % of a step without publisher (measured inside the step)",
+            100.0 * self.frame / plain
+        );
+        println!(
+            "solver, {} particles, {} steps in each mode, median: {:.2} ms/step without publisher; {:.2} ms ({:+.2} %) publishing with no subscriber; {:.2} ms ({:+.2} %) publishing every step to a subscriber ({} frames sent)",
+            self.particles,
+            a.steps,
+            1e3 * plain,
+            1e3 * no_sub,
+            overhead(no_sub),
+            1e3 * with_sub,
+            overhead(with_sub),
+            self.sent
+        );
+    }
+
+    fn json(&self, a: &BenchIpcArgs) -> Value {
+        let [plain, no_sub, with_sub] = self.medians();
+        let [plain_mean, no_sub_mean, with_sub_mean] = self.times.clone().map(|v| mean(&v));
+        let overhead = |x: f64| 100.0 * (x - plain) / plain;
+        let ms = |v: &[f64]| v.iter().map(|t| 1e3 * t).collect::<Vec<_>>();
+        json!({
             "scene": a.scene.display().to_string(),
             "set": a.set,
-            "particles": f + c,
+            "particles": self.particles,
             "steps": a.steps,
             "ms_per_step_plain": 1e3 * plain,
             "ms_per_step_mean": [1e3 * plain_mean, 1e3 * no_sub_mean, 1e3 * with_sub_mean],
@@ -234,20 +307,16 @@ pub fn bench_ipc(a: &BenchIpcArgs) -> Result<()> {
             "ms_per_step_subscriber": 1e3 * with_sub,
             "overhead_no_subscriber_percent": overhead(no_sub),
             "overhead_subscriber_percent": overhead(with_sub),
-            "publish_from_solver_ms_median": 1e3 * m_frame,
-            "publish_share_of_step_percent": 100.0 * m_frame / plain,
-            "memcpy_same_bytes_ms_median": 1e3 * m_sim_copy,
-            "frames_sent": loud.stats().sent,
+            "publish_from_solver_ms_median": 1e3 * self.frame,
+            "publish_share_of_step_percent": 100.0 * self.frame / plain,
+            "memcpy_same_bytes_ms_median": 1e3 * self.copy,
+            "frames_sent": self.sent,
             "step_ms": {
-                "plain": times[0].iter().map(|t| 1e3 * t).collect::<Vec<_>>(),
-                "no_subscriber": times[1].iter().map(|t| 1e3 * t).collect::<Vec<_>>(),
-                "subscriber": times[2].iter().map(|t| 1e3 * t).collect::<Vec<_>>(),
+                "plain": ms(&self.times[0]),
+                "no_subscriber": ms(&self.times[1]),
+                "subscriber": ms(&self.times[2]),
             },
-            "frames_dropped": loud.stats().dropped,
-        },
-    });
-    let path = a.out.join("bench_ipc.json");
-    std::fs::write(&path, serde_json::to_string_pretty(&report)?)?;
-    println!("written {}", path.display());
-    Ok(())
+            "frames_dropped": self.dropped,
+        })
+    }
 }

@@ -7,6 +7,7 @@ use anyhow::{bail, Result};
 use granmix_core::budget::{budget, human_bytes, over_budget, passes};
 use granmix_core::estimate::{estimate, rest_dt};
 use granmix_core::input::LoadedScene;
+use granmix_core::resolution::Resolution;
 use granmix_core::scene::KeyError;
 use granmix_core::AnySimulation;
 use std::path::Path;
@@ -31,7 +32,8 @@ pub fn check(scene: &Path, set: &[String], exact: bool) -> Result<()> {
             p.max
         );
     }
-    let e = estimate(&loaded.scene);
+    let res = Resolution::of_scene(&loaded.scene);
+    let e = estimate(&loaded.scene, &res);
     let b = budget(&loaded.scene);
     if exact && passes(&e, &b) {
         return check_exact(&loaded);
@@ -74,7 +76,7 @@ pub fn check(scene: &Path, set: &[String], exact: bool) -> Result<()> {
             loaded.locate(KeyError::new("simulation.dp", over_budget(&e, &b)))
         );
     }
-    let dt = rest_dt(&loaded.scene);
+    let dt = rest_dt(&loaded.scene, &res);
     if e.coarse() > 0.0 {
         println!(
             "  Δt_c (Eq. 52 and contacts): run `granmix check --exact` to build and measure it"

@@ -1,7 +1,9 @@
 //! `granmix`: run, check and benchmark granular-mixture scenes.
 
 mod accuracy;
+mod accuracy_series;
 mod bench;
+mod bench_cases;
 mod bench_fmi;
 mod bench_ipc;
 mod check;

@@ -54,6 +54,14 @@ pub(crate) enum Metric {
     RunoutReport,
 }
 
+impl Metric {
+    /// Whether the metric holds the run against a reference (an analytic solution, an
+    /// experiment or a bound); throughput and reported-only run-outs do not.
+    pub(crate) fn has_reference(&self) -> bool {
+        !matches!(self, Metric::Speed | Metric::RunoutReport)
+    }
+}
+
 /// The mean acceleration of the first body over its first `radius`/10 of travel from
 /// rest, 2 (R/10)/t² with t interpolated between samples; None if it never got there.
 pub(crate) fn starting_acceleration(

@@ -6,6 +6,7 @@ use anyhow::{bail, Context, Result};
 use granmix_core::input::{load_scene_file, LoadedScene};
 use granmix_core::runner::{self, RunEnd};
 use granmix_core::sample::BodySample;
+use granmix_core::scene::SimulationSpec;
 use granmix_core::simulation::Sample;
 use granmix_core::AnySimulation;
 use granmix_core::Blowup;
@@ -74,45 +75,77 @@ pub fn load(scene: &Path, set: &[String]) -> Result<LoadedScene> {
     load_scene_file(scene, set).map_err(|e| anyhow::anyhow!("{e}"))
 }
 
+/// Run a scene to its end: load and build it, step it feeding the sinks (CSV series,
+/// VTK, the particle channel, the MCAP recording), then write summary.json, bodies.json
+/// and the quick-look plot.
 pub fn run(opts: &RunOptions) -> Result<RunReport> {
     let loaded = load(&opts.scene, &opts.set)?;
     let mut sim = AnySimulation::new(&loaded).map_err(|e| anyhow::anyhow!("{e}"))?;
     std::fs::create_dir_all(&opts.out)
         .with_context(|| format!("cannot create output directory {}", opts.out.display()))?;
     std::fs::write(opts.out.join("scene.toml"), &loaded.text)?;
-    let dim = sim.dimension();
-    let sim_spec = &loaded.scene.simulation;
-    let end = sim_spec.end_time;
     let stem = opts
         .scene
         .file_stem()
         .and_then(|s| s.to_str())
         .unwrap_or("scene")
         .to_string();
-    let mut sinks = Sinks::default();
     let layout = Layout::of(&sim);
+    let sinks = open_sinks(opts, &loaded, &sim, &layout, &stem)?;
+    let ran = step_to_end(opts, &loaded.scene.simulation, &mut sim, sinks)?;
+    let skipped = skipped(opts, &sim, &ran);
+    let last = ran.samples.last().cloned().unwrap_or_default();
+    let summary = summary_json(opts, &loaded, &sim, &layout, &ran, &skipped);
+    std::fs::write(
+        opts.out.join("summary.json"),
+        serde_json::to_string_pretty(&summary)?,
+    )?;
+    if !last.bodies.is_empty() {
+        write_bodies_json(
+            &opts.out.join("bodies.json"),
+            layout.dim,
+            layout.water,
+            &ran.samples,
+        )?;
+    }
+    if opts.plots && !ran.samples.is_empty() {
+        let dir = opts.out.join("plots");
+        std::fs::create_dir_all(&dir)?;
+        let name = loaded.scene.simulation.name.clone().unwrap_or(stem);
+        let title = format!("{name} — t = {:.3} s", last.time);
+        crate::quicklook::write(&dir.join("quicklook.png"), &title, &layout, &ran.samples)?;
+    }
+    if opts.interactive {
+        print_table(&sim, &skipped, ran.wall, (ran.pss, ran.fine_pss), &opts.out);
+    }
+    Ok(RunReport {
+        summary,
+        particles: sim.fine_count() + sim.water_count(),
+        wall_time: ran.wall,
+        particle_steps_per_s: ran.pss,
+        fine_particle_steps_per_s: ran.fine_pss,
+        samples: ran.samples,
+        blowup: ran.blowup,
+    })
+}
+
+/// The run's sinks: the CSV series always, the VTK series, the particle channel and the
+/// MCAP recording where asked.
+fn open_sinks(
+    opts: &RunOptions,
+    loaded: &LoadedScene,
+    sim: &AnySimulation,
+    layout: &Layout,
+    stem: &str,
+) -> Result<Sinks> {
+    let mut sinks = Sinks::default();
     sinks.push(CsvSeries::create(
         &opts.out.join("series.csv"),
         layout.clone(),
     )?);
     if opts.vtk {
-        sinks.push(VtkSeries::new(&opts.out, &stem));
+        sinks.push(VtkSeries::new(&opts.out, stem));
     }
-
-    let bar = if opts.interactive {
-        let b = ProgressBar::new((end * 1e6).round() as u64);
-        b.set_style(
-            ProgressStyle::with_template(
-                "{spinner} [{elapsed_precise}] {bar:32} t = {msg} ETA {eta}",
-            )
-            .expect("valid template")
-            .progress_chars("=> "),
-        );
-        b
-    } else {
-        ProgressBar::hidden()
-    };
-
     if opts.publish_every == 0 {
         bail!("--publish-every must be at least 1");
     }
@@ -134,13 +167,44 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
             &SceneInfo {
                 text: loaded.text.clone(),
                 file: opts.scene.display().to_string(),
-                name: sim_spec.name.clone(),
-                dimension: dim,
+                name: loaded.scene.simulation.name.clone(),
+                dimension: sim.dimension(),
                 water: sim.has_water(),
             },
         )?);
     }
+    Ok(sinks)
+}
 
+/// What stepping a run produced.
+struct Ran {
+    samples: Vec<Sample>,
+    /// The largest kinetic energy of the grains sampled.
+    ke_peak: f64,
+    ended: RunEnd,
+    blowup: Option<Blowup>,
+    /// The channel's and the recorder's reports (None: not asked for).
+    publish: Option<Value>,
+    record: Option<Value>,
+    /// Wall time (s), sinks included.
+    wall: f64,
+    /// Fine particle-steps plus coarse particle-sub-steps and water particle-steps per
+    /// second, and the fine ones alone.
+    pss: f64,
+    fine_pss: f64,
+}
+
+/// Step `sim` to the end of `spec`, feeding `sinks` a sample at every output time and
+/// a call after every step, with a progress bar when interactive; the sinks' time is
+/// added to the observation stage.
+fn step_to_end(
+    opts: &RunOptions,
+    spec: &SimulationSpec,
+    sim: &mut AnySimulation,
+    sinks: Sinks,
+) -> Result<Ran> {
+    let end = spec.end_time;
+    let bar = progress_bar(opts.interactive, end);
     let mut samples: Vec<Sample> = Vec::new();
     // both callbacks feed the sinks, one at a time
     let sinks = RefCell::new(sinks);
@@ -149,8 +213,8 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
     let mut last_ui = Instant::now();
     let mut ke_peak: f64 = 0.0;
     let ended = runner::run(
-        &mut sim,
-        sim_spec,
+        sim,
+        spec,
         |sim, s| {
             ke_peak = ke_peak.max(s.kinetic_energy);
             samples.push(s.clone());
@@ -187,63 +251,102 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         _ => None,
     };
     if blowup.is_some() {
-        sinks.blowup(&sim)?;
+        sinks.blowup(sim)?;
     }
     let (publish, record) = (sinks.report("publish"), sinks.report("record"));
     sinks.finish()?;
     bar.finish_and_clear();
     let wall = start.elapsed().as_secs_f64();
-    let n = sim.fine_count();
     // fine particle-steps plus coarse particle-sub-steps, and the fine ones alone
-    let fine_pss = n as f64 * sim.steps() as f64 / wall.max(1e-12);
+    let rate = |n: usize, steps: u64| n as f64 * steps as f64 / wall.max(1e-12);
+    let fine_pss = rate(sim.fine_count(), sim.steps());
     let pss = fine_pss
-        + sim.coarse_count() as f64 * sim.coarse_steps() as f64 / wall.max(1e-12)
-        + sim.water_count() as f64 * sim.water_steps() as f64 / wall.max(1e-12);
-
+        + rate(sim.coarse_count(), sim.coarse_steps())
+        + rate(sim.water_count(), sim.water_steps());
     // the sinks count as observation: rows, snapshots and records written, frames built
     sim.timers_mut().add(Stage::Observe, sinks.seconds);
-    let mut stages = Map::new();
-    for (name, secs) in sim.timers().entries() {
-        stages.insert(name.to_string(), json!(secs));
+    Ok(Ran {
+        samples,
+        ke_peak,
+        ended,
+        blowup,
+        publish,
+        record,
+        wall,
+        pss,
+        fine_pss,
+    })
+}
+
+/// The progress bar of an interactive run to `end` (s); hidden otherwise.
+fn progress_bar(interactive: bool, end: f64) -> ProgressBar {
+    if !interactive {
+        return ProgressBar::hidden();
     }
-    let mut skipped_list = sim.skipped();
+    let b = ProgressBar::new((end * 1e6).round() as u64);
+    b.set_style(
+        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:32} t = {msg} ETA {eta}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    b
+}
+
+/// The stages this run skipped, and why: the simulation's own, and publishing and
+/// recording where not asked for or not used.
+fn skipped(opts: &RunOptions, sim: &AnySimulation, ran: &Ran) -> Vec<(String, String)> {
+    let mut skipped = sim.skipped();
     let sent = |p: &Value| {
         p["frames_sent"].as_u64().unwrap_or(0) + p["frames_dropped"].as_u64().unwrap_or(0)
     };
-    match &publish {
-        None => skipped_list.push(("publish".into(), "no --publish".into())),
+    match &ran.publish {
+        None => skipped.push(("publish".into(), "no --publish".into())),
         Some(p) if sent(p) == 0 => {
-            skipped_list.push(("publish".into(), "no subscriber: no frame was built".into()))
+            skipped.push(("publish".into(), "no subscriber: no frame was built".into()))
         }
         Some(_) => {}
     }
     if opts.record.is_none() {
-        skipped_list.push(("record".into(), "no --record".into()));
+        skipped.push(("record".into(), "no --record".into()));
+    }
+    skipped
+}
+
+/// summary.json: counts, steps, memory, throughput, stages, what was skipped, the
+/// channel's and the recorder's reports and the final observables.
+fn summary_json(
+    opts: &RunOptions,
+    loaded: &LoadedScene,
+    sim: &AnySimulation,
+    layout: &Layout,
+    ran: &Ran,
+    skipped_list: &[(String, String)],
+) -> Value {
+    let (dim, wall, n) = (layout.dim, ran.wall, sim.fine_count());
+    let mut stages = Map::new();
+    for (name, secs) in sim.timers().entries() {
+        stages.insert(name.to_string(), json!(secs));
     }
     let mut skipped = Map::new();
-    for (name, why) in &skipped_list {
+    for (name, why) in skipped_list {
         skipped.insert(name.clone(), json!(why));
     }
-    let last = samples.last().cloned().unwrap_or_default();
-    let obs = observables(&layout, &last, ke_peak);
+    let last = ran.samples.last().cloned().unwrap_or_default();
     let mut bodies = Map::new();
     for b in &last.bodies {
         bodies.insert(b.name.clone(), body_json(dim, layout.water, b));
-    }
-    if !last.bodies.is_empty() {
-        write_bodies_json(&opts.out.join("bodies.json"), dim, layout.water, &samples)?;
     }
     // the SPH particles (fine grains and water) and their memory: a water-only run
     // counts its water (issue 39: it reported 0 particles and all memory per particle)
     let sph = n + sim.water_count();
     let memory = sim.fine_bytes() + sim.water_bytes();
     let water_pss = sim.water_count() as f64 * sim.water_steps() as f64 / wall.max(1e-12);
-    let summary = json!({
+    json!({
         "scene": opts.scene.display().to_string(),
-        "name": sim_spec.name,
+        "name": loaded.scene.simulation.name,
         "dimension": dim,
-        "status": match &ended { RunEnd::Blowup(_) => "blowup", RunEnd::Settled => "settled", _ => "ok" },
-        "blowup": blowup.as_ref().map(|b| b.to_string()),
+        "status": match &ran.ended { RunEnd::Blowup(_) => "blowup", RunEnd::Settled => "settled", _ => "ok" },
+        "blowup": ran.blowup.as_ref().map(|b| b.to_string()),
         "particles": sph,
         "particles_fine": n,
         "wall_particles": sim.wall_count(),
@@ -262,37 +365,14 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         "bytes_per_particle": (sph > 0).then(|| memory as f64 / sph as f64),
         "threads": rayon::current_num_threads(),
         "wall_time_s": wall,
-        "particle_steps_per_s": pss,
-        "fine_particle_steps_per_s": (n > 0).then_some(fine_pss),
+        "particle_steps_per_s": ran.pss,
+        "fine_particle_steps_per_s": (n > 0).then_some(ran.fine_pss),
         "water_particle_steps_per_s": layout.water.then_some(water_pss),
         "stages": stages,
         "skipped": skipped,
-        "publish": publish,
-        "record": record,
-        "observables": obs,
-    });
-    std::fs::write(
-        opts.out.join("summary.json"),
-        serde_json::to_string_pretty(&summary)?,
-    )?;
-    if opts.plots && !samples.is_empty() {
-        let dir = opts.out.join("plots");
-        std::fs::create_dir_all(&dir)?;
-        let name = sim_spec.name.clone().unwrap_or_else(|| stem.clone());
-        let title = format!("{name} — t = {:.3} s", last.time);
-        crate::quicklook::write(&dir.join("quicklook.png"), &title, &layout, &samples)?;
-    }
-    if opts.interactive {
-        print_table(&sim, &skipped_list, wall, (pss, fine_pss), &opts.out);
-    }
-    Ok(RunReport {
-        summary,
-        samples,
-        blowup,
-        particles: n + sim.water_count(),
-        wall_time: wall,
-        particle_steps_per_s: pss,
-        fine_particle_steps_per_s: fine_pss,
+        "publish": ran.publish,
+        "record": ran.record,
+        "observables": observables(layout, &last, ran.ke_peak),
     })
 }
 

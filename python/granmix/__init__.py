@@ -10,6 +10,7 @@
   :mod:`granmix.store` keeps each finished case on disk the moment it finishes, so
   that ``--resume`` runs only the missing ones.
 - :mod:`granmix.cli` is ``granmix-sweep``.
+- :mod:`granmix.vtu` reads the ``.vtu`` snapshots of ``granmix run`` into numpy arrays.
 """
 
 from granmix.design import Case, cases

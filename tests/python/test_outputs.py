@@ -6,7 +6,8 @@ lists with their shapes, and no part file is empty (a water-only run wrote 69 em
 soil files, on which meshio raised IndexError). The walls are a named part of the
 collection at every time, written at each with the pressure their particles carry: in
 a resting tank the floor's is the hydrostatic ρ_w g H. The stress's order (ParaView's
-XX, YY, ZZ, XY, YZ, XZ) is checked by the unit test in harness/src/vtk.rs.
+XX, YY, ZZ, XY, YZ, XZ) is checked by the unit test in harness/src/vtk.rs. granmix's own reader, `granmix.vtu`,
+reads every part as VTK does.
 """
 
 import subprocess
@@ -17,6 +18,7 @@ import numpy as np
 import pytest
 import vtk
 from conftest import ROOT, granmix_bin
+from granmix.vtu import read_vtu
 from vtk.util.numpy_support import vtk_to_numpy
 
 SCENES = ROOT / "models" / "scenes"
@@ -63,6 +65,11 @@ def check_part(path, expected):
     assert n > 0, f"{path.name} is empty"
     npts, arrays = vtk_arrays(path)
     assert npts == n
+    # granmix's own reader (granmix.vtu) reads what VTK reads
+    ours = read_vtu(path)
+    np.testing.assert_array_equal(ours["points"], mesh.points)
+    for name in expected:
+        np.testing.assert_array_equal(ours[name].reshape(n, -1), arrays[name].reshape(n, -1))
     for name, comps in expected.items():
         for got in (mesh.point_data, arrays):
             assert name in got, f"{path.name}: no `{name}` in {sorted(got)}"

@@ -4,6 +4,7 @@
 
 use granmix_core::estimate::{estimate, fine_bytes_per_particle};
 use granmix_core::input::load_scene_file;
+use granmix_core::resolution::Resolution;
 use granmix_core::AnySimulation;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -52,7 +53,7 @@ fn estimates_match_the_built_counts_of_every_bundled_scene() {
         let name = path.file_name().unwrap().to_string_lossy().to_string();
         let loaded = load_scene_file(&path, &[]).unwrap();
         let t = Instant::now();
-        let e = estimate(&loaded.scene);
+        let e = estimate(&loaded.scene, &Resolution::of_scene(&loaded.scene));
         let te = t.elapsed().as_secs_f64();
         let sim = AnySimulation::new(&loaded).unwrap();
         let (walls, coarse) = (sim.wall_count(), sim.coarse_count());
@@ -149,7 +150,7 @@ fn a_scene_over_the_budget_is_refused_before_building() {
 fn the_budget_can_be_set() {
     let path = scene("fmu_barrier_2d.toml");
     let ok = load_scene_file(&path, &["simulation.memory_budget=1e9".to_string()]).unwrap();
-    let e = estimate(&ok.scene);
+    let e = estimate(&ok.scene, &Resolution::of_scene(&ok.scene));
     assert!(e.bytes > 1e5 && e.bytes < 1e7, "{} bytes", e.bytes);
     AnySimulation::new(&ok).unwrap();
     let low = load_scene_file(&path, &["simulation.memory_budget=1e5".to_string()]).unwrap();

@@ -44,6 +44,13 @@ impl Pores {
         self.permeability * rho_w * g / mu
     }
 
+    /// The largest Δt of the soil's explicit side of the seepage drag, ½ ρ_d k / μ, for
+    /// a soil of dry density `rho_d` in water of viscosity `mu`: the build's step bound
+    /// and the estimate's alike.
+    pub fn seepage_dt(&self, rho_d: Real, mu: Real) -> Real {
+        0.5 * rho_d * self.permeability / mu
+    }
+
     /// Submerged density ρ' = ρ_sat − ρ_w = ρ_d − (1 − n) ρ_w of a soil of dry density
     /// `rho_d`: the weight its skeleton carries below the water table.
     pub fn submerged_density(&self, rho_d: Real, rho_w: Real) -> Real {

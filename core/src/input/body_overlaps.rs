@@ -15,10 +15,10 @@ use crate::scene::{spec_rotation, ContainerSpec, KeyError, Scene};
 const PER_AXIS: [usize; 2] = [64, 20];
 
 /// Refuse the first body that starts inside a wall, barrier or container face.
-pub fn check_bodies(scene: &Scene) -> Result<(), KeyError> {
+pub fn check_bodies(scene: &Scene, dp: Real) -> Result<(), KeyError> {
     match scene.simulation.dimension {
-        2 => check_in::<2>(scene),
-        _ => check_in::<3>(scene),
+        2 => check_in::<2>(scene, dp),
+        _ => check_in::<3>(scene, dp),
     }
 }
 
@@ -32,11 +32,10 @@ struct Wall<'a, const D: usize> {
     hi: Vect<D>,
 }
 
-fn check_in<const D: usize>(scene: &Scene) -> Result<(), KeyError> {
+fn check_in<const D: usize>(scene: &Scene, dp: Real) -> Result<(), KeyError> {
     if scene.bodies.is_empty() {
         return Ok(());
     }
-    let dp = scene.simulation.dp;
     let margin = 0.5 * dp;
     let depth = scene.numerics.wall_layers as Real * dp;
     let mut walls: Vec<Wall<D>> = Vec::new();

@@ -14,6 +14,8 @@ mod water_start;
 pub use run_length::{MAX_OUTPUTS, MAX_STEPS};
 
 use crate::assets::Assets;
+use crate::estimate;
+use crate::resolution::Resolution;
 use crate::scene::{
     apply_overrides, attribute, parse, reattribute, validate, KeyError, Scene, SceneError,
     ShapeSpec,
@@ -82,18 +84,20 @@ pub fn load_scene_in(
         let line = crate::scene::locate(&text, &e.path);
         attribute(source, file, overrides, e, line)
     };
-    rocks::expand(&mut scene).map_err(fail)?;
+    // dp, h and the skin, derived once for every check below
+    let res = Resolution::of_scene(&scene);
+    rocks::expand(&mut scene, res.dp).map_err(fail)?;
     validate(&scene).map_err(fail)?;
     scene.assets = read_assets(&scene, dir).map_err(fail)?;
     placement::check_regions(&scene).map_err(fail)?;
-    body_overlaps::check_bodies(&scene).map_err(fail)?;
+    body_overlaps::check_bodies(&scene, res.dp).map_err(fail)?;
     // a region that holds no particle at this dp, refused before what its spacing
     // would make of the time step
-    if let Some(e) = crate::estimate::empty_part(&scene, &crate::estimate::estimate(&scene)) {
+    if let Some(e) = estimate::empty_part(&scene, &estimate::estimate(&scene, &res)) {
         return Err(fail(e));
     }
-    water_start::check_water_start(&scene).map_err(fail)?;
-    run_length::check_run_length(&scene).map_err(fail)?;
+    let water = water_start::check_water_start(&scene, &res).map_err(fail)?;
+    run_length::check_run_length(&scene, &res, water.as_ref()).map_err(fail)?;
     Ok(LoadedScene {
         scene,
         text,
@@ -134,4 +138,25 @@ fn read_assets(scene: &Scene, dir: &Path) -> Result<Assets, KeyError> {
         read.map_err(|e| KeyError::new(format!("{path}.file"), e.to_string()))?;
     }
     Ok(a)
+}
+
+/// Every bundled scene (`models/scenes`), loaded, by file name: for the tests that
+/// hold what runs before the build against the build.
+#[cfg(test)]
+pub(crate) fn bundled_scenes() -> Vec<(String, LoadedScene)> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/scenes");
+    let mut paths: Vec<_> = std::fs::read_dir(&dir)
+        .expect("models/scenes")
+        .map(|e| e.expect("a directory entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    paths.sort();
+    paths
+        .into_iter()
+        .map(|p| {
+            let name = p.file_name().unwrap_or_default().to_string_lossy().into();
+            let loaded = load_scene_file(&p, &[]).unwrap_or_else(|e| panic!("{e}"));
+            (name, loaded)
+        })
+        .collect()
 }

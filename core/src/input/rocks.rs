@@ -144,11 +144,12 @@ struct Placed {
     radius: f64,
 }
 
-/// Expand every `[[rock_fills]]` entry into `[[bodies]]`.
-pub fn expand(scene: &mut Scene) -> Result<(), Fail> {
+/// Expand every `[[rock_fills]]` entry into `[[bodies]]`, at the scene's spacing `dp`
+/// (the default clearance is two spacings).
+pub fn expand(scene: &mut Scene, dp: f64) -> Result<(), Fail> {
     let fills = scene.rock_fills.clone();
     for (i, f) in fills.iter().enumerate() {
-        let (bodies, report) = fill(scene, i, f)?;
+        let (bodies, report) = fill(scene, i, f, dp)?;
         scene.bodies.extend(bodies);
         scene.rock_reports.push(report);
     }
@@ -218,6 +219,7 @@ fn fill(
     scene: &Scene,
     i: usize,
     f: &RockFillSpec,
+    dp: f64,
 ) -> Result<(Vec<BodySpec>, RockFillReport), Fail> {
     let p = format!("rock_fills[{i}]");
     check(scene, &p, f)?;
@@ -225,7 +227,7 @@ fn fill(
     let region_area = region.volume().unwrap_or(0.0);
     estimate_fill(&p, f, region_area)?;
     let (lo, hi) = region.bounds();
-    let clearance = f.clearance.unwrap_or(2.0 * scene.simulation.dp);
+    let clearance = f.clearance.unwrap_or(2.0 * dp);
     let target = f.content * region_area;
     let mut rng =
         Rng(f.seed ^ 0x5EED_0000_0000_0000 ^ (i as u64).wrapping_mul(0xA24B_AED4_963E_E407));

@@ -5,7 +5,9 @@
 //! otherwise pass `check` and then never finish, or stop the run at its first step.
 
 use crate::estimate::{rest_dt_bound, RestDt};
+use crate::flow_speed::WaterSpeed;
 use crate::math::Real;
+use crate::resolution::Resolution;
 use crate::scene::{KeyError, Scene};
 
 /// Most steps a run may take: thirty years at a million steps a second. Real scenes
@@ -19,10 +21,15 @@ pub const MAX_OUTPUTS: Real = 1e6;
 /// is blamed on `simulation.cfl`.
 const DEFAULT_CFL: Real = 0.4;
 
-/// Refuse a run that would not finish, or would stop at its first step.
-pub fn check_run_length(scene: &Scene) -> Result<(), KeyError> {
+/// Refuse a run that would not finish, or would stop at its first step; `water` is the
+/// water's speeds ([`check_water_start`](super::water_start::check_water_start)).
+pub fn check_run_length(
+    scene: &Scene,
+    res: &Resolution,
+    water: Option<&WaterSpeed>,
+) -> Result<(), KeyError> {
     let sim = &scene.simulation;
-    let bound = rest_dt_bound(scene);
+    let bound = rest_dt_bound(scene, res, water);
     let dt = bound.dt;
     let fail = |key: &str, msg: String| Err(KeyError::new(key, msg));
     if dt.is_nan() || dt <= 0.0 || (dt.is_finite() && !dt.is_normal()) {

@@ -1,60 +1,26 @@
 //! The water's start, checked from the shapes before any particle is placed, so that
 //! plain `check` refuses what the build would: a sound speed below the expected flow
-//! speed or none that can be derived, a speed scale below a speed the water is given,
-//! an inlet that meets nothing of the scene, and an outflow that removes a whole water
-//! region at t = 0. The build repeats the first checks on its particles.
+//! speed or none that can be derived, a speed scale below a speed the water is given
+//! (the build's own rule, [`flow_speed::choose`]), an inlet that meets nothing of the
+//! scene, and an outflow that removes a whole water region at t = 0. The build repeats
+//! the first checks on its particles.
+//!
+//! [`flow_speed::choose`]: crate::flow_speed::choose
 
-use crate::flow_speed::{bounds, water_speed};
+use crate::flow_speed::{bounds, water_speed, WaterSpeed};
 use crate::math::Real;
+use crate::resolution::Resolution;
 use crate::scene::{KeyError, Scene, ShapeSpec};
 
-/// Refuse a water start that the build or the first step would refuse.
-pub fn check_water_start(scene: &Scene) -> Result<(), KeyError> {
-    let Some(speed) = water_speed(scene) else {
-        return Ok(());
-    };
+/// Refuse a water start that the build or the first step would refuse; the water's
+/// speeds otherwise (`None` without water).
+pub fn check_water_start(scene: &Scene, res: &Resolution) -> Result<Option<WaterSpeed>, KeyError> {
+    let speed = water_speed(scene, res)?;
     let Some(w) = &scene.water else {
-        // pores without [water]: its defaults derive c0 from the fall height
-        return Ok(());
+        return Ok(speed);
     };
     let fail = |key: String, msg: String| Err(KeyError::new(key, msg));
-    if let Some(u) = w.speed_scale {
-        if u < speed.initial {
-            return fail(
-                "water.speed_scale".into(),
-                format!(
-                    "speed_scale = {u:?} m/s is below the speed {:?} m/s the water is given (a \
-                     region's initial velocity or an inflow); c0 = 10 × speed_scale would let \
-                     the water compress by far more than 1 %: take speed_scale ≥ {:?} m/s",
-                    speed.initial, speed.initial
-                ),
-            );
-        }
-    }
-    match w.sound_speed {
-        Some(c) if c < speed.scale => {
-            return fail(
-                "water.sound_speed".into(),
-                format!(
-                    "c0 = {c:?} m/s is below the expected flow speed {:?} m/s (√(2 g H) over \
-                     the tallest water region, or its initial speed): the water would compress \
-                     by far more than 1 %; take c0 ≥ {:?} m/s, or set `water.speed_scale`",
-                    speed.scale,
-                    10.0 * speed.scale
-                ),
-            )
-        }
-        None if speed.scale.is_nan() || speed.scale <= 0.0 => {
-            return fail(
-                "water.sound_speed".into(),
-                "the water neither falls (no gravity) nor moves, so no flow speed can be \
-                 derived: give `water.sound_speed` or `water.speed_scale`"
-                    .into(),
-            )
-        }
-        _ => {}
-    }
-    let (lo, hi) = reach(scene);
+    let (lo, hi) = reach(scene, res.dp);
     for (i, f) in w.inflows.iter().enumerate() {
         let ShapeSpec::Box { min, max } = &f.shape else {
             continue;
@@ -86,7 +52,7 @@ pub fn check_water_start(scene: &Scene) -> Result<(), KeyError> {
             }
         }
     }
-    Ok(())
+    Ok(speed)
 }
 
 /// Whether the box [lo, hi] lies wholly on the side of the plane (point, normal) that
@@ -104,9 +70,9 @@ fn beyond(point: &[Real], normal: &[Real], lo: &[Real], hi: &[Real]) -> bool {
 
 /// The box spanned by the scene's walls (their layers included), barriers, containers,
 /// grains, bodies and water regions.
-fn reach(scene: &Scene) -> (Vec<Real>, Vec<Real>) {
+fn reach(scene: &Scene, dp: Real) -> (Vec<Real>, Vec<Real>) {
     let d = scene.simulation.dimension;
-    let depth = scene.numerics.wall_layers as Real * scene.simulation.dp;
+    let depth = scene.numerics.wall_layers as Real * dp;
     let (mut lo, mut hi) = (vec![Real::INFINITY; d], vec![Real::NEG_INFINITY; d]);
     let mut grow = |a: &[Real], b: &[Real], pad: Real| {
         for k in 0..d {

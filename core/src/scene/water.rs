@@ -139,6 +139,13 @@ impl Hydrograph {
             }
         }
     }
+
+    /// The largest speed (m/s): the Gumbel peak, a/(β e) at t = μ.
+    pub fn peak(&self) -> f64 {
+        match *self {
+            Hydrograph::Gumbel { a, beta, .. } => a / (beta * std::f64::consts::E),
+        }
+    }
 }
 
 /// `[[water.outflows]]`: water particles past a plane are removed.

@@ -106,18 +106,7 @@ pub(super) fn validate_water(s: &Scene) -> Check {
     if let Some(u) = w.speed_scale {
         positive("water.speed_scale", u)?;
     }
-    if let (Some(c), Some(u)) = (w.sound_speed, w.speed_scale) {
-        if c < u {
-            return fail(
-                "water.sound_speed",
-                format!(
-                    "c0 = {c:?} m/s is below the expected flow speed `water.speed_scale` = {u:?} m/s: \
-                     the water would compress by far more than 1 %; take c0 ≥ 10 × {u:?} = {:?} m/s",
-                    10.0 * u
-                ),
-            );
-        }
-    }
+    // c0 against the expected flow speed: flow_speed::choose, at load and in the build
     if let Some(eta) = w.limiter {
         if !(eta.is_finite() && eta >= 0.0) {
             return fail(

@@ -6,7 +6,7 @@ use crate::guard::{Blowup, Family};
 use crate::interactions::fine_coarse::CoarseSource;
 use crate::kernel::WendlandC2;
 use crate::load::Load;
-use crate::math::{Real, Vect};
+use crate::math::{up, Real, Vect};
 use crate::timers::{Stage, StageTimers};
 use crate::world::World;
 use coarse_substeps::CoarseStepper;
@@ -69,12 +69,7 @@ pub struct Stepper<const D: usize> {
 impl<const D: usize> Stepper<D> {
     pub fn new(world: &World<D>, params: StepParams) -> Self {
         let kernel = WendlandC2::new(params.h, D);
-        let g = world.gravity.norm();
-        let up = if g > 0.0 {
-            -world.gravity / g
-        } else {
-            Vect::<D>::zeros()
-        };
+        let up = up(&world.gravity);
         let cell = kernel.cutoff + params.skin;
         let skipped = skipped_stages(world, &params);
         let coarse = (!world.coarse.is_empty()).then(|| {

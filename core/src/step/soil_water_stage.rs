@@ -15,7 +15,7 @@ use crate::interactions::soil_water::{
     WaterDrag,
 };
 use crate::kernel::WendlandC2;
-use crate::math::{Real, Vect};
+use crate::math::{up, Real, Vect};
 use crate::neighbors::{CellGrid, CHUNK};
 use crate::water::material::WaterMaterial;
 use crate::water::source::WaterSource;
@@ -25,7 +25,8 @@ use rayon::prelude::*;
 /// Scratch of the soil–water coupling; the water's force on the soil of the last step.
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub struct SoilWater<const D: usize> {
-    /// Largest Δt of the explicit soil side of the drag: 0.5 min ρ_d k / μ.
+    /// Largest Δt of the explicit soil side of the drag: the least of
+    /// [`Pores::seepage_dt`](crate::fine::pores::Pores::seepage_dt), ½ ρ_d k / μ.
     pub dt_max: Real,
     /// The kernel's least lattice sum and its value at a lattice point
     /// ([`lattice_sum`]).
@@ -124,7 +125,7 @@ impl<const D: usize> SoilWater<D> {
         let dt_max = world
             .materials
             .iter()
-            .filter_map(|m| m.pores.map(|p| 0.5 * m.rho0 * p.permeability / w.mu))
+            .filter_map(|m| m.pores.map(|p| p.seepage_dt(m.rho0, w.mu)))
             .reduce(Real::min)?;
         Some(SoilWater {
             dt_max,
@@ -258,11 +259,7 @@ impl<const D: usize> SoilWater<D> {
             });
         // the vertical gradient a soil rests at: its weight less the water's lift
         let g = world.gravity.norm();
-        let up = if g > 0.0 {
-            -world.gravity / g
-        } else {
-            Vect::<D>::zeros()
-        };
+        let up = up(&world.gravity);
         let (f, mats) = (&world.fine, &world.materials);
         let rho_w = Some(mat.rho0);
         self.weight.clear();

@@ -5,7 +5,7 @@
 
 use super::material::WaterMaterial;
 use super::state::WaterParticles;
-use crate::math::{Real, Vect};
+use crate::math::{box_extent, Real, Vect};
 use crate::scene::Hydrograph;
 
 /// The inflow speed against time.
@@ -41,6 +41,14 @@ impl<const D: usize> Inflow<D> {
         match self.speed {
             InflowSpeed::Constant(u) => u,
             InflowSpeed::Hydrograph(h) => h.speed(t),
+        }
+    }
+
+    /// The largest speed: the constant one, or the hydrograph's peak.
+    pub fn peak_speed(&self) -> Real {
+        match self.speed {
+            InflowSpeed::Constant(u) => u,
+            InflowSpeed::Hydrograph(h) => h.peak(),
         }
     }
 
@@ -97,20 +105,7 @@ impl<const D: usize> Inflow<D> {
 
     /// The lowest and highest coordinate of the box's corners along `up`.
     pub fn extent_along(&self, up: &Vect<D>) -> (Real, Real) {
-        let (mut lo, mut hi) = (Real::INFINITY, Real::NEG_INFINITY);
-        for corner in 0..(1usize << D) {
-            let mut c = Vect::<D>::zeros();
-            for k in 0..D {
-                c[k] = if corner & (1 << k) != 0 {
-                    self.hi[k]
-                } else {
-                    self.lo[k]
-                };
-            }
-            lo = lo.min(c.dot(up));
-            hi = hi.max(c.dot(up));
-        }
-        (lo, hi)
+        box_extent(&self.lo, &self.hi, up)
     }
 
     /// The lattice points of the box's cross-section across the flow axis (the axis's

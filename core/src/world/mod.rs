@@ -6,24 +6,20 @@ use crate::build_error::BuildError;
 use crate::coarse::build::Coarse;
 use crate::fine::material::FineMaterial;
 use crate::fine::state::FineParticles;
-use crate::math::{Real, Sym, Vect};
-use crate::periodic::{axis_index, Period, Wrap};
+use crate::math::{extent, up, Real, Sym, Vect};
+use crate::periodic::{axis_index, hydrostatic, Period, Wrap};
 use crate::resolution::Resolution;
 use crate::scene::Scene;
 use crate::walls::Walls;
 use crate::water::boundary::{Inflow, Outflow};
 use crate::water::material::WaterMaterial;
 use crate::water::state::WaterParticles;
-use nalgebra::{Rotation3, Vector3};
 
 mod boundaries;
 mod regions;
 mod water_fill;
 
 pub(crate) use water_fill::column_key;
-
-/// A body's rotation about a centre.
-type Pose = (Vector3<Real>, Rotation3<Real>);
 
 /// A probe point sampled into the time series.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
@@ -81,7 +77,7 @@ impl<const D: usize> World<D> {
     /// [`Resolution::of`]).
     pub fn build(scene: &Scene, resolution: Resolution) -> Result<Self, BuildError> {
         // refuse a scene too large for memory before allocating anything
-        let estimate = crate::budget::enforce(scene).map_err(|e| BuildError {
+        let estimate = crate::budget::enforce(scene, &resolution).map_err(|e| BuildError {
             path: "simulation.dp".into(),
             message: e.to_string(),
         })?;
@@ -105,12 +101,7 @@ impl<const D: usize> World<D> {
         }
         let (dp, vol) = (resolution.dp, resolution.volume);
         let gravity = v::<D>(&scene.simulation.gravity);
-        let gnorm = gravity.norm();
-        let up = if gnorm > 0.0 {
-            -gravity / gnorm
-        } else {
-            Vect::<D>::zeros()
-        };
+        let up = up(&gravity);
         let materials: Vec<FineMaterial> = scene
             .materials
             .iter()
@@ -137,7 +128,7 @@ impl<const D: usize> World<D> {
             lo = lo.inf(p);
             hi = hi.sup(p);
         }
-        let g_hyd = hydrostatic(gravity, periodic);
+        let g_hyd = hydrostatic(gravity, periodic.map(|p| p.axis));
         let pores = pore_water(scene, &materials, &fine, &region_counts, &up, dp);
         let filled = water_fill::fill(scene, &g_hyd, (dp, vol), (lo, hi), &pores)?;
         let water = filled.unwrap_or_default();
@@ -209,22 +200,13 @@ impl<const D: usize> World<D> {
     /// axis, where a body force drives a flow and builds no pressure gradient (seed 001
     /// §2.1). The water's hydrostatic start, wall pressure and potential energy use it.
     pub fn hydrostatic_gravity(&self) -> Vect<D> {
-        hydrostatic(self.gravity, self.periodic)
+        hydrostatic(self.gravity, self.periodic.map(|p| p.axis))
     }
 
     /// Largest sound speed over fine materials.
     pub fn max_c0(&self) -> Real {
         self.materials.iter().map(|m| m.c0).fold(0.0, Real::max)
     }
-}
-
-/// `g` without its component along the periodic axis of `wrap`.
-fn hydrostatic<const D: usize>(g: Vect<D>, wrap: Wrap) -> Vect<D> {
-    let mut h = g;
-    if let Some(p) = wrap {
-        h[p.axis] = 0.0;
-    }
-    h
 }
 
 /// The pore water of the saturated soil regions: one water particle on each of their
@@ -250,11 +232,7 @@ fn pore_water<const D: usize>(
             continue;
         }
         let pos = fine.pos[range].to_vec();
-        let top = pos
-            .iter()
-            .map(|p| p.dot(up))
-            .fold(Real::NEG_INFINITY, Real::max)
-            + 0.5 * dp;
+        let top = extent(&pos, up, dp).1;
         out.push(water_fill::PoreWater {
             name: name.clone(),
             pos,

@@ -2,13 +2,14 @@
 //! (seed 000 §5.2), jittered if asked, less what lies inside a solid (walls, barriers,
 //! buried boulders), with its initial velocity and stress.
 
-use super::{geostatic_tensor, v, Pose};
+use super::{geostatic_tensor, v};
 use crate::build_error::BuildError;
 use crate::fine::material::FineMaterial;
 use crate::fine::state::FineParticles;
 use crate::geometry::Shape;
-use crate::math::{from3, to3, Real, Sym, Vect};
-use crate::scene::{spec_rotation, InitialStress, Scene, ShapeSpec};
+use crate::math::{extent, Real, Sym, Vect};
+use crate::scene::{InitialStress, Scene};
+use crate::start_solids::Solids;
 
 /// The fine particles of every region, and the particle count of each (scene order).
 pub(super) fn fill<const D: usize>(
@@ -59,11 +60,7 @@ pub(super) fn fill<const D: usize>(
             .as_deref()
             .map(v::<D>)
             .unwrap_or_else(Vect::<D>::zeros);
-        let top = pts
-            .iter()
-            .map(|p| p.dot(up))
-            .fold(Real::NEG_INFINITY, Real::max)
-            + 0.5 * dp;
+        let top = extent(&pts, up, dp).1;
         for p in &pts {
             let stress = match r.initial_stress {
                 InitialStress::Zero => Sym::ZERO,
@@ -77,43 +74,4 @@ pub(super) fn fill<const D: usize>(
         region_counts.push((r.name.clone(), pts.len()));
     }
     Ok((fine, region_counts))
-}
-
-/// Solids that displace particles at start-up: walls and barriers (not planes, whose
-/// patch is not a solid; for water not the permeable ones) and bodies (buried
-/// boulders).
-pub(super) struct Solids<const D: usize>(Vec<(Shape<D>, Option<Pose>)>);
-
-impl<const D: usize> Solids<D> {
-    pub(super) fn of(scene: &Scene, water: bool) -> Self {
-        let mut solids: Vec<(Shape<D>, Option<Pose>)> = Vec::new();
-        for w in scene.walls.iter().chain(&scene.barriers) {
-            let passes = water && w.permeable;
-            if !matches!(w.shape, ShapeSpec::Plane { .. }) && !passes {
-                solids.push((Shape::<D>::from_spec(&w.shape, &scene.assets), None));
-            }
-        }
-        for b in &scene.bodies {
-            let shape = Shape::<D>::from_spec(&b.shape, &scene.assets);
-            let c = to3(&shape.center());
-            solids.push((shape, Some((c, spec_rotation(b, D)))));
-        }
-        Solids(solids)
-    }
-
-    pub(super) fn is_empty(&self) -> bool {
-        self.0.is_empty()
-    }
-
-    /// A particle at `p` is not created: it lies closer than dp/2 (the lattice
-    /// half-spacing) to a solid's surface, or inside it.
-    pub(super) fn holds(&self, p: &Vect<D>, dp: Real) -> bool {
-        self.0.iter().any(|(shape, pose)| {
-            let q = match pose {
-                Some((c, r)) => from3::<D>(&(c + r.inverse() * (to3(p) - c))),
-                None => *p,
-            };
-            shape.sdf(&q) < 0.5 * dp * (1.0 - 1e-6)
-        })
-    }
 }

@@ -1,14 +1,18 @@
 //! The water of a scene: each `[[water.regions]]` shape filled on the lattice of
 //! spacing dp, less what lies inside a solid, at the hydrostatic pressure of its
-//! region; and the water's sound speed, chosen from the expected flow speed.
+//! region; and the water's sound speed, chosen by [`flow_speed::choose`] from the
+//! speeds measured on these particles.
+//!
+//! [`flow_speed::choose`]: crate::flow_speed::choose
 
-use super::regions::Solids;
 use super::v;
 use super::Water;
 use crate::build_error::BuildError;
+use crate::flow_speed::{choose, water_spec, Measured};
 use crate::geometry::Shape;
-use crate::math::{Real, Vect};
-use crate::scene::{Hydrograph, Scene, ShapeSpec, WaterSpec};
+use crate::math::{extent, up, Real, Vect};
+use crate::scene::{Scene, ShapeSpec};
+use crate::start_solids::Solids;
 use crate::water::boundary::{Inflow, InflowSpeed, Outflow};
 use crate::water::material::WaterMaterial;
 use crate::water::state::WaterParticles;
@@ -34,25 +38,15 @@ pub(super) fn fill<const D: usize>(
     reach: (Vect<D>, Vect<D>),
     pores: &[PoreWater<D>],
 ) -> Result<Option<Water<D>>, BuildError> {
-    let defaults: WaterSpec;
-    let spec = match &scene.water {
-        Some(s) => s,
-        None if pores.is_empty() => return Ok(None),
-        None => {
-            defaults = toml::from_str("").expect("every [water] key has a default");
-            &defaults
-        }
+    let Some(spec) = water_spec(scene) else {
+        return Ok(None);
     };
     let gnorm = g.norm();
-    let up = &if gnorm > 0.0 {
-        -g / gnorm
-    } else {
-        Vect::<D>::zeros()
-    };
+    let up = &up(g);
     let solids = Solids::<D>::of(scene, true);
     // every region's lattice points, its top (along `up`) and velocity
     let mut regions = Vec::new();
-    let mut speed: Real = 0.0;
+    let mut speed = Measured::default();
     for (ri, r) in spec.regions.iter().enumerate() {
         let shape = Shape::<D>::from_spec(&r.shape, &scene.assets);
         let mut pts = shape.fill(dp);
@@ -68,27 +62,19 @@ pub(super) fn fill<const D: usize>(
                 ),
             });
         }
-        let height = |p: &Vect<D>| p.dot(up);
-        let top = pts.iter().map(height).fold(Real::NEG_INFINITY, Real::max) + 0.5 * dp;
-        let bottom = pts.iter().map(height).fold(Real::INFINITY, Real::min) - 0.5 * dp;
+        let (bottom, top) = extent(&pts, up, dp);
         let vel = r
             .velocity
             .as_deref()
             .map(v::<D>)
             .unwrap_or_else(Vect::<D>::zeros);
-        speed = speed
-            .max((2.0 * gnorm * (top - bottom)).sqrt())
-            .max(vel.norm());
+        speed.fall(gnorm, (bottom, top));
+        speed.given(vel.norm());
         regions.push((r.name.clone(), pts, top, vel));
     }
     for r in pores {
-        let bottom = r
-            .pos
-            .iter()
-            .map(|p| p.dot(up))
-            .fold(Real::INFINITY, Real::min)
-            - 0.5 * dp;
-        speed = speed.max((2.0 * gnorm * (r.top - bottom)).sqrt());
+        let bottom = extent(&r.pos, up, dp).0;
+        speed.fall(gnorm, (bottom, r.top));
         let name = format!("pores of {}", r.name);
         regions.push((name, r.pos.clone(), r.top, Vect::<D>::zeros()));
     }
@@ -103,36 +89,14 @@ pub(super) fn fill<const D: usize>(
         return Ok(None);
     }
     for f in &inflows {
-        let (bottom, top) = f.extent_along(up);
-        speed = speed
-            .max((2.0 * gnorm * (top - bottom)).sqrt())
-            .max(peak_speed(f));
+        speed.fall(gnorm, f.extent_along(up));
+        speed.given(f.peak_speed());
     }
-    let scale = spec.speed_scale.unwrap_or(speed);
-    let c0 = match spec.sound_speed {
-        Some(c) if c < scale => {
-            return Err(BuildError {
-                path: "water.sound_speed".into(),
-                message: format!(
-                    "c0 = {c:?} m/s is below the expected flow speed {scale:.4} m/s (√(2 g H) over \
-                     the tallest water region, or its initial speed): the water would compress by \
-                     far more than 1 %; take c0 ≥ {:.4} m/s, or set `water.speed_scale`",
-                    10.0 * scale
-                ),
-            })
-        }
-        Some(c) => c,
-        None if scale > 0.0 => 10.0 * scale,
-        None => {
-            return Err(BuildError {
-                path: "water.sound_speed".into(),
-                message: "the water neither falls (no gravity) nor moves, so no flow speed can be \
-                          derived: give `water.sound_speed` or `water.speed_scale`"
-                    .into(),
-            })
-        }
-    };
-    let mat = WaterMaterial::from_spec(spec, c0, scale);
+    let chosen = choose(&spec, speed).map_err(|e| BuildError {
+        path: e.path,
+        message: e.message,
+    })?;
+    let mat = WaterMaterial::from_spec(&spec, chosen.c0, chosen.scale);
     let mut water = WaterParticles::<D>::default();
     let mut counts = Vec::new();
     // with pores, the water stands at each column's surface, pores and free water
@@ -212,17 +176,6 @@ fn column_surfaces<const D: usize>(pts: &[&Vect<D>], up: &Vect<D>, dp: Real) -> 
         }
     }
     out
-}
-
-/// The largest speed of an inflow: its constant speed, or the hydrograph's peak.
-fn peak_speed<const D: usize>(f: &Inflow<D>) -> Real {
-    match f.speed {
-        InflowSpeed::Constant(u) => u,
-        // the Gumbel peak is at t = μ: a/(β e)
-        InflowSpeed::Hydrograph(Hydrograph::Gumbel { a, beta, .. }) => {
-            a / (beta * std::f64::consts::E)
-        }
-    }
 }
 
 /// The inflows of the scene; an inlet that does not meet `reach` is refused.
