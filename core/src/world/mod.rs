@@ -72,33 +72,38 @@ fn v<const D: usize>(x: &[f64]) -> Vect<D> {
     Vect::<D>::from_iterator(x.iter().copied())
 }
 
+/// Refuse a scene too large for memory before allocating anything, and ask the
+/// allocator for the whole estimate at once, fallibly, so that a scene the machine
+/// cannot hold is an error here rather than an abort in the middle of filling (the
+/// reservation is returned at once, untouched).
+fn reserve_memory(scene: &Scene, resolution: &Resolution) -> Result<(), BuildError> {
+    let estimate = crate::budget::enforce(scene, resolution).map_err(|e| BuildError {
+        path: "simulation.dp".into(),
+        message: e.to_string(),
+    })?;
+    if Vec::<u8>::new()
+        .try_reserve_exact(estimate.bytes as usize)
+        .is_err()
+    {
+        return Err(BuildError {
+            path: "simulation.dp".into(),
+            message: format!(
+                "dp = {} m needs about {} for its {:.3e} particles, which the \
+                 allocator refuses; coarsen simulation.dp",
+                estimate.dp,
+                crate::budget::human_bytes(estimate.bytes),
+                estimate.particles()
+            ),
+        });
+    }
+    Ok(())
+}
+
 impl<const D: usize> World<D> {
     /// Build from a validated scene at resolution `resolution` (derived once from it,
     /// [`Resolution::of`]).
     pub fn build(scene: &Scene, resolution: Resolution) -> Result<Self, BuildError> {
-        // refuse a scene too large for memory before allocating anything
-        let estimate = crate::budget::enforce(scene, &resolution).map_err(|e| BuildError {
-            path: "simulation.dp".into(),
-            message: e.to_string(),
-        })?;
-        // and ask the allocator for the whole estimate at once, fallibly, so that a
-        // scene the machine cannot hold is an error here rather than an abort in the
-        // middle of filling (the reservation is returned at once, untouched)
-        if Vec::<u8>::new()
-            .try_reserve_exact(estimate.bytes as usize)
-            .is_err()
-        {
-            return Err(BuildError {
-                path: "simulation.dp".into(),
-                message: format!(
-                    "dp = {} m needs about {} for its {:.3e} particles, which the \
-                     allocator refuses; coarsen simulation.dp",
-                    estimate.dp,
-                    crate::budget::human_bytes(estimate.bytes),
-                    estimate.particles()
-                ),
-            });
-        }
+        reserve_memory(scene, &resolution)?;
         let (dp, vol) = (resolution.dp, resolution.volume);
         let gravity = v::<D>(&scene.simulation.gravity);
         let up = up(&gravity);
