@@ -4,13 +4,15 @@
 //! [`granmix_core::solids`]; a moving object's primitives are shifted by its current
 //! offset, so that re-sending its entity (same `id`, its name) moves it.
 
-use crate::recorder::WORLD_FRAME;
 use foxglove::messages::{
     Color, CubePrimitive, CylinderPrimitive, KeyValuePair, Point3, Pose, Quaternion, SceneEntity,
     SceneUpdate, SpherePrimitive, Timestamp, TriangleListPrimitive, Vector3,
 };
 use granmix_core::solids::{Primitive, WallSolid};
 use granmix_core::walls::WallKind;
+
+/// Frame id of the simulation's coordinates.
+pub const WORLD_FRAME: &str = "world";
 
 /// Colour (RGBA) of a kind of wall object: containers see-through so that what they
 /// hold shows.

@@ -51,7 +51,7 @@ pub const TOPIC_GEOMETRY: &str = "/geometry";
 pub const TOPIC_BARRIERS: &str = "/barriers";
 pub const TOPIC_ENERGY: &str = "/energy";
 /// Frame id of the simulation's coordinates.
-pub const WORLD_FRAME: &str = "world";
+pub use crate::geometry::WORLD_FRAME;
 
 const BARRIER_SCHEMA: &str = r#"{
   "title": "granmix.BarrierLoads",
