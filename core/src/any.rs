@@ -177,6 +177,10 @@ impl AnySimulation {
     pub fn water_steps(&self) -> u64 {
         dispatch!(self, s => s.stepper.water.as_ref().map(|w| w.steps).unwrap_or(0))
     }
+    /// The families' relations with their list builds and pairs at the last build.
+    pub fn relations(&self) -> Vec<(crate::step::Relation, crate::step::RelationStats)> {
+        dispatch!(self, s => s.stepper.relations(&s.world))
+    }
     pub fn neighbor_builds(&self) -> usize {
         dispatch!(self, s => s.stepper.fine.family.lists.builds)
     }

@@ -311,18 +311,41 @@ pub mod geometry_only {
     }
 }
 
-/// Verlet lists of one chunk of particles: fine–fine, fine–wall and fine–coarse
-/// neighbours.
+/// Verlet lists of one chunk of particles, fused: a family's three relations (its
+/// inner one, fine–fine or water–water; its walls, fine–wall or water–wall; its coarse
+/// grains, fine–coarse or water–coarse) are stored side by side so that a pass reads a
+/// particle's record once. Each relation is read through its own accessor.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct ChunkList {
-    /// `fine[off[k]..off[k+1]]` are the fine neighbours j > i of particle
-    /// i = `start + k` (each pair once).
-    pub off: Vec<u32>,
-    pub fine: Vec<u32>,
-    pub woff: Vec<u32>,
+    /// `inner[inner_off[k]..inner_off[k+1]]` are the neighbours j > i of the family's
+    /// own particle i = `start + k` (each pair once).
+    pub inner_off: Vec<u32>,
+    pub inner: Vec<u32>,
+    pub wall_off: Vec<u32>,
     pub wall: Vec<u32>,
-    pub coff: Vec<u32>,
+    pub coarse_off: Vec<u32>,
     pub coarse: Vec<u32>,
+}
+
+impl ChunkList {
+    /// The inner relation: the family's own neighbours j > i of the chunk's k-th
+    /// particle.
+    #[inline(always)]
+    pub fn inner(&self, k: usize) -> &[u32] {
+        &self.inner[self.inner_off[k] as usize..self.inner_off[k + 1] as usize]
+    }
+
+    /// The wall relation: the wall particles near the chunk's k-th particle.
+    #[inline(always)]
+    pub fn wall(&self, k: usize) -> &[u32] {
+        &self.wall[self.wall_off[k] as usize..self.wall_off[k + 1] as usize]
+    }
+
+    /// The coarse relation: the coarse particles near the chunk's k-th particle.
+    #[inline(always)]
+    pub fn coarse(&self, k: usize) -> &[u32] {
+        &self.coarse[self.coarse_off[k] as usize..self.coarse_off[k + 1] as usize]
+    }
 }
 
 /// Binned positions of a second particle set (walls, coarse grains).
@@ -377,26 +400,26 @@ impl NeighborLists {
         self.chunks.par_iter_mut().enumerate().for_each(|(c, cl)| {
             let start = c * CHUNK;
             let end = (start + CHUNK).min(pos.len());
-            cl.off.clear();
-            cl.fine.clear();
-            cl.woff.clear();
+            cl.inner_off.clear();
+            cl.inner.clear();
+            cl.wall_off.clear();
             cl.wall.clear();
-            cl.coff.clear();
+            cl.coarse_off.clear();
             cl.coarse.clear();
-            cl.off.push(0);
-            cl.woff.push(0);
-            cl.coff.push(0);
+            cl.inner_off.push(0);
+            cl.wall_off.push(0);
+            cl.coarse_off.push(0);
             for i in start..end {
                 let xi = pos[i];
-                headroom(&mut cl.fine);
+                headroom(&mut cl.inner);
                 headroom(&mut cl.wall);
                 headroom(&mut cl.coarse);
                 fine_grid.for_each_near_forward(&xi, |j| {
                     if j as usize > i && sep.of(xi - pos[j as usize]).norm_squared() < r2 {
-                        cl.fine.push(j);
+                        cl.inner.push(j);
                     }
                 });
-                cl.off.push(cl.fine.len() as u32);
+                cl.inner_off.push(cl.inner.len() as u32);
                 if !wall_pos.is_empty() {
                     wall_grid.for_each_near(&xi, |w| {
                         if sep.of(xi - wall_pos[w as usize]).norm_squared() < r2 {
@@ -404,7 +427,7 @@ impl NeighborLists {
                         }
                     });
                 }
-                cl.woff.push(cl.wall.len() as u32);
+                cl.wall_off.push(cl.wall.len() as u32);
                 if !coarse_pos.is_empty() {
                     coarse_grid.for_each_near(&xi, |w| {
                         if sep.of(xi - coarse_pos[w as usize]).norm_squared() < r2 {
@@ -412,16 +435,23 @@ impl NeighborLists {
                         }
                     });
                 }
-                cl.coff.push(cl.coarse.len() as u32);
+                cl.coarse_off.push(cl.coarse.len() as u32);
             }
         });
     }
 
-    /// The fine neighbours j > i of particle i (each pair once).
+    /// The inner relation of particle i: the family's own neighbours j > i (each pair
+    /// once).
     #[inline]
-    pub fn fine_of(&self, i: usize) -> &[u32] {
-        let (cl, k) = (&self.chunks[i / CHUNK], i % CHUNK);
-        &cl.fine[cl.off[k] as usize..cl.off[k + 1] as usize]
+    pub fn inner_of(&self, i: usize) -> &[u32] {
+        self.chunks[i / CHUNK].inner(i % CHUNK)
+    }
+
+    /// Pairs held by each of the fused relations: inner, wall and coarse.
+    pub fn pairs(&self) -> [usize; 3] {
+        self.chunks.iter().fold([0; 3], |[i, w, c], cl| {
+            [i + cl.inner.len(), w + cl.wall.len(), c + cl.coarse.len()]
+        })
     }
 
     /// Bytes held by the lists.
@@ -429,11 +459,11 @@ impl NeighborLists {
         self.chunks
             .iter()
             .map(|c| {
-                4 * (c.off.capacity()
-                    + c.fine.capacity()
-                    + c.woff.capacity()
+                4 * (c.inner_off.capacity()
+                    + c.inner.capacity()
+                    + c.wall_off.capacity()
                     + c.wall.capacity()
-                    + c.coff.capacity()
+                    + c.coarse_off.capacity()
                     + c.coarse.capacity())
             })
             .sum::<usize>()
@@ -492,9 +522,20 @@ mod tests {
         assert_eq!(nl.slabs.len(), g.slab_count() + 1);
         assert_eq!(*nl.slabs.last().unwrap() as usize, pos.len());
         let slab = |i: usize| nl.slabs.partition_point(|&b| b as usize <= i) - 1;
+        // the relations' pair counts (summary.json `relations`)
+        let (n, pos, walls) = (pos.len(), &pos, &walls);
+        let inner = (0..n)
+            .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
+            .filter(|&(i, j)| (pos[i] - pos[j]).norm() < r)
+            .count();
+        let wall = (0..n)
+            .flat_map(|i| walls.iter().map(move |w| (pos[i] - w).norm()))
+            .filter(|&d| d < r)
+            .count();
+        assert_eq!(nl.pairs(), [inner, wall, 0]);
         for i in 0..pos.len() {
             let (cl, k) = (&nl.chunks[i / CHUNK], i % CHUNK);
-            let mut got: Vec<u32> = nl.fine_of(i).to_vec();
+            let mut got: Vec<u32> = nl.inner_of(i).to_vec();
             got.sort();
             let want: Vec<u32> = (i as u32 + 1..pos.len() as u32)
                 .filter(|&j| (pos[i] - pos[j as usize]).norm() < r)
@@ -505,7 +546,7 @@ mod tests {
                 let (si, sj) = (slab(i), slab(j as usize));
                 assert!(sj == si || sj == si + 1, "pair {i}-{j} in slabs {si}, {sj}");
             }
-            let gotw = cl.woff[k + 1] - cl.woff[k];
+            let gotw = cl.wall(k).len() as u32;
             let wantw = walls.iter().filter(|w| (pos[i] - **w).norm() < r).count() as u32;
             assert_eq!(gotw, wantw);
         }
@@ -553,7 +594,7 @@ mod tests {
         let mut across = 0;
         for i in 0..pos.len() {
             let (cl, k) = (&nl.chunks[i / CHUNK], i % CHUNK);
-            let mut got: Vec<u32> = nl.fine_of(i).to_vec();
+            let mut got: Vec<u32> = nl.inner_of(i).to_vec();
             got.sort();
             let want: Vec<u32> = (i as u32 + 1..pos.len() as u32)
                 .filter(|&j| wrap.of(pos[i] - pos[j as usize]).norm() < r)
@@ -567,7 +608,7 @@ mod tests {
                 let (si, sj) = (slab(i), slab(j as usize));
                 assert!(sj == si || sj == si + 1, "pair {i}-{j} in slabs {si}, {sj}");
             }
-            let gotw = cl.woff[k + 1] - cl.woff[k];
+            let gotw = cl.wall(k).len() as u32;
             let wantw = walls
                 .iter()
                 .filter(|w| wrap.of(pos[i] - **w).norm() < r)

@@ -360,6 +360,7 @@ fn summary_json(
         "particles_water": sim.water_count(),
         "bodies": bodies,
         "neighbor_builds": sim.neighbor_builds(),
+        "relations": relations(sim),
         "memory_bytes_fine": sim.fine_bytes(),
         "memory_bytes": memory,
         "bytes_per_particle": (sph > 0).then(|| memory as f64 / sph as f64),
@@ -551,4 +552,20 @@ fn print_table(
         }
     }
     println!("outputs in {}", out.display());
+}
+
+/// summary.json `relations`: per relation of the scene's families, its list builds and
+/// the pairs of its last build.
+fn relations(sim: &AnySimulation) -> Value {
+    let map: Map<String, Value> = sim
+        .relations()
+        .into_iter()
+        .map(|(r, s)| {
+            (
+                r.name().to_string(),
+                json!({"builds": s.builds, "pairs": s.pairs}),
+            )
+        })
+        .collect();
+    Value::Object(map)
 }

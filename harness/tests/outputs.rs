@@ -141,6 +141,23 @@ fn issue_39_saturated_series_has_panels_units_integers_and_scoped_energies() {
     assert_eq!(b["water_force"].as_array().map(Vec::len), Some(2), "{b}");
     let s = summary(&dir);
     assert!(s["bodies"]["boulder_1"]["angular_velocity"].is_number());
+    // the seven relations of a saturated flow with a boulder and walls, with pairs
+    let rel = &s["relations"];
+    for r in [
+        "fine-fine",
+        "fine-wall",
+        "fine-coarse",
+        "water-water",
+        "water-wall",
+        "water-coarse",
+        "soil-water",
+    ] {
+        assert!(rel[r]["pairs"].as_u64().unwrap() > 0, "{r}: {rel}");
+    }
+    // the soil–water lists are rebuilt with either family's, at most as often as both
+    let builds = |r: &str| rel[r]["builds"].as_u64().unwrap();
+    assert!(builds("soil-water") <= builds("fine-fine") + builds("water-water"));
+    assert_eq!(Some(builds("fine-fine")), s["neighbor_builds"].as_u64());
     // the panels sum to the barrier (both impulse-averaged)
     let fx = column(&head, &rows, "barrier.force.x [N/m]");
     let panels: Vec<Vec<f64>> = (0..3)
@@ -166,6 +183,9 @@ fn issue_39_water_only_summary_counts_the_water() {
     assert!(water > 3000, "{s}");
     assert_eq!(s["particles"].as_u64(), Some(water), "{s}");
     assert_eq!(s["particles_fine"].as_u64(), Some(0), "{s}");
+    // only the water's relations
+    let rel: Vec<&String> = s["relations"].as_object().unwrap().keys().collect();
+    assert_eq!(rel, ["water-coarse", "water-wall", "water-water"], "{s}");
     let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
     assert!(!text.contains("-0.0"), "a negative zero in {text}");
     let obs = &s["observables"];

@@ -230,6 +230,8 @@ impl<'a, const D: usize> JumpDiffusion<'a, D> {
     }
 }
 
+/// Runs over the fine–fine relation (`NeighborLists::inner_of`).
+///
 /// The fine–fine terms of the sweep in v_{n+1}, each pair evaluated once and added to
 /// both of its particles: the velocity part of 2 (U* − U_L) in Eq. (15),
 /// 2 Z_j (U_R − U_L)/(Z_i + Z_j) with U_R − U_L = v_ij·e_ij (Z_i for j), and
@@ -258,7 +260,7 @@ pub fn pair_pass<const D: usize>(
                 let (half_inv_z, inv_ci) = si.reciprocals(mi.c0);
                 let (xi, vi, vol_i) = (pos[i], vel[i], si.vol);
                 let mut own = ContinuitySums::<D>::zero();
-                for js in lists.fine_of(i).chunks(BLOCK) {
+                for js in lists.inner_of(i).chunks(BLOCK) {
                     block.fill((&xi, js, pos), cut2, 0.0, &Open);
                     for Pair {
                         j, rij, r, inv_r, ..

@@ -97,6 +97,8 @@ pub fn integrate<const D: usize>(
     p.vel[i] + (acc + prm.gravity) * prm.dt
 }
 
+/// Runs over the fine–fine relation (`NeighborLists::inner_of`).
+///
 /// The fine–fine terms of the sweep, each pair evaluated once and added to both of its
 /// particles, and the continuity sweep's terms without velocity.
 #[inline]
@@ -132,7 +134,7 @@ pub fn pair_pass<const D: usize>(
                 let g_i = if hourglass { prm.hourglass[mat_i] } else { 0.0 };
                 let li = &vel_grad[i];
                 let mut own = PairSums::<D>::zero();
-                for js in lists.fine_of(i).chunks(BLOCK) {
+                for js in lists.inner_of(i).chunks(BLOCK) {
                     block.fill((&xi, js, pos), cut2, jump.reg, &Open);
                     for Pair {
                         j,

@@ -16,6 +16,8 @@ use crate::neighbors::{NeighborLists, CHUNK};
 use crate::walls::Walls;
 use rayon::prelude::*;
 
+/// Runs over the fine–fine, fine–wall and fine–coarse relations.
+///
 /// Sweep with v_{n+1} already in `p.vel`.
 #[allow(clippy::too_many_arguments)]
 pub fn continuity_sweep<const D: usize>(
@@ -53,10 +55,10 @@ pub fn continuity_sweep<const D: usize>(
                     let weight = prm.weight.get(i).copied().unwrap_or(1.0);
                     let mut rates = Rates::from_sums(prm, &src[i], (mat, weight), &sum);
                     let (drho, grad) = (&mut rates.drho, &mut rates.grad);
-                    for &w in &cl.wall[cl.woff[k] as usize..cl.woff[k + 1] as usize] {
+                    for &w in cl.wall(k) {
                         fine_wall::continuity(&prm.kernel, walls, &xi, &vi, w as usize, drho, grad);
                     }
-                    for &j in &cl.coarse[cl.coff[k] as usize..cl.coff[k + 1] as usize] {
+                    for &j in cl.coarse(k) {
                         let cj = &coarse[j as usize];
                         fine_coarse::continuity(&prm.kernel, cj, &xi, &vi, drho, grad);
                     }

@@ -22,6 +22,8 @@ use crate::walls::Walls;
 use nalgebra::SVector;
 use rayon::prelude::*;
 
+/// Runs over the fine–fine, fine–wall and fine–coarse relations.
+///
 /// Compute v_{n+1} into `vel_new`, advance the accumulated hourglass acceleration in
 /// `hourglass` (in place; each particle reads only its own entry) and per-chunk barrier
 /// loads into `loads` (`max(1, barriers)` slots per chunk). `sums` holds one entry per
@@ -71,9 +73,8 @@ pub fn momentum_sweep<const D: usize>(
                 // the pair sums, left zero for the next step
                 let sum = std::mem::replace(&mut sums[k].momentum, MomentumSums::zero());
                 let mut acc = pair_acceleration(&sum, rhoi);
-                let (w0, w1) = (cl.woff[k] as usize, cl.woff[k + 1] as usize);
-                if w1 > w0 {
-                    let wl = &cl.wall[w0..w1];
+                let wl = cl.wall(k);
+                if !wl.is_empty() {
                     let at = FineAtWall::new(wall, walls, mat, xi, vi, rhoi, &src[i], wl);
                     for &w in wl {
                         if let Some(a) = at.acceleration(wall, walls, w as usize) {
@@ -82,8 +83,8 @@ pub fn momentum_sweep<const D: usize>(
                         }
                     }
                 }
-                let (c0, c1) = (cl.coff[k] as usize, cl.coff[k + 1] as usize);
-                if c1 > c0 {
+                let near = cl.coarse(k);
+                if !near.is_empty() {
                     let fs = FineSide {
                         pos: xi,
                         vel: vi,
@@ -94,8 +95,8 @@ pub fn momentum_sweep<const D: usize>(
                         c2: mat.c0 * mat.c0,
                         tension: tension[p.material[i] as usize],
                     };
-                    let share = 1.0 / (c1 - c0) as Real;
-                    for &j in &cl.coarse[c0..c1] {
+                    let share = 1.0 / near.len() as Real;
+                    for &j in near {
                         if let Some(a) = coupling.acceleration(&fs, &csrc[j as usize], share) {
                             acc += a;
                             react.push((j, a * (-p.mass[i])));

@@ -28,6 +28,8 @@ use crate::water::state::WaterParticles;
 use crate::water::{continuity, momentum};
 use rayon::prelude::*;
 
+/// Runs over the water–water, water–wall and water–coarse relations.
+///
 /// The kernel gradient correction B of every particle into `corr`: M from the
 /// water–water pairs and the walls, then inverted ([`correction`]); the identity where
 /// `on` is false.
@@ -56,10 +58,10 @@ pub fn correction_sweep<const D: usize>(
         .for_each(|(c, (cl, out))| {
             for (k, b) in out.iter_mut().enumerate() {
                 let xi = w.pos[c * CHUNK + k];
-                for &wp in &cl.wall[cl.woff[k] as usize..cl.woff[k + 1] as usize] {
+                for &wp in cl.wall(k) {
                     *b += water_wall::moment(prm, walls, &xi, wp as usize);
                 }
-                for &j in &cl.coarse[cl.coff[k] as usize..cl.coff[k + 1] as usize] {
+                for &j in cl.coarse(k) {
                     *b += water_coarse::moment(prm, &csrc[j as usize], &xi);
                 }
                 *b = correction::invert(b);
@@ -67,6 +69,8 @@ pub fn correction_sweep<const D: usize>(
         });
 }
 
+/// Runs over the water–water, water–wall and water–coarse relations.
+///
 /// v_{n+1} = v_n + Δt (dv/dt + g) into `vel_new`, and the walls' reactions per chunk
 /// into `loads` (`max(1, load slots)` per chunk). `sums` is zero on entry and left
 /// with zero `acc`; `corr` holds B ([`correction_sweep`]); `body` each particle's
@@ -107,9 +111,8 @@ pub fn momentum_sweep<const D: usize>(
                 let (xi, vi, rho) = (w.pos[i], w.vel[i], w.rho[i]);
                 let scale = 2.0 / rho;
                 let mut acc = std::mem::replace(&mut sums[k].acc, Vect::<D>::zeros()) * scale;
-                let (w0, w1) = (cl.woff[k] as usize, cl.woff[k + 1] as usize);
-                if w1 > w0 {
-                    let wl = &cl.wall[w0..w1];
+                let wl = cl.wall(k);
+                if !wl.is_empty() {
                     let mut at =
                         WaterAtWall::new(prm, walls, (xi, vi, rho, src[i].p), wl, no_slip, corr[i]);
                     if let Some(b) = body.get(i) {
@@ -125,7 +128,7 @@ pub fn momentum_sweep<const D: usize>(
                     }
                 }
                 let state = (&xi, &vi, rho, src[i].p);
-                for &j in &cl.coarse[cl.coff[k] as usize..cl.coff[k + 1] as usize] {
+                for &j in cl.coarse(k) {
                     let cj = &csrc[j as usize];
                     if let Some(t) = water_coarse::momentum(prm, cj, state, &corr[i], no_slip) {
                         let a = t * scale;
@@ -138,6 +141,8 @@ pub fn momentum_sweep<const D: usize>(
         });
 }
 
+/// Runs over the water–water, water–wall and water–coarse relations.
+///
 /// dρ/dt with v_{n+1} into `drho`; `sums` holds zero `drho` on entry and is left so.
 #[allow(clippy::too_many_arguments)]
 pub fn continuity_sweep<const D: usize>(
@@ -162,11 +167,10 @@ pub fn continuity_sweep<const D: usize>(
             for (k, d) in dout.iter_mut().enumerate() {
                 let i = c * CHUNK + k;
                 let mut rate = std::mem::replace(&mut sums[k].drho, 0.0);
-                let (w0, w1) = (cl.woff[k] as usize, cl.woff[k + 1] as usize);
-                for &wp in &cl.wall[w0..w1] {
+                for &wp in cl.wall(k) {
                     rate += water_wall::continuity(prm, walls, &w.pos[i], &w.vel[i], wp as usize);
                 }
-                for &j in &cl.coarse[cl.coff[k] as usize..cl.coff[k + 1] as usize] {
+                for &j in cl.coarse(k) {
                     rate += water_coarse::continuity(prm, &csrc[j as usize], &w.pos[i], &w.vel[i]);
                 }
                 *d = w.rho[i] * rate;

@@ -1,11 +1,11 @@
 //! The skeleton every SPH family's stepper shares (the fine grains and the water): its
-//! cell grid, the wall and coarse particles binned for its lists, the Verlet lists with
-//! their build marks and rebuild rule, the step's largest speed and displacement, the
+//! three relations (inner, wall, coarse: [`relations`](super::relations)) with their
+//! fused Verlet lists and rebuild rules, the step's largest speed and displacement, the
 //! barrier loads of its pair passes, its particle order, and the one finalize-and-guard
 //! loop of seed 000 Eq. (56). A family's stepper is a thin layer over it: its packed
 //! sources, its sweeps' buffers, and what its guard checks beyond the common set.
 
-use super::build_marks::{CoarseBins, PositionMarks, WallBins};
+use super::relations::{CoarseRelation, InnerRelation, Relation, RelationStats, WallRelation};
 use crate::fine::state::FineParticles;
 use crate::guard::{check, Blowup, ChunkFailure, Family};
 use crate::interactions::fine_coarse::CoarseSource;
@@ -51,23 +51,17 @@ pub struct Closing<'a, const D: usize> {
     pub drho: &'a [Real],
 }
 
-/// The lists, marks, loads and scratch of one SPH family (see the module docs).
+/// The relations, lists, loads and scratch of one SPH family (see the module docs).
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub struct FamilyLists<const D: usize> {
-    /// Binned afresh at every list build: a serialised state keeps only its geometry.
-    #[serde(with = "crate::neighbors::geometry_only")]
-    grid: CellGrid<D>,
-    walls: WallBins<D>,
-    coarse_bins: CoarseBins<D>,
+    /// The family's relation with itself (fine–fine or water–water).
+    inner: InnerRelation<D>,
+    /// Its relation with the walls (fine–wall or water–wall).
+    walls: WallRelation<D>,
+    /// Its relation with the coarse particles (fine–coarse or water–coarse).
+    coarse: CoarseRelation<D>,
+    /// The three relations' lists, fused per chunk.
     pub lists: NeighborLists,
-    at_build: PositionMarks<D>,
-    /// Largest displacement since the last list build (end of the last step).
-    max_disp: Real,
-    /// Largest speed at the end of the last step.
-    vmax: Real,
-    skin: Real,
-    /// List radius: kernel cut-off plus skin.
-    radius: Real,
     /// The family's load on each barrier during the last step.
     pub step_loads: Vec<Load>,
     /// The same per barrier panel (`Walls::load_slot`).
@@ -91,20 +85,15 @@ impl<const D: usize> FamilyLists<D> {
     /// `walls` bins the walls the family sees. `barriers` and `slots` size the loads.
     pub fn new(
         grid: CellGrid<D>,
-        walls: WallBins<D>,
+        walls: WallRelation<D>,
         (radius, skin): (Real, Real),
         (barriers, slots): (usize, usize),
     ) -> Self {
         FamilyLists {
-            coarse_bins: CoarseBins::new(grid.clone()),
-            grid,
+            coarse: CoarseRelation::new(grid.clone()),
+            inner: InnerRelation::new(grid, radius, skin),
             walls,
             lists: NeighborLists::default(),
-            at_build: PositionMarks::default(),
-            max_disp: Real::INFINITY,
-            vmax: 0.0,
-            skin,
-            radius,
             step_loads: vec![Load::default(); barriers],
             slot_loads: vec![Load::default(); slots],
             chunk_loads: Vec::new(),
@@ -117,12 +106,25 @@ impl<const D: usize> FamilyLists<D> {
 
     /// The cells the family was binned in at the last list build.
     pub fn grid(&self) -> &CellGrid<D> {
-        &self.grid
+        &self.inner.grid
     }
 
     /// Largest speed at the end of the last step.
     pub fn vmax(&self) -> Real {
-        self.vmax
+        self.inner.vmax
+    }
+
+    /// The family's three relations (`names`: inner, wall, coarse) with their builds and
+    /// pairs.
+    pub fn relation_stats(&self, names: [Relation; 3]) -> [(Relation, RelationStats); 3] {
+        let pairs = self.lists.pairs();
+        std::array::from_fn(|k| {
+            let stats = RelationStats {
+                builds: self.lists.builds,
+                pairs: pairs[k],
+            };
+            (names[k], stats)
+        })
     }
 
     /// Forget the lists: the next step rebuilds them (particles came or went).
@@ -133,16 +135,15 @@ impl<const D: usize> FamilyLists<D> {
     /// Bytes of the lists, marks and grids.
     pub fn bytes(&self) -> usize {
         self.lists.bytes()
-            + self.at_build.bytes()
+            + self.inner.bytes()
             + self.order.capacity() * 4
-            + self.grid.bytes()
             + self.walls.grid.bytes()
     }
 
     /// Whether the lists must be rebuilt before a step of `dt` of `n` particles: they
     /// are gone (never built, or particles came or went) while there are particles, or
-    /// the motion of the particles, the walls or the coarse particles `csrc` since the
-    /// build may have used up the skin.
+    /// one of the three relations' rules says so (the motion of the particles, the
+    /// walls or the coarse particles `csrc` since the build may have used up the skin).
     pub fn needs_rebuild(
         &self,
         n: usize,
@@ -156,11 +157,10 @@ impl<const D: usize> FamilyLists<D> {
         if self.lists.chunks.is_empty() {
             return true;
         }
-        let moved = self.max_disp + 0.5 * dt * self.vmax;
-        let wall = self.walls.moved_since_build(walls);
-        // infinite when the coarse particles' count changed
-        let coarse = self.coarse_bins.moved_since_build(csrc);
-        2.0 * moved > self.skin || moved + wall > self.skin || moved + coarse > self.skin
+        let (moved, skin) = (self.inner.moved(dt), self.inner.skin);
+        self.inner.expired(moved)
+            || self.walls.expired(moved, walls, skin)
+            || self.coarse.expired(moved, csrc, skin)
     }
 
     /// Re-sort the particles by cell and rebuild the lists with their wall and coarse
@@ -172,25 +172,23 @@ impl<const D: usize> FamilyLists<D> {
         csrc: &[CoarseSource<D>],
         sep: &impl Separation,
     ) {
-        self.grid.bin(p.positions());
+        self.inner.grid.bin(p.positions());
         self.order.clear();
-        self.order.extend_from_slice(self.grid.order());
+        self.order.extend_from_slice(self.inner.grid.order());
         p.reorder(&self.order, &mut self.permute);
-        self.grid.bin(p.positions());
-        self.at_build.mark(p.positions());
+        self.inner.mark(p.positions());
         self.walls.refresh(walls);
-        self.coarse_bins.refresh(csrc);
+        self.coarse.refresh(csrc);
         self.lists.build(
             p.positions(),
-            &self.grid,
+            &self.inner.grid,
             self.walls.binned(walls),
-            self.coarse_bins.binned(),
-            self.radius,
+            self.coarse.binned(),
+            self.inner.radius,
             sep,
         );
         self.reactions
             .resize_with(self.lists.chunks.len(), Vec::new);
-        self.max_disp = 0.0;
     }
 
     /// Size the per-chunk loads and reactions for a pass over the lists (a restored
@@ -238,7 +236,7 @@ impl<const D: usize> FamilyLists<D> {
         max_speed: Real,
         more: impl Fn(usize) -> Option<(&'static str, Real)> + Sync,
     ) {
-        let marks = &self.at_build;
+        let marks = &self.inner.marks;
         c.pos
             .par_chunks_mut(CHUNK)
             .zip(c.rho.par_chunks_mut(CHUNK))
@@ -277,8 +275,8 @@ impl<const D: usize> FamilyLists<D> {
             let x = pos[f.0].iter().copied().collect();
             Blowup::of_particle(at, family, ids[f.0], x, f, max_speed)
         })?;
-        self.vmax = vmax2.sqrt();
-        self.max_disp = disp2.sqrt() + self.at_build.round_off;
-        Ok(self.vmax)
+        self.inner.vmax = vmax2.sqrt();
+        self.inner.max_disp = disp2.sqrt() + self.inner.marks.round_off;
+        Ok(self.inner.vmax)
     }
 }

@@ -4,9 +4,9 @@
 //! walls and coarse grains), the continuity and stress sweep (Eqs. 15, 24–26, 7–12)
 //! and x, ρ to the end of the step (Eq. 56) with the stress check.
 
-use super::build_marks::WallBins;
 use super::family::{Closing, FamilyLists};
 use super::params::StepParams;
+use super::relations::WallRelation;
 use super::soil_water_stage::SoilWater;
 use crate::fine::artificial_stress::gray2001_artificial_stress;
 use crate::fine::continuity::{ContinuityOut, ContinuityParams, JumpDiffusion};
@@ -98,7 +98,7 @@ impl<const D: usize> FineStepper<D> {
         FineStepper {
             family: FamilyLists::new(
                 grid(),
-                WallBins::new(grid()),
+                WallRelation::new(grid()),
                 (cell, params.skin),
                 (world.walls.barriers.len(), world.walls.load_slots()),
             ),

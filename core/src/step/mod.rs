@@ -12,13 +12,13 @@ use crate::world::World;
 use coarse_substeps::CoarseStepper;
 use fine_stage::{FineContext, FineStepper};
 
-mod build_marks;
 mod coarse_stage;
 pub mod coarse_substeps;
 mod family;
 mod fine_stage;
 pub mod landing;
 mod params;
+mod relations;
 mod soil_water_stage;
 mod water_open;
 mod water_stage;
@@ -26,6 +26,7 @@ mod water_substeps;
 
 pub use landing::{land_on, Stepping};
 pub use params::{choose_step, gravity_ramp, StepParams, StepStats};
+pub use relations::{Relation, RelationStats};
 pub use soil_water_stage::SoilWater;
 pub use water_stage::WaterStepper;
 
@@ -152,6 +153,31 @@ impl<const D: usize> Stepper<D> {
     /// Bytes of scratch memory held by the stepper (lists, buffers, grids).
     pub fn bytes(&self) -> usize {
         self.fine.bytes() + self.water.as_ref().map_or(0, |w| w.bytes())
+    }
+
+    /// The relations of the scene's families, with their list builds and pairs at the
+    /// last build (summary.json `relations`).
+    pub fn relations(&self, world: &World<D>) -> Vec<(Relation, RelationStats)> {
+        use Relation::*;
+        let mut out = Vec::new();
+        if !world.fine.is_empty() {
+            out.extend(
+                self.fine
+                    .family
+                    .relation_stats([FineFine, FineWall, FineCoarse]),
+            );
+        }
+        if let Some(w) = &self.water {
+            out.extend(
+                w.family
+                    .relation_stats([WaterWater, WaterWall, WaterCoarse]),
+            );
+        }
+        if let Some(s) = &self.soil_water {
+            let (builds, pairs) = s.relation.stats();
+            out.push((SoilWater, RelationStats { builds, pairs }));
+        }
+        out
     }
 
     /// Largest fine-grain speed at the end of the last step.

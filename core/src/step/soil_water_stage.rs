@@ -7,7 +7,7 @@
 //!
 //! [`interactions::soil_water`]: crate::interactions::soil_water
 
-use crate::cross_lists::CrossLists;
+use super::relations::SoilWaterRelation;
 use crate::fine::material::FineMaterial;
 use crate::fine::source::Source;
 use crate::interactions::soil_water::{
@@ -39,18 +39,8 @@ pub struct SoilWater<const D: usize> {
     /// build; 0 away from soils).
     #[serde(skip)]
     own_water: Vec<Real>,
-    /// Water–soil pairs within the kernel cut-off plus 1.5 skins: valid until either
-    /// family rebuilds its lists (each moves at most a skin from its place at the
-    /// other's build, and half a skin after its own).
-    #[serde(skip)]
-    lists: CrossLists,
-    /// Cells of the soil for the lists' build, `radius` wide.
-    #[serde(skip)]
-    grid: Option<CellGrid<D>>,
-    radius: Real,
-    /// The families' list builds and particle counts at the last build of `lists`.
-    #[serde(skip)]
-    built_at: Option<[usize; 4]>,
+    /// The soil–water relation: its lists and rebuild rule.
+    pub relation: SoilWaterRelation<D>,
     #[serde(skip)]
     soil: Vec<SoilPoint<D>>,
     #[serde(skip)]
@@ -132,10 +122,7 @@ impl<const D: usize> SoilWater<D> {
             norm: lattice_sum::<D>(kernel, world.resolution.dp),
             own: Vec::new(),
             own_water: Vec::new(),
-            lists: CrossLists::default(),
-            grid: None,
-            radius: kernel.cutoff + 1.5 * skin,
-            built_at: None,
+            relation: SoilWaterRelation::new(kernel.cutoff + 1.5 * skin),
             soil: Vec::new(),
             coef: Vec::new(),
             drag: Vec::new(),
@@ -168,15 +155,14 @@ impl<const D: usize> SoilWater<D> {
         }));
         let w = &world.water.particles;
         let now = [builds[0], builds[1], f.len(), w.len()];
-        if self.built_at != Some(now) {
-            self.build_lists(world, src, water_grid, kernel);
-            self.built_at = Some(now);
+        if self.relation.expired(now) {
+            self.build_lists(world, src, water_grid, kernel, now);
         }
-        let (soil, norm, lists, own) = (&self.soil, self.norm, &self.lists, &self.own_water);
+        let (soil, norm, rel, own) = (&self.soil, self.norm, &self.relation, &self.own_water);
         self.coef.clear();
         self.coef
             .par_extend(w.pos.par_iter().enumerate().map(|(i, x)| {
-                let (s, sum) = Seepage::raw(x, soil, lists.a_to_b.of(i), kernel);
+                let (s, sum) = Seepage::raw(x, soil, rel.soil_near(i), kernel);
                 // amid soil: the Shepard mean against the soil's sum in full
                 s.normalised(sum, full_sum(norm, own[i]))
             }));
@@ -186,22 +172,22 @@ impl<const D: usize> SoilWater<D> {
         self.drag.resize(w.len(), WaterDrag::default());
     }
 
-    /// The water–soil lists, and each family's own kernel sum where they meet.
+    /// The water–soil lists at the families' state `now`, and each family's own
+    /// kernel sum where they meet.
     fn build_lists(
         &mut self,
         world: &World<D>,
         src: &[Source],
         water_grid: &CellGrid<D>,
         kernel: &WendlandC2,
+        now: [usize; 4],
     ) {
         let (f, w) = (&world.fine, &world.water.particles);
         let (lo, hi) = &world.domain;
-        let radius = self.radius;
-        let grid = self
-            .grid
-            .get_or_insert_with(|| CellGrid::new(lo, hi, radius));
-        self.lists.build(&w.pos, &f.pos, grid, radius);
-        let grid = &*grid;
+        self.relation.rebuild(&w.pos, &f.pos, (lo, hi), now);
+        let Some(grid) = self.relation.grid() else {
+            return;
+        };
         let soil = &self.soil;
         self.own.clear();
         self.own.par_extend(soil.par_iter().map(|q| {
@@ -210,11 +196,11 @@ impl<const D: usize> SoilWater<D> {
             }
             kernel_sum(&q.pos, &f.pos, |j| src[j].vol, grid, kernel)
         }));
-        let lists = &self.lists;
+        let rel = &self.relation;
         self.own_water.clear();
         self.own_water
             .par_extend(w.pos.par_iter().enumerate().map(|(i, x)| {
-                if lists.a_to_b.of(i).is_empty() {
+                if rel.soil_near(i).is_empty() {
                     return 0.0;
                 }
                 kernel_sum(x, &w.pos, |j| w.mass[j] / w.rho[j], water_grid, kernel)
@@ -243,7 +229,7 @@ impl<const D: usize> SoilWater<D> {
             vol: &self.vol,
             buoyancy: world.hydrostatic_gravity() * (-mat.rho0),
         };
-        let (norm, own, lists) = (self.norm, &self.own, &self.lists);
+        let (norm, own, rel) = (self.norm, &self.own, &self.relation);
         let n = self.soil.len();
         self.force.resize(n, Vect::<D>::zeros());
         self.soil
@@ -254,7 +240,7 @@ impl<const D: usize> SoilWater<D> {
                 for k in 0..q.len() {
                     let j = c * CHUNK + k;
                     let full = full_sum(norm, own[j]);
-                    f[k] = soil_force(&q[k], &around, lists.b_to_a.of(j), kernel, full);
+                    f[k] = soil_force(&q[k], &around, rel.water_near(j), kernel, full);
                 }
             });
         // the vertical gradient a soil rests at: its weight less the water's lift
@@ -285,24 +271,20 @@ impl<const D: usize> SoilWater<D> {
         let w = &world.water.particles;
         let vol: Vec<Real> = w.mass.iter().zip(&w.rho).map(|(m, r)| m / r).collect();
         let p: Vec<Real> = w.rho.iter().map(|&r| mat.pressure(r)).collect();
-        let fresh = self
-            .built_at
-            .is_some_and(|b| b[2] == world.fine.len() && b[3] == w.len());
         let own;
-        let lists = if fresh {
-            &self.lists
+        let rel = if self.relation.counts_match(world.fine.len(), w.len()) {
+            &self.relation
         } else {
             let (lo, hi) = &world.domain;
-            let mut grid = CellGrid::new(lo, hi, self.radius);
-            let mut l = CrossLists::default();
-            l.build(&w.pos, &world.fine.pos, &mut grid, self.radius);
+            let mut l = SoilWaterRelation::new(self.relation.radius());
+            l.rebuild(&w.pos, &world.fine.pos, (lo, hi), [0; 4]);
             own = l;
             &own
         };
         (0..world.fine.len())
             .into_par_iter()
             .map(|j| {
-                let near = lists.b_to_a.of(j);
+                let near = rel.water_near(j);
                 pore_pressure(&world.fine.pos[j], (&w.pos, &vol, &p), near, kernel)
             })
             .collect()

@@ -3,8 +3,8 @@
 //! neighbour lists (water–water and water–wall), the momentum sweep (v_{n+1}), the
 //! continuity sweep with v_{n+1}, and x, ρ to the end of the step with the guard.
 
-use super::build_marks::WallBins;
 use super::family::{Closing, FamilyLists};
+use super::relations::WallRelation;
 use super::soil_water_stage::SeepStep;
 use crate::guard::{Blowup, Family};
 use crate::interactions::fine_coarse::{self, CoarseSource};
@@ -55,7 +55,7 @@ impl<const D: usize> WaterStepper<D> {
         WaterStepper {
             family: FamilyLists::new(
                 grid(),
-                WallBins::for_water(grid()),
+                WallRelation::for_water(grid()),
                 (cell, skin),
                 (world.walls.barriers.len(), world.walls.load_slots()),
             ),

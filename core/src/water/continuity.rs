@@ -18,6 +18,8 @@ use crate::neighbors::NeighborLists;
 use crate::pair_block::{Pair, PairBlock, BLOCK};
 use crate::slabs::two_phase;
 
+/// Runs over the water–water relation (`NeighborLists::inner_of`).
+///
 /// The water–water continuity terms, each pair once, into `sums[..].drho`. `body`
 /// holds each particle's acceleration from a soil's seepage force (empty: none),
 /// which the equilibrium pressure gradient carries besides gravity:
@@ -46,7 +48,7 @@ pub fn pair_pass<const D: usize>(
                 let (xi, vi, si) = (pos[i], vel[i], src[i]);
                 let mut own = 0.0;
 
-                for js in lists.fine_of(i).chunks(BLOCK) {
+                for js in lists.inner_of(i).chunks(BLOCK) {
                     block.fill((&xi, js, pos), cut2, 0.0, &prm.wrap);
                     for Pair {
                         j, rij, r, inv_r, ..

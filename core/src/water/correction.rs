@@ -34,6 +34,8 @@ pub fn share<const D: usize>(e: &Vect<D>, r: Real, dw: Real, vol: Real) -> Corr<
     e * e.transpose() * (-r * dw * vol)
 }
 
+/// Runs over the water–water relation (`NeighborLists::inner_of`).
+///
 /// The water–water terms of M, each pair once, into `m` (zero on entry).
 pub fn pair_pass<const D: usize>(
     w: &WaterParticles<D>,
@@ -51,7 +53,7 @@ pub fn pair_pass<const D: usize>(
         for i in slabs[s] as usize..slabs[s + 1] as usize {
             let (xi, vi) = (pos[i], vol(i));
             let mut own = Corr::<D>::zeros();
-            for js in lists.fine_of(i).chunks(BLOCK) {
+            for js in lists.inner_of(i).chunks(BLOCK) {
                 block.fill((&xi, js, pos), cut2, 0.0, wrap);
                 for Pair {
                     j, rij, r, inv_r, ..

@@ -78,6 +78,8 @@ pub fn p_star<const D: usize>(prm: &WaterParams<D>, pi: Real, pj: Real, du: Real
     0.5 * (pi + pj) + 0.5 * beta * prm.z * du
 }
 
+/// Runs over the water–water relation (`NeighborLists::inner_of`).
+///
 /// The water–water momentum terms, each pair once, into `sums[..].acc`; `corr` holds
 /// each particle's correction B ([`correction`](super::correction)), the pair's
 /// pressure force taken along ½(B_i + B_j)·∇_i W.
@@ -105,7 +107,7 @@ pub fn pair_pass<const D: usize>(
             for i in slabs[s] as usize..slabs[s + 1] as usize {
                 let (xi, vi, si) = (pos[i], vel[i], src[i]);
                 let mut own = Vect::<D>::zeros();
-                for js in lists.fine_of(i).chunks(BLOCK) {
+                for js in lists.inner_of(i).chunks(BLOCK) {
                     block.fill((&xi, js, pos), cut2, reg, &prm.wrap);
                     for Pair {
                         j,
