@@ -160,18 +160,7 @@ impl<const D: usize> WaterStepper<D> {
         self.vel_new.resize(n, Vect::<D>::zeros());
         self.sums.resize(n, WaterSums::zero());
         self.family.prepare_pass(&world.walls);
-        let prm = WaterParams {
-            kernel,
-            gravity: world.gravity,
-            hydrostatic: world.hydrostatic_gravity(),
-            wrap: world.periodic,
-            dt,
-            z: mat.impedance(),
-            inv_c: 1.0 / mat.c0,
-            eta: mat.limiter,
-            mu: mat.mu,
-            keep: mat.velocity_kept(t0, dt),
-        };
+        let prm = water_params(world, mat, kernel, (t0, dt));
         let no_slip = mat.wall == WallSlip::NoSlip;
         self.corr.resize(n, Corr::<D>::identity());
 
@@ -213,6 +202,20 @@ impl<const D: usize> WaterStepper<D> {
             });
         }
         std::mem::swap(&mut world.water.particles.vel, &mut self.vel_new);
+        self.after_momentum(world, csrc, (t0, dt), (s, k));
+        self.continuity(world, csrc, &prm, t);
+    }
+
+    /// After the momentum sweep of sub-step `s` of `k` over (`t0`, `t0 + dt`): the
+    /// inlets' water at the inflow speed, the water's force on the coarse particles
+    /// (the mean over the sub-steps) and its barrier loads.
+    fn after_momentum(
+        &mut self,
+        world: &mut World<D>,
+        csrc: &[CoarseSource<D>],
+        (t0, dt): (Real, Real),
+        (s, k): (usize, usize),
+    ) {
         // the inlets move their water at the inflow speed
         let mid = t0 + 0.5 * dt;
         for f in &world.water.inflows {
@@ -231,6 +234,17 @@ impl<const D: usize> WaterStepper<D> {
             fine_coarse::add_reactions(self.family.reactions(), f, 1.0 / k as Real);
         }
         self.family.sum_loads(&world.walls);
+    }
+
+    /// The continuity sweep with v_{n+1}: dρ/dt of every water particle, held at the
+    /// inlets.
+    fn continuity(
+        &mut self,
+        world: &mut World<D>,
+        csrc: &[CoarseSource<D>],
+        prm: &WaterParams<D>,
+        t: &mut StageTimers,
+    ) {
         let mut drho = std::mem::take(&mut world.water.particles.drho);
         t.time(Stage::WaterContinuity, || {
             continuity_sweep(
@@ -239,7 +253,7 @@ impl<const D: usize> WaterStepper<D> {
                 &world.walls,
                 csrc,
                 &self.family.lists,
-                &prm,
+                prm,
                 &self.body,
                 &mut drho,
                 &mut self.sums,
@@ -278,5 +292,26 @@ impl<const D: usize> WaterStepper<D> {
         let at = (world.steps, world.time);
         self.family
             .guard(Family::Water, (&w.id, &w.pos), at, max_speed)
+    }
+}
+
+/// The water's parameters of a sweep over (`t0`, `t0 + dt`).
+fn water_params<const D: usize>(
+    world: &World<D>,
+    mat: &WaterMaterial,
+    kernel: WendlandC2,
+    (t0, dt): (Real, Real),
+) -> WaterParams<D> {
+    WaterParams {
+        kernel,
+        gravity: world.gravity,
+        hydrostatic: world.hydrostatic_gravity(),
+        wrap: world.periodic,
+        dt,
+        z: mat.impedance(),
+        inv_c: 1.0 / mat.c0,
+        eta: mat.limiter,
+        mu: mat.mu,
+        keep: mat.velocity_kept(t0, dt),
     }
 }
