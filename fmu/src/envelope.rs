@@ -180,6 +180,54 @@ pub fn seal(
 /// decoded payload and the instance's place.
 pub fn open(bytes: &[u8], kind: ModelKind, guid: &str) -> Result<Opened, EnvelopeError> {
     let n = bytes.len();
+    let data = checked(bytes)?;
+    let mut r = Cursor {
+        data,
+        at: MAGIC.len(),
+        len: n,
+    };
+    let version = u16::from_le_bytes(r.take(2)?.try_into().expect("2 bytes"));
+    if !(OLDEST..=VERSION).contains(&version) {
+        return Err(EnvelopeError::Version { version });
+    }
+    let k = r.take(1)?[0];
+    if k != kind as u8 {
+        return Err(EnvelopeError::Kind {
+            found: k,
+            wanted: kind,
+        });
+    }
+    let encoding = match r.take(1)?[0] {
+        0 => Encoding::Raw,
+        1 => Encoding::Deflate,
+        e => return Err(EnvelopeError::Encoding(e)),
+    };
+    let glen = r.take(1)?[0] as usize;
+    let g = String::from_utf8_lossy(r.take(glen)?).into_owned();
+    if g != guid {
+        return Err(EnvelopeError::OtherFmu {
+            found: g,
+            guid: guid.to_string(),
+        });
+    }
+    let place = if version >= 3 { Some(r.place()?) } else { None };
+    let stored = u64::from_le_bytes(r.take(8)?.try_into().expect("8 bytes"));
+    let decoded = u64::from_le_bytes(r.take(8)?.try_into().expect("8 bytes"));
+    let body = &data[r.at..];
+    if stored != body.len() as u64 {
+        return Err(EnvelopeError::StoredLength {
+            stored,
+            follow: body.len(),
+        });
+    }
+    let payload = decode(encoding, body, (stored, decoded))?;
+    Ok(Opened { payload, place })
+}
+
+/// The bytes of an envelope before its checksum, once its magic, its length (at
+/// least the fixed fields) and its CRC-32 are checked.
+fn checked(bytes: &[u8]) -> Result<&[u8], EnvelopeError> {
+    let n = bytes.len();
     if n < MAGIC.len() || bytes[..MAGIC.len()] != MAGIC {
         return Err(EnvelopeError::NotAState { len: n });
     }
@@ -200,60 +248,51 @@ pub fn open(bytes: &[u8], kind: ModelKind, guid: &str) -> Result<Opened, Envelop
             stored: stored_crc,
         });
     }
-    let mut at = MAGIC.len();
-    let mut take = |k: usize| -> Result<&[u8], EnvelopeError> {
-        let s = data
+    Ok(data)
+}
+
+/// The header fields of an envelope read in order: its checked bytes, the next byte
+/// to read and the whole envelope's length (for the error of a truncated field).
+struct Cursor<'a> {
+    data: &'a [u8],
+    at: usize,
+    len: usize,
+}
+
+impl<'a> Cursor<'a> {
+    /// The next `k` bytes.
+    fn take(&mut self, k: usize) -> Result<&'a [u8], EnvelopeError> {
+        let at = self.at;
+        let s = self
+            .data
             .get(at..at + k)
-            .ok_or(EnvelopeError::Truncated { at, len: n })?;
-        at += k;
+            .ok_or(EnvelopeError::Truncated { at, len: self.len })?;
+        self.at += k;
         Ok(s)
-    };
-    let version = u16::from_le_bytes(take(2)?.try_into().expect("2 bytes"));
-    if !(OLDEST..=VERSION).contains(&version) {
-        return Err(EnvelopeError::Version { version });
     }
-    let k = take(1)?[0];
-    if k != kind as u8 {
-        return Err(EnvelopeError::Kind {
-            found: k,
-            wanted: kind,
-        });
-    }
-    let encoding = match take(1)?[0] {
-        0 => Encoding::Raw,
-        1 => Encoding::Deflate,
-        e => return Err(EnvelopeError::Encoding(e)),
-    };
-    let glen = take(1)?[0] as usize;
-    let g = String::from_utf8_lossy(take(glen)?).into_owned();
-    if g != guid {
-        return Err(EnvelopeError::OtherFmu {
-            found: g,
-            guid: guid.to_string(),
-        });
-    }
-    let place = if version >= 3 {
-        let b = take(1)?[0];
+
+    /// The instance's place (version 3 on): its state bit, then its failure message.
+    fn place(&mut self) -> Result<Place, EnvelopeError> {
+        let b = self.take(1)?[0];
         let state = State::from_bit(b).ok_or(EnvelopeError::Place(b))?;
-        let m = u16::from_le_bytes(take(2)?.try_into().expect("2 bytes")) as usize;
-        let failure = String::from_utf8_lossy(take(m)?).into_owned();
-        Some(Place {
+        let m = u16::from_le_bytes(self.take(2)?.try_into().expect("2 bytes")) as usize;
+        let failure = String::from_utf8_lossy(self.take(m)?).into_owned();
+        Ok(Place {
             state,
             failure: (!failure.is_empty()).then_some(failure),
         })
-    } else {
-        None
-    };
-    let stored = u64::from_le_bytes(take(8)?.try_into().expect("8 bytes"));
-    let decoded = u64::from_le_bytes(take(8)?.try_into().expect("8 bytes"));
-    let body = &data[at..];
-    if stored != body.len() as u64 {
-        return Err(EnvelopeError::StoredLength {
-            stored,
-            follow: body.len(),
-        });
     }
-    let payload = match encoding {
+}
+
+/// The payload of `body`, stored in `encoding`, checked against its stored and
+/// decoded lengths; a deflated payload's claimed length is bounded by its stored one
+/// before anything is allocated.
+fn decode(
+    encoding: Encoding,
+    body: &[u8],
+    (stored, decoded): (u64, u64),
+) -> Result<Vec<u8>, EnvelopeError> {
+    Ok(match encoding {
         Encoding::Raw if decoded != stored => {
             return Err(EnvelopeError::RawLength { stored, decoded })
         }
@@ -276,8 +315,7 @@ pub fn open(bytes: &[u8], kind: ModelKind, guid: &str) -> Result<Opened, Envelop
             }
             out
         }
-    };
-    Ok(Opened { payload, place })
+    })
 }
 
 #[cfg(test)]

@@ -43,6 +43,10 @@ pub struct Curve {
     pub points: Vec<(f64, f64)>,
 }
 
+/// A chart with logarithmic axes, drawn into a PNG.
+type LogChart<'a, 'b> =
+    ChartContext<'a, BitMapBackend<'b>, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>;
+
 /// Log–log plot of several curves; `hlines` are dashed reference levels (value, label).
 pub fn loglog(
     path: &Path,
@@ -53,22 +57,8 @@ pub fn loglog(
     hlines: &[(f64, String)],
 ) -> Result<()> {
     register_font();
-    let pts: Vec<(f64, f64)> = curves
-        .iter()
-        .flat_map(|c| c.points.iter().copied())
-        .filter(|(x, y)| *x > 0.0 && *y > 0.0)
-        .collect();
-    if pts.is_empty() {
-        return Err(anyhow!("nothing to plot in {}", path.display()));
-    }
-    let (x0, x1) = pts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), (x, _)| {
-        (a.min(*x), b.max(*x))
-    });
-    let (y0, y1) = pts
-        .iter()
-        .map(|p| p.1)
-        .chain(hlines.iter().map(|h| h.0))
-        .fold((f64::INFINITY, 0.0f64), |(a, b), y| (a.min(y), b.max(y)));
+    let ((x0, x1), (y0, y1)) = loglog_extent(curves, hlines)
+        .ok_or_else(|| anyhow!("nothing to plot in {}", path.display()))?;
     let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
     let mut chart = ChartBuilder::on(&root)
@@ -91,47 +81,10 @@ pub fn loglog(
         .draw()
         .map_err(|e| anyhow!("{e}"))?;
     for (k, c) in curves.iter().enumerate() {
-        let color = Palette99::pick(k).to_rgba();
-        let p: Vec<(f64, f64)> = c
-            .points
-            .iter()
-            .copied()
-            .filter(|(x, y)| *x > 0.0 && *y > 0.0)
-            .collect();
-        chart
-            .draw_series(LineSeries::new(p.clone(), color.stroke_width(2)))
-            .map_err(|e| anyhow!("{e}"))?
-            .label(c.label.clone())
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-            });
-        chart
-            .draw_series(
-                p.iter()
-                    .map(|&(x, y)| Circle::new((x, y), 4, color.filled())),
-            )
-            .map_err(|e| anyhow!("{e}"))?;
+        draw_log_curve(&mut chart, k, c)?;
     }
     for (y, label) in hlines {
-        let (xa, xb) = (x0 / 1.5, x1 * 1.5);
-        let dashes: Vec<(f64, f64)> = (0..40)
-            .map(|k| xa * (xb / xa).powf(k as f64 / 40.0))
-            .map(|x| (x, *y))
-            .collect();
-        chart
-            .draw_series(
-                dashes
-                    .chunks(2)
-                    .map(|c| PathElement::new(c.to_vec(), BLACK.stroke_width(1))),
-            )
-            .map_err(|e| anyhow!("{e}"))?;
-        chart
-            .draw_series(std::iter::once(Text::new(
-                label.clone(),
-                (xa * 1.05, *y * 1.08),
-                ("sans-serif", 13),
-            )))
-            .map_err(|e| anyhow!("{e}"))?;
+        draw_hline(&mut chart, (x0 / 1.5, x1 * 1.5), *y, label)?;
     }
     chart
         .configure_series_labels()
@@ -142,6 +95,75 @@ pub fn loglog(
         .draw()
         .map_err(|e| anyhow!("{e}"))?;
     root.present().map_err(|e| anyhow!("{e}"))?;
+    Ok(())
+}
+
+/// The x range and the y range (reference levels included) of the positive points of
+/// `curves`; `None` without any.
+fn loglog_extent(curves: &[Curve], hlines: &[(f64, String)]) -> Option<((f64, f64), (f64, f64))> {
+    let pts: Vec<(f64, f64)> = curves
+        .iter()
+        .flat_map(|c| c.points.iter().copied())
+        .filter(|(x, y)| *x > 0.0 && *y > 0.0)
+        .collect();
+    if pts.is_empty() {
+        return None;
+    }
+    let (x0, x1) = pts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), (x, _)| {
+        (a.min(*x), b.max(*x))
+    });
+    let (y0, y1) = pts
+        .iter()
+        .map(|p| p.1)
+        .chain(hlines.iter().map(|h| h.0))
+        .fold((f64::INFINITY, 0.0f64), |(a, b), y| (a.min(y), b.max(y)));
+    Some(((x0, x1), (y0, y1)))
+}
+
+/// Draw curve `c`, the `k`-th, as a line with markers at its positive points, and
+/// enter it in the legend.
+fn draw_log_curve(chart: &mut LogChart, k: usize, c: &Curve) -> Result<()> {
+    let color = Palette99::pick(k).to_rgba();
+    let p: Vec<(f64, f64)> = c
+        .points
+        .iter()
+        .copied()
+        .filter(|(x, y)| *x > 0.0 && *y > 0.0)
+        .collect();
+    chart
+        .draw_series(LineSeries::new(p.clone(), color.stroke_width(2)))
+        .map_err(|e| anyhow!("{e}"))?
+        .label(c.label.clone())
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+    chart
+        .draw_series(
+            p.iter()
+                .map(|&(x, y)| Circle::new((x, y), 4, color.filled())),
+        )
+        .map_err(|e| anyhow!("{e}"))?;
+    Ok(())
+}
+
+/// Draw the dashed reference level `y` across `xa..xb`, labelled at its left end.
+fn draw_hline(chart: &mut LogChart, (xa, xb): (f64, f64), y: f64, label: &str) -> Result<()> {
+    let dashes: Vec<(f64, f64)> = (0..40)
+        .map(|k| xa * (xb / xa).powf(k as f64 / 40.0))
+        .map(|x| (x, y))
+        .collect();
+    chart
+        .draw_series(
+            dashes
+                .chunks(2)
+                .map(|c| PathElement::new(c.to_vec(), BLACK.stroke_width(1))),
+        )
+        .map_err(|e| anyhow!("{e}"))?;
+    chart
+        .draw_series(std::iter::once(Text::new(
+            label.to_string(),
+            (xa * 1.05, y * 1.08),
+            ("sans-serif", 13),
+        )))
+        .map_err(|e| anyhow!("{e}"))?;
     Ok(())
 }
 

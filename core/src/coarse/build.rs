@@ -9,7 +9,7 @@ use crate::geometry::Shape;
 use crate::math::{from3, to3, Real, Vect};
 use crate::resolution::Resolution;
 use crate::scene::{spec_rotation, BodyModel, BodySpec, Scene};
-use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
 /// Coarse grains of a scene.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
@@ -40,20 +40,7 @@ impl<const D: usize> Coarse<D> {
                 .position(|m| m.name == b.material)
                 .expect("validated");
             let m = &solids[mi];
-            let shape = Shape::<D>::from_spec(&b.shape, &scene.assets);
-            let mut pts = shape.body_fill(dp);
-            super::relax::relax(&shape, &mut pts, dp);
-            if pts.len() < 2 {
-                return Err(BuildError {
-                    path: format!("bodies[{bi}].shape"),
-                    message: format!(
-                        "body `{}` holds {} particle(s) at dp = {dp} m; it needs at least 2 \
-                         (enlarge it or refine dp)",
-                        b.name,
-                        pts.len()
-                    ),
-                });
-            }
+            let (shape, pts) = body_points::<D>(scene, (bi, b), dp)?;
             let centre = to3(&shape.center());
             let rot = spec_rotation(b, D);
             // particle mass: the exact body mass shared out, where the volume is known
@@ -66,36 +53,18 @@ impl<const D: usize> Coarse<D> {
             let com = centre + rot * com_local;
             let (vel, omega) = initial_motion(b);
             let start = particles.len();
-            for p in &pts {
-                let depth = -shape.sdf(p);
-                let rigid = b.model == BodyModel::Rigid;
-                if rigid && depth > trim_depth {
-                    continue;
-                }
-                // outward normal of the nearest surface, for every particle a fine
-                // particle can see (Eq. 48)
-                let n_local = shape.normal(p, 1e-3 * dp);
-                let off = to3(p) - centre - com_local;
-                let x = com + rot * off;
-                let v = vel + omega.cross(&(x - com));
-                let n = from3::<D>(&(rot * to3(&n_local)));
-                let (local, local_normal) = if rigid {
-                    (from3::<D>(&off), n_local)
-                } else {
-                    (from3::<D>(&x), n)
-                };
-                particles.push(
-                    from3::<D>(&x),
-                    from3::<D>(&v),
-                    local,
-                    local_normal,
-                    n,
-                    pm,
-                    bi as u32,
-                    depth,
-                    dp,
-                );
-            }
+            let placement = Placement {
+                centre,
+                com_local,
+                com,
+                rot,
+                vel,
+                omega,
+                pm,
+                body: bi as u32,
+                rigid: b.model == BodyModel::Rigid,
+            };
+            placement.push(&mut particles, &shape, &pts, (dp, trim_depth));
             let orientation = UnitQuaternion::from_rotation_matrix(&rot);
             let inv_inertia = inertia.try_inverse().ok_or_else(|| BuildError {
                 path: format!("bodies[{bi}].shape"),
@@ -139,6 +108,90 @@ impl<const D: usize> Coarse<D> {
             .filter(|b| !b.is_rigid())
             .map(|b| self.solids[b.material].c0)
             .fold(0.0, Real::max)
+    }
+}
+
+/// Body `b` (number `bi`) of the scene: its shape and its particles, the shape's
+/// lattice fill at spacing `dp`, relaxed; refused with fewer than 2 particles.
+fn body_points<const D: usize>(
+    scene: &Scene,
+    (bi, b): (usize, &BodySpec),
+    dp: Real,
+) -> Result<(Shape<D>, Vec<Vect<D>>), BuildError> {
+    let shape = Shape::<D>::from_spec(&b.shape, &scene.assets);
+    let mut pts = shape.body_fill(dp);
+    super::relax::relax(&shape, &mut pts, dp);
+    if pts.len() < 2 {
+        return Err(BuildError {
+            path: format!("bodies[{bi}].shape"),
+            message: format!(
+                "body `{}` holds {} particle(s) at dp = {dp} m; it needs at least 2 \
+                 (enlarge it or refine dp)",
+                b.name,
+                pts.len()
+            ),
+        });
+    }
+    Ok((shape, pts))
+}
+
+/// Where a body's particles go: the shape's centre, the centre of mass relative to it
+/// and in the world, the rotation, the initial velocity and angular velocity, the
+/// particle mass, the body's number and whether it is rigid.
+struct Placement {
+    centre: Vector3<Real>,
+    com_local: Vector3<Real>,
+    com: Vector3<Real>,
+    rot: Rotation3<Real>,
+    vel: Vector3<Real>,
+    omega: Vector3<Real>,
+    pm: Real,
+    body: u32,
+    rigid: bool,
+}
+
+impl Placement {
+    /// Push the body's particles `pts` (in the frame of `shape`) onto `particles`,
+    /// placed, moving and with their surface normals; a rigid body's particles deeper
+    /// than `trim_depth` are left out. `dp` is the particle spacing.
+    fn push<const D: usize>(
+        &self,
+        particles: &mut CoarseParticles<D>,
+        shape: &Shape<D>,
+        pts: &[Vect<D>],
+        (dp, trim_depth): (Real, Real),
+    ) {
+        let (rot, com) = (self.rot, self.com);
+        for p in pts {
+            let depth = -shape.sdf(p);
+            let rigid = self.rigid;
+            if rigid && depth > trim_depth {
+                continue;
+            }
+            // outward normal of the nearest surface, for every particle a fine
+            // particle can see (Eq. 48)
+            let n_local = shape.normal(p, 1e-3 * dp);
+            let off = to3(p) - self.centre - self.com_local;
+            let x = com + rot * off;
+            let v = self.vel + self.omega.cross(&(x - com));
+            let n = from3::<D>(&(rot * to3(&n_local)));
+            let (local, local_normal) = if rigid {
+                (from3::<D>(&off), n_local)
+            } else {
+                (from3::<D>(&x), n)
+            };
+            particles.push(
+                from3::<D>(&x),
+                from3::<D>(&v),
+                local,
+                local_normal,
+                n,
+                self.pm,
+                self.body,
+                depth,
+                dp,
+            );
+        }
     }
 }
 

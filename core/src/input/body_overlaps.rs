@@ -9,7 +9,7 @@
 
 use crate::geometry::{tangent_basis, Shape};
 use crate::math::{from3, to3, Real, Vect};
-use crate::scene::{spec_rotation, ContainerSpec, KeyError, Scene};
+use crate::scene::{spec_rotation, BodySpec, ContainerSpec, KeyError, Scene};
 
 /// Sample points per axis over a body's bounding ball.
 const PER_AXIS: [usize; 2] = [64, 20];
@@ -32,15 +32,49 @@ struct Wall<'a, const D: usize> {
     hi: Vect<D>,
 }
 
+/// Refuse the first body of `scene` that starts inside a wall, barrier or container
+/// face, at particle spacing `dp`.
 fn check_in<const D: usize>(scene: &Scene, dp: Real) -> Result<(), KeyError> {
     if scene.bodies.is_empty() {
         return Ok(());
     }
     let margin = 0.5 * dp;
     let depth = scene.numerics.wall_layers as Real * dp;
+    let walls = walls::<D>(scene, depth, margin);
+    for (i, b) in scene.bodies.iter().enumerate() {
+        check_body(scene, (i, b), &walls, margin)?;
+    }
+    Ok(())
+}
+
+/// The walls, barriers and containers of `scene` as the overlap test sees them: their
+/// particle layers `depth` thick, a point inside deeper than `margin`.
+fn walls<const D: usize>(scene: &Scene, depth: Real, margin: Real) -> Vec<Wall<'_, D>> {
     let mut walls: Vec<Wall<D>> = Vec::new();
     for w in scene.walls.iter().chain(&scene.barriers) {
         let shape = Shape::<D>::from_spec(&w.shape, &scene.assets);
+        walls.push(Wall::of_shape(&w.name, shape, depth, margin));
+    }
+    for c in &scene.containers {
+        let (lo, hi) = (
+            Vect::<D>::from_iterator(c.min.iter().copied()),
+            Vect::<D>::from_iterator(c.max.iter().copied()),
+        );
+        walls.push(Wall {
+            name: &c.name,
+            inside: Box::new(move |p: &Vect<D>| in_face(c, p, depth, margin)),
+            lo: lo.add_scalar(-depth),
+            hi: hi.add_scalar(depth),
+        });
+    }
+    walls
+}
+
+impl<'a, const D: usize> Wall<'a, D> {
+    /// The wall or barrier `name` of `shape`: a plane's patch holds its layers,
+    /// `depth` thick, behind its point; another shape, its inside. A point is in it
+    /// deeper than `margin`.
+    fn of_shape(name: &'a str, shape: Shape<D>, depth: Real, margin: Real) -> Self {
         let (lo, hi) = match &shape {
             // a plane's patch: its layers behind the point, its half extents across
             Shape::Plane {
@@ -73,63 +107,59 @@ fn check_in<const D: usize>(scene: &Scene, dp: Real) -> Result<(), KeyError> {
             }
             s => Box::new(move |p: &Vect<D>| s.sdf(p) < -margin),
         };
-        walls.push(Wall {
-            name: &w.name,
+        Wall {
+            name,
             inside,
             lo,
             hi,
-        });
+        }
     }
-    for c in &scene.containers {
-        let (lo, hi) = (
-            Vect::<D>::from_iterator(c.min.iter().copied()),
-            Vect::<D>::from_iterator(c.max.iter().copied()),
-        );
-        walls.push(Wall {
-            name: &c.name,
-            inside: Box::new(move |p: &Vect<D>| in_face(c, p, depth, margin)),
-            lo: lo.add_scalar(-depth),
-            hi: hi.add_scalar(depth),
-        });
-    }
+}
+
+/// Refuse body `b` (number `i`) if a point of the grid over its bounding ball lies
+/// deeper than `margin` inside both the body (its pose applied) and one of `walls`.
+fn check_body<const D: usize>(
+    scene: &Scene,
+    (i, b): (usize, &BodySpec),
+    walls: &[Wall<D>],
+    margin: Real,
+) -> Result<(), KeyError> {
     let m = PER_AXIS[D - 2];
-    for (i, b) in scene.bodies.iter().enumerate() {
-        let shape = Shape::<D>::from_spec(&b.shape, &scene.assets);
-        let (lo, hi) = shape.bounds();
-        let c = shape.center();
-        let r = (hi - lo).norm() * 0.5;
-        let (blo, bhi) = (c.add_scalar(-r), c.add_scalar(r));
-        let rot = spec_rotation(b, D);
-        let c3 = to3(&c);
-        // the body's own frame: the pose undone about its centre
-        let body_sdf = |p: &Vect<D>| shape.sdf(&from3::<D>(&(c3 + rot.inverse() * (to3(p) - c3))));
-        for w in &walls {
-            if (0..D).any(|k| bhi[k] < w.lo[k] || blo[k] > w.hi[k]) {
-                continue;
+    let shape = Shape::<D>::from_spec(&b.shape, &scene.assets);
+    let (lo, hi) = shape.bounds();
+    let c = shape.center();
+    let r = (hi - lo).norm() * 0.5;
+    let (blo, bhi) = (c.add_scalar(-r), c.add_scalar(r));
+    let rot = spec_rotation(b, D);
+    let c3 = to3(&c);
+    // the body's own frame: the pose undone about its centre
+    let body_sdf = |p: &Vect<D>| shape.sdf(&from3::<D>(&(c3 + rot.inverse() * (to3(p) - c3))));
+    for w in walls {
+        if (0..D).any(|k| bhi[k] < w.lo[k] || blo[k] > w.hi[k]) {
+            continue;
+        }
+        let step = (bhi - blo) / m as Real;
+        let hit = (0..m.pow(D as u32)).find_map(|n| {
+            let mut p = blo;
+            let mut rest = n;
+            for k in 0..D {
+                p[k] += ((rest % m) as Real + 0.5) * step[k];
+                rest /= m;
             }
-            let step = (bhi - blo) / m as Real;
-            let hit = (0..m.pow(D as u32)).find_map(|n| {
-                let mut p = blo;
-                let mut rest = n;
-                for k in 0..D {
-                    p[k] += ((rest % m) as Real + 0.5) * step[k];
-                    rest /= m;
-                }
-                (body_sdf(&p) < -margin && (w.inside)(&p)).then_some(p)
-            });
-            if let Some(p) = hit {
-                return Err(KeyError::new(
-                    format!("bodies[{i}].shape"),
-                    format!(
-                        "body `{}` starts inside wall `{}` (at {:?}): its particles would sit \
-                         among the wall's and the contact would throw it out within the first \
-                         step; move it clear of the wall",
-                        b.name,
-                        w.name,
-                        p.as_slice()
-                    ),
-                ));
-            }
+            (body_sdf(&p) < -margin && (w.inside)(&p)).then_some(p)
+        });
+        if let Some(p) = hit {
+            return Err(KeyError::new(
+                format!("bodies[{i}].shape"),
+                format!(
+                    "body `{}` starts inside wall `{}` (at {:?}): its particles would sit \
+                     among the wall's and the contact would throw it out within the first \
+                     step; move it clear of the wall",
+                    b.name,
+                    w.name,
+                    p.as_slice()
+                ),
+            ));
         }
     }
     Ok(())

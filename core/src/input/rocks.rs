@@ -4,6 +4,7 @@
 //! everything downstream sees plain bodies.
 
 use crate::geometry::Shape;
+use crate::math::Vect;
 use crate::scene::{
     validate_shape, BodySpec, KeyError, RockFillReport, RockFillSpec, Scene, ShapeSpec,
 };
@@ -215,6 +216,60 @@ fn check(scene: &Scene, p: &str, f: &RockFillSpec) -> Result<(), Fail> {
     Ok(())
 }
 
+/// Where the rocks of one fill may go: its region (and the region's bounding box),
+/// at least `clearance` inside its boundary.
+struct Site {
+    region: Shape<2>,
+    lo: Vect<2>,
+    hi: Vect<2>,
+    clearance: f64,
+}
+
+impl Site {
+    /// Try up to [`ATTEMPTS`] random centres in the bounding box for the rock `shape`
+    /// (centred on the origin); the first whose vertices and edge midpoints lie
+    /// `clearance` inside the region and which keeps `clearance` from every rock of
+    /// `placed` is the rock placed, `None` if none does.
+    fn place(&self, rng: &mut Rng, shape: &[P], placed: &[Placed]) -> Option<Placed> {
+        let (lo, hi, clearance) = (self.lo, self.hi, self.clearance);
+        let radius = shape
+            .iter()
+            .map(|v| (v[0] * v[0] + v[1] * v[1]).sqrt())
+            .fold(0.0, f64::max);
+        for _ in 0..ATTEMPTS {
+            let c = [
+                lo[0] + (hi[0] - lo[0]) * rng.uniform(),
+                lo[1] + (hi[1] - lo[1]) * rng.uniform(),
+            ];
+            let verts: Vec<P> = shape.iter().map(|v| [v[0] + c[0], v[1] + c[1]]).collect();
+            let inside = (0..verts.len()).all(|k| {
+                let (u, w) = (verts[k], verts[(k + 1) % verts.len()]);
+                let mid = [0.5 * (u[0] + w[0]), 0.5 * (u[1] + w[1])];
+                self.region.sdf(&u.into()) <= -clearance
+                    && self.region.sdf(&mid.into()) <= -clearance
+            });
+            if !inside {
+                continue;
+            }
+            let free = placed.iter().all(|q| {
+                let dc = ((q.center[0] - c[0]).powi(2) + (q.center[1] - c[1]).powi(2)).sqrt();
+                dc > q.radius + radius + clearance || gap(&q.verts, &verts) >= clearance
+            });
+            if free {
+                return Some(Placed {
+                    verts,
+                    center: c,
+                    radius,
+                });
+            }
+        }
+        None
+    }
+}
+
+/// Generate the rocks of fill `i` (`f`) at spacing `dp`: random rocks placed one by one
+/// until their area reaches the content's share of the region (seed 000 §6.1, RBC);
+/// the rocks as bodies and the fill's report.
 fn fill(
     scene: &Scene,
     i: usize,
@@ -228,6 +283,12 @@ fn fill(
     estimate_fill(&p, f, region_area)?;
     let (lo, hi) = region.bounds();
     let clearance = f.clearance.unwrap_or(2.0 * dp);
+    let site = Site {
+        region,
+        lo,
+        hi,
+        clearance,
+    };
     let target = f.content * region_area;
     let mut rng =
         Rng(f.seed ^ 0x5EED_0000_0000_0000 ^ (i as u64).wrapping_mul(0xA24B_AED4_963E_E407));
@@ -240,39 +301,7 @@ fn fill(
             break;
         }
         let shape = rock(&mut rng, d, f.vertices, f.max_aspect);
-        let radius = shape
-            .iter()
-            .map(|v| (v[0] * v[0] + v[1] * v[1]).sqrt())
-            .fold(0.0, f64::max);
-        let mut ok = None;
-        for _ in 0..ATTEMPTS {
-            let c = [
-                lo[0] + (hi[0] - lo[0]) * rng.uniform(),
-                lo[1] + (hi[1] - lo[1]) * rng.uniform(),
-            ];
-            let verts: Vec<P> = shape.iter().map(|v| [v[0] + c[0], v[1] + c[1]]).collect();
-            let inside = (0..verts.len()).all(|k| {
-                let (u, w) = (verts[k], verts[(k + 1) % verts.len()]);
-                let mid = [0.5 * (u[0] + w[0]), 0.5 * (u[1] + w[1])];
-                region.sdf(&u.into()) <= -clearance && region.sdf(&mid.into()) <= -clearance
-            });
-            if !inside {
-                continue;
-            }
-            let free = placed.iter().all(|q| {
-                let dc = ((q.center[0] - c[0]).powi(2) + (q.center[1] - c[1]).powi(2)).sqrt();
-                dc > q.radius + radius + clearance || gap(&q.verts, &verts) >= clearance
-            });
-            if free {
-                ok = Some(Placed {
-                    verts,
-                    center: c,
-                    radius,
-                });
-                break;
-            }
-        }
-        match ok {
+        match site.place(&mut rng, &shape, &placed) {
             Some(r) => {
                 area += a;
                 placed.push(r);
@@ -291,7 +320,24 @@ fn fill(
             }
         }
     }
-    let bodies = placed
+    Ok((
+        bodies(f, &placed),
+        RockFillReport {
+            name: f.name.clone(),
+            rocks: placed.len(),
+            content: if region_area > 0.0 {
+                area / region_area
+            } else {
+                0.0
+            },
+        },
+    ))
+}
+
+/// The rocks of fill `f` as `[[bodies]]`: free polygons of its material and model,
+/// named after the fill and numbered in the order placed.
+fn bodies(f: &RockFillSpec, placed: &[Placed]) -> Vec<BodySpec> {
+    placed
         .iter()
         .enumerate()
         .map(|(k, r)| BodySpec {
@@ -306,19 +352,7 @@ fn fill(
             angular_velocity: None,
             fixed: false,
         })
-        .collect();
-    Ok((
-        bodies,
-        RockFillReport {
-            name: f.name.clone(),
-            rocks: placed.len(),
-            content: if region_area > 0.0 {
-                area / region_area
-            } else {
-                0.0
-            },
-        },
-    ))
+        .collect()
 }
 
 #[cfg(test)]

@@ -288,6 +288,17 @@ fn carry<const D: usize>(
     }
 }
 
+/// The key of the cell of side `cell` that holds `x`, shifted by `off` cells: its
+/// coordinates, wrapped to 21 bits each, packed into one integer.
+fn cell_key<const D: usize>(x: &Vect<D>, cell: Real, off: [i64; 3]) -> u64 {
+    let mut k = 0u64;
+    for a in 0..D {
+        let c = ((x[a] / cell).floor() as i64 + off[a]).rem_euclid(1 << 21) as u64;
+        k = (k << 21) | c;
+    }
+    k
+}
+
 impl<const D: usize> Contacts<D> {
     /// Find candidates within `margin` of touching.
     pub fn find(
@@ -299,7 +310,21 @@ impl<const D: usize> Contacts<D> {
         margin: Real,
     ) {
         let rp = 0.5 * dp;
-        // particle–wall
+        self.find_walls(p, bodies, walls, (rp, margin));
+        self.find_pairs(p, bodies, dp + margin);
+        self.count_candidates(p, bodies.len());
+    }
+
+    /// The particle–wall candidates: every surface particle of a free body within
+    /// `margin` of touching a wall of a shape (contact radius `rp`), with the springs
+    /// of those that persist.
+    fn find_walls(
+        &mut self,
+        p: &CoarseParticles<D>,
+        bodies: &[Body<D>],
+        walls: &Walls<D>,
+        (rp, margin): (Real, Real),
+    ) {
         self.old_keys.clear();
         self.old_keys.extend_from_slice(&self.wall);
         self.old_xi.clear();
@@ -325,21 +350,17 @@ impl<const D: usize> Contacts<D> {
         carry(&ok, &ox, &self.wall, &mut self.wall_xi);
         self.old_keys = ok;
         self.old_xi = ox;
+    }
 
-        // particle–particle, different bodies: sort surface particles by cell
-        let cell = dp + margin;
-        let key = |x: &Vect<D>, off: [i64; 3]| -> u64 {
-            let mut k = 0u64;
-            for a in 0..D {
-                let c = ((x[a] / cell).floor() as i64 + off[a]).rem_euclid(1 << 21) as u64;
-                k = (k << 21) | c;
-            }
-            k
-        };
+    /// The particle–particle candidates of different bodies, not both fixed, closer
+    /// than `cell` (dp plus the margin), found by sorting the surface particles by
+    /// cell; with the springs of those that persist.
+    fn find_pairs(&mut self, p: &CoarseParticles<D>, bodies: &[Body<D>], cell: Real) {
         self.sorted.clear();
         for i in 0..p.len() {
             if p.surface[i] {
-                self.sorted.push((key(&p.pos[i], [0; 3]), i as u32));
+                self.sorted
+                    .push((cell_key(&p.pos[i], cell, [0; 3]), i as u32));
             }
         }
         self.sorted.sort_unstable();
@@ -356,7 +377,7 @@ impl<const D: usize> Contacts<D> {
             for dz in zr.clone() {
                 for dy in -1..=1i64 {
                     for dx in -1..=1i64 {
-                        let k = key(&xi, [dx, dy, dz]);
+                        let k = cell_key(&xi, cell, [dx, dy, dz]);
                         let s = self.sorted.partition_point(|e| e.0 < k);
                         for &(kk, j) in &self.sorted[s..] {
                             if kk != k {
@@ -385,9 +406,12 @@ impl<const D: usize> Contacts<D> {
         carry(&ok, &ox, &self.pair, &mut self.pair_xi);
         self.old_keys = ok;
         self.old_xi = ox;
+    }
 
+    /// The candidates of each of the `n_bodies` bodies, walls and pairs together.
+    fn count_candidates(&mut self, p: &CoarseParticles<D>, n_bodies: usize) {
         self.candidates.clear();
-        self.candidates.resize(bodies.len(), 0);
+        self.candidates.resize(n_bodies, 0);
         for &(i, _) in &self.wall {
             self.candidates[p.body[i as usize] as usize] += 1;
         }
@@ -431,9 +455,26 @@ impl<const D: usize> Contacts<D> {
         for f in &mut p.f_contact {
             *f = Vect::<D>::zeros();
         }
-        let rp = 0.5 * law.dp;
+        self.count_active(p, bodies.len(), walls, law.dp);
+        let energy = self.wall_forces(p, bodies, solids, walls, law, dt);
+        self.energy = self.pair_forces(p, (bodies, solids), law, dt, energy);
+        self.vel_prev.clear();
+        self.vel_prev.extend_from_slice(&p.vel);
+    }
+
+    /// The first pass of [`Contacts::evaluate`]: the active contacts of each of the
+    /// `n_bodies` bodies now (particle spacing `dp`), and the signed distance and
+    /// outward normal (only when touching) of each wall candidate.
+    fn count_active(
+        &mut self,
+        p: &CoarseParticles<D>,
+        n_bodies: usize,
+        walls: &Walls<D>,
+        dp: Real,
+    ) {
+        let rp = 0.5 * dp;
         self.per_body.clear();
-        self.per_body.resize(bodies.len(), 0);
+        self.per_body.resize(n_bodies, 0);
         self.wall_gap.clear();
         for &(i, o) in &self.wall {
             let (i, o) = (i as usize, o as usize);
@@ -444,7 +485,7 @@ impl<const D: usize> Contacts<D> {
                     let d = shape.sdf(&x);
                     if d < rp {
                         self.per_body[p.body[i] as usize] += 1;
-                        (d, shape.normal(&x, 1e-4 * law.dp))
+                        (d, shape.normal(&x, 1e-4 * dp))
                     } else {
                         (d, Vect::<D>::zeros())
                     }
@@ -456,11 +497,26 @@ impl<const D: usize> Contacts<D> {
         for &(i, j) in &self.pair {
             let (i, j) = (i as usize, j as usize);
             let r2 = (p.pos[i] - p.pos[j]).norm_squared();
-            if r2 < law.dp * law.dp && r2 > 0.0 {
+            if r2 < dp * dp && r2 > 0.0 {
                 self.per_body[p.body[i] as usize] += 1;
                 self.per_body[p.body[j] as usize] += 1;
             }
         }
+    }
+
+    /// The particle–wall forces into `p.f_contact` and the barrier panels' loads into
+    /// `wall_loads`; returns the energy stored in their springs, summed in candidate
+    /// order.
+    fn wall_forces(
+        &mut self,
+        p: &mut CoarseParticles<D>,
+        bodies: &[Body<D>],
+        solids: &[SolidMaterial],
+        walls: &Walls<D>,
+        law: &ContactLaw,
+        dt: Real,
+    ) -> Real {
+        let rp = 0.5 * law.dp;
         self.wall_loads.clear();
         self.wall_loads.resize(walls.load_slots(), Load::default());
         let mut energy = 0.0;
@@ -489,6 +545,19 @@ impl<const D: usize> Contacts<D> {
                 self.wall_loads[slot].moment += arm.cross(&fw);
             }
         }
+        energy
+    }
+
+    /// The particle–particle forces into `p.f_contact`; returns `energy` plus the
+    /// energy stored in their springs, added in candidate order.
+    fn pair_forces(
+        &mut self,
+        p: &mut CoarseParticles<D>,
+        (bodies, solids): (&[Body<D>], &[SolidMaterial]),
+        law: &ContactLaw,
+        dt: Real,
+        mut energy: Real,
+    ) -> Real {
         for (c, &(i, j)) in self.pair.iter().enumerate() {
             let (i, j) = (i as usize, j as usize);
             let rij = p.pos[i] - p.pos[j];
@@ -519,9 +588,7 @@ impl<const D: usize> Contacts<D> {
             p.f_contact[i] += f;
             p.f_contact[j] -= f;
         }
-        self.energy = energy;
-        self.vel_prev.clear();
-        self.vel_prev.extend_from_slice(&p.vel);
+        energy
     }
 
     /// Velocity of particle `i` at the middle of the sub-step, where the overlap is

@@ -11,7 +11,7 @@ use crate::build_error::BuildError;
 use crate::flow_speed::{choose, water_spec, Measured};
 use crate::geometry::Shape;
 use crate::math::{extent, up, Real, Vect};
-use crate::scene::{Scene, ShapeSpec};
+use crate::scene::{OutflowSpec, Scene, ShapeSpec, WaterRegionSpec};
 use crate::start_solids::Solids;
 use crate::water::boundary::{Inflow, InflowSpeed, Outflow};
 use crate::water::material::WaterMaterial;
@@ -48,20 +48,7 @@ pub(super) fn fill<const D: usize>(
     let mut regions = Vec::new();
     let mut speed = Measured::default();
     for (ri, r) in spec.regions.iter().enumerate() {
-        let shape = Shape::<D>::from_spec(&r.shape, &scene.assets);
-        let mut pts = shape.fill(dp);
-        if !solids.is_empty() {
-            pts.retain(|p| !solids.holds(p, dp));
-        }
-        if pts.is_empty() {
-            return Err(BuildError {
-                path: format!("water.regions[{ri}].shape"),
-                message: format!(
-                    "water region `{}` holds no particle at dp = {dp:?} m; enlarge it or refine dp",
-                    r.name
-                ),
-            });
-        }
+        let pts = region_points::<D>(scene, (ri, r), &solids, dp)?;
         let (bottom, top) = extent(&pts, up, dp);
         let vel = r
             .velocity
@@ -97,31 +84,101 @@ pub(super) fn fill<const D: usize>(
         message: e.message,
     })?;
     let mat = WaterMaterial::from_spec(&spec, chosen.c0, chosen.scale);
-    let mut water = WaterParticles::<D>::default();
-    let mut counts = Vec::new();
-    // with pores, the water stands at each column's surface, pores and free water
-    // together; without, at each region's top
-    let surface = (!pores.is_empty()).then(|| {
-        let pts: Vec<&Vect<D>> = regions.iter().flat_map(|r| r.1.iter()).collect();
-        column_surfaces(&pts, up, dp)
-    });
-    let mut at = 0;
-    for (name, pts, top, vel) in regions {
-        for p in &pts {
-            let top = surface.as_ref().map_or(top, |s| s[at]);
-            at += 1;
-            let rho = if spec.hydrostatic_start {
-                mat.density(mat.hydrostatic_pressure(gnorm, top - p.dot(up)))
-            } else {
-                mat.rho0
-            };
-            water.push(*p, vel, rho, rho * vol);
-        }
-        counts.push((name, pts.len()));
+    let at_rest = Rest {
+        mat: &mat,
+        hydrostatic: spec.hydrostatic_start,
+        g: gnorm,
+        up,
+        vol,
+    };
+    let (particles, counts) = at_rest.particles(regions, !pores.is_empty(), dp);
+    Ok(Some(Water {
+        particles,
+        material: Some(mat),
+        counts,
+        inflows,
+        outflows: outflows::<D>(&spec.outflows),
+    }))
+}
+
+/// One water region's particles: the lattice points of spacing `dp` in its shape,
+/// less those inside a solid; refused if none is left.
+fn region_points<const D: usize>(
+    scene: &Scene,
+    (ri, r): (usize, &WaterRegionSpec),
+    solids: &Solids<D>,
+    dp: Real,
+) -> Result<Vec<Vect<D>>, BuildError> {
+    let shape = Shape::<D>::from_spec(&r.shape, &scene.assets);
+    let mut pts = shape.fill(dp);
+    if !solids.is_empty() {
+        pts.retain(|p| !solids.holds(p, dp));
     }
-    water.shrink_to_fit();
-    let outflows = spec
-        .outflows
+    if pts.is_empty() {
+        return Err(BuildError {
+            path: format!("water.regions[{ri}].shape"),
+            message: format!(
+                "water region `{}` holds no particle at dp = {dp:?} m; enlarge it or refine dp",
+                r.name
+            ),
+        });
+    }
+    Ok(pts)
+}
+
+/// One region of water to place: its name, its particles, its top (along `up`) and
+/// its velocity.
+type Region<const D: usize> = (String, Vec<Vect<D>>, Real, Vect<D>);
+
+/// How the water starts: its material, whether at the hydrostatic pressure (under
+/// gravity `g` along `up`) or at ρ_w, and the particle volume `vol`.
+struct Rest<'a, const D: usize> {
+    mat: &'a WaterMaterial,
+    hydrostatic: bool,
+    g: Real,
+    up: &'a Vect<D>,
+    vol: Real,
+}
+
+impl<const D: usize> Rest<'_, D> {
+    /// The water particles of `regions`, in order, and each region's name and count.
+    /// With pores, the water stands at each column's surface, pores and free water
+    /// together; without, at each region's top.
+    fn particles(
+        &self,
+        regions: Vec<Region<D>>,
+        with_pores: bool,
+        dp: Real,
+    ) -> (WaterParticles<D>, Vec<(String, usize)>) {
+        let (mat, up) = (self.mat, self.up);
+        let mut water = WaterParticles::<D>::default();
+        let mut counts = Vec::new();
+        let surface = with_pores.then(|| {
+            let pts: Vec<&Vect<D>> = regions.iter().flat_map(|r| r.1.iter()).collect();
+            column_surfaces(&pts, up, dp)
+        });
+        let mut at = 0;
+        for (name, pts, top, vel) in regions {
+            for p in &pts {
+                let top = surface.as_ref().map_or(top, |s| s[at]);
+                at += 1;
+                let rho = if self.hydrostatic {
+                    mat.density(mat.hydrostatic_pressure(self.g, top - p.dot(up)))
+                } else {
+                    mat.rho0
+                };
+                water.push(*p, vel, rho, rho * self.vol);
+            }
+            counts.push((name, pts.len()));
+        }
+        water.shrink_to_fit();
+        (water, counts)
+    }
+}
+
+/// The outflow planes of the scene, each normal made a unit vector.
+fn outflows<const D: usize>(specs: &[OutflowSpec]) -> Vec<Outflow<D>> {
+    specs
         .iter()
         .map(|o| {
             let n = v::<D>(&o.normal);
@@ -131,14 +188,7 @@ pub(super) fn fill<const D: usize>(
                 normal: n / n.norm(),
             }
         })
-        .collect();
-    Ok(Some(Water {
-        particles: water,
-        material: Some(mat),
-        counts,
-        inflows,
-        outflows,
-    }))
+        .collect()
 }
 
 /// The vertical column of width dp (along `up`) that holds `x`: its horizontal cell.
