@@ -97,6 +97,59 @@ pub fn integrate<const D: usize>(
     p.vel[i] + (acc + prm.gravity) * prm.dt
 }
 
+/// Particle i's side of the Riemann problems of its pairs (Eq. 20), with the
+/// reciprocals it shares between them.
+struct StarSide<'a> {
+    si: &'a Source,
+    ci: Real,
+    half_inv_z: Real,
+    inv_ci: Real,
+    half_z: Real,
+    inv_z_uniform: Real,
+}
+
+impl<'a> StarSide<'a> {
+    #[inline(always)]
+    fn new(si: &'a Source, ci: Real) -> Self {
+        let (half_inv_z, inv_ci) = si.reciprocals(ci);
+        StarSide {
+            si,
+            ci,
+            half_inv_z,
+            inv_ci,
+            half_z: 0.5 * si.z,
+            inv_z_uniform: 2.0 * half_inv_z,
+        }
+    }
+
+    /// P* of Eq. (20), the same seen from either side, for the velocities `ul`, `ur`
+    /// along the pair's normal and neighbour `sj` of material `mat_j`; and 2/(Z_i + Z_j).
+    #[inline(always)]
+    fn p_star<const D: usize>(
+        &self,
+        prm: &MomentumParams<'_, D>,
+        (ul, ur): (Real, Real),
+        sj: &Source,
+        mat_j: usize,
+    ) -> (Real, Real) {
+        let si = self.si;
+        if prm.uniform {
+            let beta = prm.riemann.limiter(ul - ur, self.inv_ci);
+            (
+                Riemann::p_star_uniform(si.p, sj.p, beta, self.half_z, ul - ur),
+                self.inv_z_uniform,
+            )
+        } else {
+            let cj = prm.materials[mat_j].c0;
+            let (inv_z, inv_c) =
+                pair_reciprocals(si.z, sj.z, self.ci, cj, self.half_inv_z, self.inv_ci);
+            let left = Side::new(si.z, ul, si.p);
+            let right = Side::new(sj.z, ur, sj.p);
+            (prm.riemann.p_star(left, right, inv_z, inv_c), 2.0 * inv_z)
+        }
+    }
+}
+
 /// Runs over the fine–fine relation (`NeighborLists::inner_of`).
 ///
 /// The fine–fine terms of the sweep, each pair evaluated once and added to both of its
@@ -125,11 +178,8 @@ pub fn pair_pass<const D: usize>(
             for i in slabs[s] as usize..slabs[s + 1] as usize {
                 let si = &src[i];
                 let mat_i = material[i] as usize;
-                let ci = prm.materials[mat_i].c0;
-                let (half_inv_z, inv_ci) = si.reciprocals(ci);
+                let star = StarSide::new(si, prm.materials[mat_i].c0);
                 let (xi, vi) = (pos[i], vel[i]);
-                let left = |u: Real| Side::new(si.z, u, si.p);
-                let (half_z, inv_z_uniform) = (0.5 * si.z, 2.0 * half_inv_z);
                 let kept_i = kept[i];
                 let g_i = if hourglass { prm.hourglass[mat_i] } else { 0.0 };
                 let li = &vel_grad[i];
@@ -149,23 +199,7 @@ pub fn pair_pass<const D: usize>(
                         let dw = prm.kernel.dw_within(r);
                         let (ul, ur) = (-vi.dot(&e), -vj.dot(&e));
                         let mat_j = material[j] as usize;
-                        // P* of Eq. (20), the same seen from either side
-                        let (pstar, two_inv_z) = if prm.uniform {
-                            let beta = prm.riemann.limiter(ul - ur, inv_ci);
-                            (
-                                Riemann::p_star_uniform(si.p, sj.p, beta, half_z, ul - ur),
-                                inv_z_uniform,
-                            )
-                        } else {
-                            let cj = prm.materials[mat_j].c0;
-                            let (inv_z, inv_c) =
-                                pair_reciprocals(si.z, sj.z, ci, cj, half_inv_z, inv_ci);
-                            let right = Side::new(sj.z, ur, sj.p);
-                            (
-                                prm.riemann.p_star(left(ul), right, inv_z, inv_c),
-                                2.0 * inv_z,
-                            )
-                        };
+                        let (pstar, two_inv_z) = star.p_star(prm, (ul, ur), sj, mat_j);
                         // σ*·e = (σ̄ˢ − P* I)·e, Eq. (18)
                         let mut t = si.dev.add(&sj.dev).dot_vec(&e) * 0.5 - e * pstar;
                         if let Some(a) = &prm.artificial {
