@@ -342,3 +342,43 @@ fn speedup_table(doc: &Value, runs: &[Value]) -> String {
     }
     s
 }
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accuracy_series::COVERED_BY;
+
+    /// Issue 39: every bench case with a reference has a section in the committed
+    /// report, docs/benchmarks.md (directly or through the case that stands for it), so
+    /// a case added to the bench without regenerating the report fails here.
+    #[test]
+    fn every_bench_case_with_a_reference_is_in_the_report() {
+        let report = std::fs::read_to_string(
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/benchmarks.md"),
+        )
+        .expect("docs/benchmarks.md");
+        let all = series();
+        let mut missing = Vec::new();
+        for c in crate::bench_cases::cases() {
+            if !c.metric.has_reference() {
+                continue;
+            }
+            let name = COVERED_BY
+                .iter()
+                .find(|(n, _)| *n == c.name)
+                .map_or(c.name.as_str(), |(_, by)| by);
+            assert!(
+                all.iter().any(|s| s.case == name),
+                "bench case {} is not in the accuracy suite",
+                c.name
+            );
+            if !report.contains(&format!("\n## {name}\n")) {
+                missing.push(c.name.clone());
+            }
+        }
+        assert!(
+            missing.is_empty(),
+            "docs/benchmarks.md has no section for {missing:?}: regenerate it with \
+             `granmix bench --suite accuracy --report docs/benchmarks.md`"
+        );
+    }
+}
