@@ -83,9 +83,17 @@ class Cli:
 
     def __init__(self, *args) -> None:
         cmd = [str(VENV_BIN / "granmix-sweep"), *map(str, args)]
-        self.proc = subprocess.Popen(
-            cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE
-        )
+        # Ctrl-C raises KeyboardInterrupt in the child, as at a terminal: a test run
+        # started in the background by a non-interactive shell has SIGINT ignored,
+        # which a child inherits (and Python then keeps ignoring it), while a handled
+        # signal is reset to its default action by exec
+        old = signal.signal(signal.SIGINT, signal.default_int_handler)
+        try:
+            self.proc = subprocess.Popen(
+                cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE
+            )
+        finally:
+            signal.signal(signal.SIGINT, old)
         self.err = b""
         self.reader = threading.Thread(target=self._read, daemon=True)
         self.reader.start()
