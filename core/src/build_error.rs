@@ -11,3 +11,9 @@ pub struct BuildError {
     pub path: String,
     pub message: String,
 }
+
+/// The message for a region (`what`: "region" or "water region") named `name` that
+/// holds no particle at spacing `dp`: the build's and the estimate's.
+pub fn empty_region_message(what: &str, name: &str, dp: crate::math::Real) -> String {
+    format!("{what} `{name}` holds no particle at dp = {dp:?} m; enlarge it or refine dp")
+}

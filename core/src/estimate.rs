@@ -10,6 +10,7 @@
 //! thinner than the sampling resolution are the band −w < sdf < 0 scaled to their
 //! depth (coarea formula: the shell volume is the surface area times the depth).
 
+use crate::build_error::empty_region_message;
 use crate::fine::pair_sums::PairSums;
 use crate::fine::pores::Pores;
 use crate::fine::source::Source;
@@ -208,10 +209,7 @@ pub fn empty_part(scene: &Scene, e: &Estimate) -> Option<KeyError> {
         if n.is_nan() || *n < 1.0 {
             return Some(KeyError::new(
                 format!("{key}[{i}].shape"),
-                format!(
-                    "{what} `{name}` holds no particle at dp = {:?} m; enlarge it or refine dp",
-                    e.dp
-                ),
+                empty_region_message(what, name, e.dp),
             ));
         }
         *i += 1;

@@ -111,7 +111,7 @@ impl<const D: usize> FamilyLists<D> {
 
     /// Largest speed at the end of the last step.
     pub fn vmax(&self) -> Real {
-        self.inner.vmax
+        self.inner.vmax()
     }
 
     /// The family's three relations (`names`: inner, wall, coarse) with their builds and
@@ -275,8 +275,6 @@ impl<const D: usize> FamilyLists<D> {
             let x = pos[f.0].iter().copied().collect();
             Blowup::of_particle(at, family, ids[f.0], x, f, max_speed)
         })?;
-        self.inner.vmax = vmax2.sqrt();
-        self.inner.max_disp = disp2.sqrt() + self.inner.marks.round_off;
-        Ok(self.inner.vmax)
+        Ok(self.inner.end_step(vmax2, disp2))
     }
 }

@@ -122,7 +122,10 @@ impl<const D: usize> SoilWater<D> {
             norm: lattice_sum::<D>(kernel, world.resolution.dp),
             own: Vec::new(),
             own_water: Vec::new(),
-            relation: SoilWaterRelation::new(kernel.cutoff + 1.5 * skin),
+            relation: SoilWaterRelation::new(
+                kernel.cutoff + 1.5 * skin,
+                (&world.domain.0, &world.domain.1),
+            ),
             soil: Vec::new(),
             coef: Vec::new(),
             drag: Vec::new(),
@@ -183,11 +186,8 @@ impl<const D: usize> SoilWater<D> {
         now: [usize; 4],
     ) {
         let (f, w) = (&world.fine, &world.water.particles);
-        let (lo, hi) = &world.domain;
-        self.relation.rebuild(&w.pos, &f.pos, (lo, hi), now);
-        let Some(grid) = self.relation.grid() else {
-            return;
-        };
+        self.relation.rebuild(&w.pos, &f.pos, now);
+        let grid = self.relation.grid();
         let soil = &self.soil;
         self.own.clear();
         self.own.par_extend(soil.par_iter().map(|q| {
@@ -276,8 +276,8 @@ impl<const D: usize> SoilWater<D> {
             &self.relation
         } else {
             let (lo, hi) = &world.domain;
-            let mut l = SoilWaterRelation::new(self.relation.radius());
-            l.rebuild(&w.pos, &world.fine.pos, (lo, hi), [0; 4]);
+            let mut l = SoilWaterRelation::new(self.relation.radius(), (lo, hi));
+            l.rebuild(&w.pos, &world.fine.pos, [0; 4]);
             own = l;
             &own
         };

@@ -3,7 +3,7 @@
 //! buried boulders), with its initial velocity and stress.
 
 use super::{geostatic_tensor, v};
-use crate::build_error::BuildError;
+use crate::build_error::{empty_region_message, BuildError};
 use crate::fine::material::FineMaterial;
 use crate::fine::state::FineParticles;
 use crate::geometry::Shape;
@@ -49,10 +49,7 @@ pub(super) fn fill<const D: usize>(
         if pts.is_empty() {
             return Err(BuildError {
                 path: format!("regions[{ri}].shape"),
-                message: format!(
-                    "region `{}` holds no particle at dp = {dp:?} m; enlarge it or refine dp",
-                    r.name
-                ),
+                message: empty_region_message("region", &r.name, dp),
             });
         }
         let vel = r

@@ -7,7 +7,7 @@
 
 use super::v;
 use super::Water;
-use crate::build_error::BuildError;
+use crate::build_error::{empty_region_message, BuildError};
 use crate::flow_speed::{choose, water_spec, Measured};
 use crate::geometry::Shape;
 use crate::math::{extent, up, Real, Vect};
@@ -117,10 +117,7 @@ fn region_points<const D: usize>(
     if pts.is_empty() {
         return Err(BuildError {
             path: format!("water.regions[{ri}].shape"),
-            message: format!(
-                "water region `{}` holds no particle at dp = {dp:?} m; enlarge it or refine dp",
-                r.name
-            ),
+            message: empty_region_message("water region", &r.name, dp),
         });
     }
     Ok(pts)

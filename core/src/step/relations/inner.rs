@@ -57,15 +57,15 @@ impl<const D: usize> PositionMarks<D> {
 pub struct InnerRelation<const D: usize> {
     /// Binned afresh at every list build: a serialised state keeps only its geometry.
     #[serde(with = "crate::neighbors::geometry_only")]
-    pub grid: CellGrid<D>,
-    pub marks: PositionMarks<D>,
+    pub(in crate::step) grid: CellGrid<D>,
+    pub(in crate::step) marks: PositionMarks<D>,
     /// Largest displacement since the last list build (end of the last step).
-    pub max_disp: Real,
+    max_disp: Real,
     /// Largest speed at the end of the last step.
-    pub vmax: Real,
-    pub skin: Real,
+    vmax: Real,
+    pub(in crate::step) skin: Real,
     /// List radius: kernel cut-off plus skin.
-    pub radius: Real,
+    pub(in crate::step) radius: Real,
 }
 
 impl<const D: usize> InnerRelation<D> {
@@ -91,6 +91,19 @@ impl<const D: usize> InnerRelation<D> {
     /// The rebuild rule: two particles moving `moved` each may have closed the skin.
     pub fn expired(&self, moved: Real) -> bool {
         2.0 * moved > self.skin
+    }
+
+    /// Largest speed at the end of the last step.
+    pub fn vmax(&self) -> Real {
+        self.vmax
+    }
+
+    /// The end of a step whose largest squared speed and squared displacement since the
+    /// build were `vmax2` and `disp2` (the marks' rounding added); returns the speed.
+    pub fn end_step(&mut self, vmax2: Real, disp2: Real) -> Real {
+        self.vmax = vmax2.sqrt();
+        self.max_disp = disp2.sqrt() + self.marks.round_off;
+        self.vmax
     }
 
     /// Bin `pos` (the family re-sorted by cell) and mark it as this build's positions.

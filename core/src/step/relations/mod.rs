@@ -36,17 +36,6 @@ pub enum Relation {
 }
 
 impl Relation {
-    /// Every relation, in the order of the step.
-    pub const ALL: [Relation; 7] = [
-        Relation::FineFine,
-        Relation::FineWall,
-        Relation::FineCoarse,
-        Relation::WaterWater,
-        Relation::WaterWall,
-        Relation::WaterCoarse,
-        Relation::SoilWater,
-    ];
-
     /// Its name in summaries (`fine-fine`, …).
     pub fn name(self) -> &'static str {
         match self {

@@ -13,14 +13,15 @@ use crate::neighbors::CellGrid;
 pub type BuiltAt = [usize; 4];
 
 /// The water–soil pairs (see the module docs).
-/// A restored state keeps only the radius: its first step builds the lists.
-#[derive(Clone, Default, serde::Serialize, serde::Deserialize)]
+/// A restored state keeps the radius and the grid's geometry: its first step builds the
+/// lists.
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub struct SoilWaterRelation<const D: usize> {
     #[serde(skip)]
     lists: CrossLists,
-    /// Cells of the soil for the lists' build, `radius` wide.
-    #[serde(skip)]
-    grid: Option<CellGrid<D>>,
+    /// Cells of the soil for the lists' build, `radius` wide (binned at every build).
+    #[serde(with = "crate::neighbors::geometry_only")]
+    grid: CellGrid<D>,
     radius: Real,
     #[serde(skip)]
     built_at: Option<BuiltAt>,
@@ -29,11 +30,14 @@ pub struct SoilWaterRelation<const D: usize> {
 }
 
 impl<const D: usize> SoilWaterRelation<D> {
-    /// The relation with lists of `radius`; never built yet.
-    pub fn new(radius: Real) -> Self {
+    /// The relation with lists of `radius` over the box `lo`–`hi`; never built yet.
+    pub fn new(radius: Real, (lo, hi): (&Vect<D>, &Vect<D>)) -> Self {
         SoilWaterRelation {
+            lists: CrossLists::default(),
+            grid: CellGrid::new(lo, hi, radius),
             radius,
-            ..Default::default()
+            built_at: None,
+            builds: 0,
         }
     }
 
@@ -53,27 +57,17 @@ impl<const D: usize> SoilWaterRelation<D> {
         self.built_at.is_some_and(|b| b[2] == fine && b[3] == water)
     }
 
-    /// Build the lists of the water at `water` against the soil at `soil` in the box
-    /// `lo`–`hi`, at the families' state `now`.
-    pub fn rebuild(
-        &mut self,
-        water: &[Vect<D>],
-        soil: &[Vect<D>],
-        (lo, hi): (&Vect<D>, &Vect<D>),
-        now: BuiltAt,
-    ) {
-        let radius = self.radius;
-        let grid = self
-            .grid
-            .get_or_insert_with(|| CellGrid::new(lo, hi, radius));
-        self.lists.build(water, soil, grid, radius);
+    /// Build the lists of the water at `water` against the soil at `soil`, at the
+    /// families' state `now`.
+    pub fn rebuild(&mut self, water: &[Vect<D>], soil: &[Vect<D>], now: BuiltAt) {
+        self.lists.build(water, soil, &mut self.grid, self.radius);
         self.built_at = Some(now);
         self.builds += 1;
     }
 
-    /// The cells the soil was binned in at the last build (None before the first).
-    pub fn grid(&self) -> Option<&CellGrid<D>> {
-        self.grid.as_ref()
+    /// The cells the soil was binned in at the last build.
+    pub fn grid(&self) -> &CellGrid<D> {
+        &self.grid
     }
 
     /// The soil particles near water particle `i`.
