@@ -67,6 +67,12 @@ impl fmt::Display for Blowup {
         )?;
         if let Some(l) = self.limit {
             write!(f, " exceeds the bound simulation.max_speed = {l} m/s")?;
+        } else if self.quantity == DENSITY_CHANGE && self.value.is_finite() {
+            write!(
+                f,
+                " exceeds {DENSITY_CHANGE_LIMIT}: the particles outran the sound speed (a wall \
+                 or body driven faster than the material's waves, or a step too long)"
+            )?;
         } else if self.value.is_finite() {
             // a finite value only fails the guard for being ≤ 0 (density)
             write!(f, " is not positive")?;
@@ -109,15 +115,27 @@ pub type Failure = (usize, &'static str, f64, bool);
 /// First failure found in a chunk.
 pub type ChunkFailure = Option<Failure>;
 
+/// The quantity of a [`Blowup`] whose density changed by more than
+/// [`DENSITY_CHANGE_LIMIT`] of itself within one step.
+pub const DENSITY_CHANGE: &str = "density change over one step, relative";
+
+/// |dρ/dt| Δt / ρ beyond which a step has outrun the sound speed. A step of Δt =
+/// CFL h/(c0 + |v|) changes a density by about CFL |Δv|/c0 (Eqs. 15, 51); 0.5 needs
+/// neighbours closing or parting faster than the material's waves (a wall or body
+/// driven faster than them, or a Δt too long). It stops such a run where the density
+/// floor of the soil (`numerics.density_floor`) would hide the density's fall.
+pub const DENSITY_CHANGE_LIMIT: f64 = 0.5;
+
 /// The first problem of particle `i` at the end of a step, in this order: a non-finite
-/// velocity (`v2` = |v|²), position or density, a density ≤ 0, the family's own check
-/// `more` (e.g. a non-finite stress), a speed beyond `max_speed`.
+/// velocity (`v2` = |v|²), position or density, a density ≤ 0, a density that changed
+/// by more than [`DENSITY_CHANGE_LIMIT`] of itself over the step (`change`,
+/// |dρ/dt| Δt/ρ), the family's own check `more` (e.g. a non-finite stress), a speed
+/// beyond `max_speed`.
 #[inline(always)]
 pub fn check<const D: usize>(
     i: usize,
-    v2: f64,
-    x: &nalgebra::SVector<f64, D>,
-    rho: f64,
+    (v2, x): (f64, &nalgebra::SVector<f64, D>),
+    (rho, change): (f64, f64),
     more: impl FnOnce() -> Option<(&'static str, f64)>,
     max_speed: f64,
 ) -> ChunkFailure {
@@ -127,6 +145,8 @@ pub fn check<const D: usize>(
         Some((i, "position", x.norm(), false))
     } else if !(rho.is_finite() && rho > 0.0) {
         Some((i, "density", rho, false))
+    } else if change.is_nan() || change > DENSITY_CHANGE_LIMIT {
+        Some((i, DENSITY_CHANGE, change, false))
     } else if let Some((q, v)) = more() {
         Some((i, q, v, false))
     } else if v2 > max_speed * max_speed {
@@ -148,4 +168,35 @@ pub fn reduce(chunks: &[(f64, f64, ChunkFailure)]) -> Result<(f64, f64), Failure
         d2 = d2.max(*d);
     }
     Ok((v2, d2))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Vector2;
+
+    #[test]
+    fn a_density_that_halves_in_one_step_stops_the_run() {
+        let x = Vector2::new(0.1, 0.2);
+        let ok = check(3, (1.0, &x), (2000.0, 0.49), || None, 100.0);
+        assert_eq!(ok, None);
+        let f = check(3, (1.0, &x), (2000.0, 0.51), || None, 100.0).unwrap();
+        assert_eq!((f.0, f.1, f.3), (3, DENSITY_CHANGE, false));
+        // a density that is not positive is named first
+        let f = check(3, (1.0, &x), (-1.0, 0.9), || None, 100.0).unwrap();
+        assert_eq!(f.1, "density");
+        let b = Blowup::of_particle(
+            (7, 0.5),
+            Family::Fine,
+            42,
+            vec![0.1, 0.2],
+            (3, DENSITY_CHANGE, 0.51, false),
+            100.0,
+        );
+        let text = b.to_string();
+        assert!(
+            text.contains("exceeds 0.5") && text.contains("sound speed"),
+            "{text}"
+        );
+    }
 }

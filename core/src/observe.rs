@@ -46,6 +46,36 @@ pub fn potential_energy<const D: usize>(p: &FineParticles<D>, g: &Vect<D>) -> Re
         .fold(0.0, |a, e| a + e)
 }
 
+/// The fine grains' density relative to their material's: ρ/ρ0 per particle,
+/// summarised as median, 10th percentile and minimum (issue 41: a cohesionless soil
+/// with ψ = 0 cannot dilate, so a ratio well below 1 is the scheme's, not the soil's).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct DensityRatio {
+    pub median: Real,
+    pub p10: Real,
+    pub min: Real,
+}
+
+/// ρ/ρ0 of every fine particle (`rho0` per material index), summarised; None without
+/// particles. Percentiles are order statistics, ⌊q (n − 1)⌋ of the sorted ratios.
+pub fn density_ratio<const D: usize>(p: &FineParticles<D>, rho0: &[Real]) -> Option<DensityRatio> {
+    if p.is_empty() {
+        return None;
+    }
+    let mut r: Vec<Real> = p
+        .rho
+        .iter()
+        .zip(&p.material)
+        .map(|(rho, m)| rho / rho0[*m as usize])
+        .collect();
+    let mut at = |q: Real| {
+        let k = (q * (r.len() - 1) as Real).floor() as usize;
+        *r.select_nth_unstable_by(k, Real::total_cmp).1
+    };
+    let (median, p10, min) = (at(0.5), at(0.1), at(0.0));
+    Some(DensityRatio { median, p10, min })
+}
+
 /// Deposit run-out (see [`RunoutSpec`]): fine grains plus `coarse` (position, volume)
 /// pairs, so that rocks inside a deposit count as deposit.
 pub fn runout<const D: usize>(

@@ -106,6 +106,9 @@ pub struct Sample {
     /// Largest fine-grain speed at the end of the last step (m/s); the coarse grains'
     /// is `coarse_max_speed`, the water's `water.max_speed`.
     pub max_speed: Real,
+    /// The fine grains' ρ/ρ0 (median, 10th percentile, minimum); None without fine grains.
+    #[serde(default)]
+    pub density_ratio: Option<crate::observe::DensityRatio>,
     /// Largest coarse-grain particle speed (m/s); 0 without coarse grains.
     #[serde(default)]
     pub coarse_max_speed: Real,

@@ -202,6 +202,7 @@ impl<const D: usize> Simulation<D> {
                 (cp.pos[i], cp.mass[i] / w.coarse.solids[b.material].rho0)
             })
             .collect();
+        let rho0: Vec<Real> = w.materials.iter().map(|m| m.rho0).collect();
         let s = Sample {
             time: w.time,
             steps: w.steps,
@@ -210,6 +211,7 @@ impl<const D: usize> Simulation<D> {
             potential_energy: observe::potential_energy(&w.fine, &w.gravity),
             runout: observe::runout(&w.fine, &coarse_volumes, &self.runout, w.resolution.dp),
             max_speed: self.stepper.fine_vmax(),
+            density_ratio: observe::density_ratio(&w.fine, &rho0),
             coarse_max_speed: cp.vel.iter().map(|v| v.norm()).fold(0.0, Real::max),
             barriers,
             probes,

@@ -388,6 +388,11 @@ fn observables(l: &Layout, last: &Sample, ke_peak: f64) -> Map<String, Value> {
         obs.insert("kinetic_energy".into(), json!(last.kinetic_energy));
         obs.insert("kinetic_energy_peak".into(), json!(ke_peak));
         obs.insert("max_speed".into(), json!(last.max_speed));
+        if let Some(d) = last.density_ratio {
+            obs.insert("density_ratio.median".into(), json!(d.median));
+            obs.insert("density_ratio.p10".into(), json!(d.p10));
+            obs.insert("density_ratio.min".into(), json!(d.min));
+        }
     }
     if l.fine || !l.bodies.is_empty() {
         obs.insert("runout".into(), json!(last.runout));

@@ -162,6 +162,8 @@ const S: Unit = Unit::Fixed("s");
 const M: Unit = Unit::Fixed("m");
 const MS: Unit = Unit::Fixed("m/s");
 const PA: Unit = Unit::Fixed("Pa");
+/// The summaries of the fine grains' ρ/ρ0 (`granmix_core::observe::DensityRatio`).
+const DENSITY_RATIO: [&str; 3] = ["median", "p10", "min"];
 
 /// Columns for a scene of this layout, in row order.
 pub fn header(l: &Layout) -> Vec<Column> {
@@ -183,9 +185,7 @@ pub fn header(l: &Layout) -> Vec<Column> {
         Column::real("dt", S),
     ];
     if l.fine {
-        h.push(Column::real("kinetic_energy", Unit::Energy));
-        h.push(Column::real("potential_energy", Unit::Energy));
-        h.push(Column::real("max_speed", MS));
+        h.extend(fine_columns());
     }
     if l.grains() {
         h.push(Column::real("runout", M));
@@ -264,6 +264,19 @@ pub fn header(l: &Layout) -> Vec<Column> {
     h
 }
 
+/// The fine grains' columns: energies, largest speed and ρ/ρ0.
+fn fine_columns() -> Vec<Column> {
+    let mut h = vec![
+        Column::real("kinetic_energy", Unit::Energy),
+        Column::real("potential_energy", Unit::Energy),
+        Column::real("max_speed", MS),
+    ];
+    for q in DENSITY_RATIO {
+        h.push(Column::real(format!("density_ratio.{q}"), Unit::Fixed("")));
+    }
+    h
+}
+
 /// Labels of a barrier's panels, as the FMU names them: `panel_<p>` along one
 /// direction (2D), `panel_<i>_<j>` on a grid (3D); none without panels.
 pub fn panel_labels(counts: &[usize]) -> Vec<String> {
@@ -296,6 +309,8 @@ pub fn row(l: &Layout, s: &Sample) -> Vec<Cell> {
     };
     if l.fine {
         reals(&mut r, &[s.kinetic_energy, s.potential_energy, s.max_speed]);
+        let d = s.density_ratio.unwrap_or_default();
+        reals(&mut r, &[d.median, d.p10, d.min]);
     }
     if l.grains() {
         r.push(Cell::Real(s.runout));

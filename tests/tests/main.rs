@@ -15,6 +15,7 @@ mod scene_errors;
 mod scene_headers;
 mod scenes_smoke;
 mod slope_stability;
+mod spreading_density;
 mod stability_guard;
 mod thin_layer_slope;
 mod validation_blocks;

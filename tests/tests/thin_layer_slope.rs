@@ -21,9 +21,24 @@ const G: f64 = 9.81;
 /// thick, as probes at a quarter, half and three quarters of its length read it (the
 /// layer's free ends slump locally).
 fn slide(theta: f64, phi: f64, layers: usize, wall_stress: &str) -> Vec<(f64, f64)> {
+    let mut out = Vec::new();
+    run_text(
+        &layer_scene(theta, phi, layers, wall_stress),
+        "thin_layer.toml",
+        |x| {
+            let v = x.probes.iter().map(|p| p.1.velocity[0]).sum::<f64>() / 3.0;
+            out.push((x.time, v));
+        },
+    );
+    out
+}
+
+/// A layer `layers` particles thick on a floor inclined at θ (gravity tilted), with
+/// velocity probes at a quarter, half and three quarters of its length.
+fn layer_scene(theta: f64, phi: f64, layers: usize, wall_stress: &str) -> String {
     let (s, c) = theta.to_radians().sin_cos();
     let height = layers as f64 * DP;
-    let text = format!(
+    format!(
         r#"
 [simulation]
 dimension = 2
@@ -71,13 +86,7 @@ position = [{q3}, {mid}]
         mid = 0.5 * height,
         gx = G * s,
         gy = -G * c,
-    );
-    let mut out = Vec::new();
-    run_text(&text, "thin_layer.toml", |x| {
-        let v = x.probes.iter().map(|p| p.1.velocity[0]).sum::<f64>() / 3.0;
-        out.push((x.time, v));
-    });
-    out
+    )
 }
 
 fn speed_at(v: &[(f64, f64)], t: f64) -> f64 {
@@ -127,6 +136,38 @@ fn thin_layers_slide_above_friction_angle_no_faster_than_coulomb() {
             (0.6..=1.1).contains(&(a / coulomb)),
             "a layer {layers} particle(s) thick slides at {a:.3} m/s² on a {theta}° slope \
              (φ = {phi}°), Coulomb: {coulomb:.3} m/s²"
+        );
+    }
+}
+
+/// A resting layer carries its own weight and no more (issue 41): the normal stress at
+/// its base is ρ g h cos θ. The base value is the bottom row's mean σ_nn (its centre
+/// lies dp/2 above the floor) plus the weight of the half particle below its centre,
+/// over the middle half of the layer (its free ends slump). A layer squeezed by the
+/// transients of its loading, or one whose particles' volumes grew, carries more.
+#[test]
+fn resting_thin_layers_carry_their_weight_at_the_base() {
+    let (theta, phi) = (20.0f64, 30.0);
+    let cos = theta.to_radians().cos();
+    for layers in [1, 2, 4] {
+        let text = layer_scene(theta, phi, layers, "extrapolated");
+        let sim = run_text(&text, "thin_layer.toml", |_| {});
+        let f = sim.frame();
+        let (mut sum, mut n) = (0.0, 0);
+        for (p, s) in f.fine.iter().zip(&f.stress) {
+            let [x, y, _] = p.position.map(f64::from);
+            if y < DP && (0.25 * LEN..0.75 * LEN).contains(&x) {
+                sum -= f64::from(s[1]);
+                n += 1;
+            }
+        }
+        assert!(n > 0, "no particle in the bottom row");
+        let base = sum / n as f64 + RHO * G * cos * 0.5 * DP;
+        let expected = RHO * G * cos * layers as f64 * DP;
+        assert!(
+            (base / expected - 1.0).abs() < 0.10,
+            "a layer {layers} particle(s) thick on a {theta}° slope: base pressure {base:.1} Pa, \
+             ρ g h cos θ = {expected:.1} Pa"
         );
     }
 }

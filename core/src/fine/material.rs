@@ -44,6 +44,29 @@ impl FineMaterial {
     }
 }
 
+impl FineMaterial {
+    /// The least density the soil can take: its elastic density ρ0 (1 + P/K) at the
+    /// apex of the Drucker–Prager cone, P = −k_c/(3α_φ), where the tension cut-off of
+    /// seed 000 Eq. (11) holds the stress. ρ0 for a cohesionless soil, which carries no
+    /// tension and, with ψ = 0, cannot dilate; 0 without friction (no apex).
+    pub fn density_floor(&self) -> Real {
+        if self.alpha_phi <= 0.0 {
+            return 0.0;
+        }
+        let p_apex = -self.k_c / (3.0 * self.alpha_phi);
+        (self.rho0 * (1.0 + p_apex / self.bulk)).max(0.0)
+    }
+}
+
+/// `rho` raised to `floor` ([`FineMaterial::density_floor`]). Only a positive density
+/// is raised: a negative or NaN one is left for the stability guard to report.
+#[inline(always)]
+pub fn hold_floor(rho: &mut Real, floor: Real) {
+    if *rho > 0.0 && *rho < floor {
+        *rho = floor;
+    }
+}
+
 fn dp_alpha(angle_rad: Real) -> Real {
     let t = angle_rad.tan();
     t / (9.0 + 12.0 * t * t).sqrt()

@@ -4,7 +4,7 @@
 //! velocities are read from the particle state itself: the distance test then scans a
 //! compact array, and the state is not held twice.
 
-use super::material::FineMaterial;
+use super::material::{hold_floor, FineMaterial};
 use super::state::FineParticles;
 use crate::math::{Real, Sym};
 use crate::neighbors::CHUNK;
@@ -76,7 +76,7 @@ pub fn pack<const D: usize>(p: &FineParticles<D>, mats: &[FineMaterial], out: &m
 pub fn drift_and_pack<const D: usize>(
     p: &mut FineParticles<D>,
     mats: &[FineMaterial],
-    half: Real,
+    (half, floor): (Real, Option<&[Real]>),
     out: &mut Vec<Source>,
 ) {
     let n = p.len();
@@ -92,6 +92,9 @@ pub fn drift_and_pack<const D: usize>(
             .map(|(i, (x, r))| {
                 *x += state.vel[i] * half;
                 *r += state.drho[i] * half;
+                if let Some(f) = floor {
+                    hold_floor(r, f[state.material[i] as usize]);
+                }
                 Source::of(state, mats, i, *r)
             }),
     );

@@ -191,6 +191,12 @@ pub struct NumericsSpec {
     /// Deviatoric stress of the dummy wall particles (Eqs. 32–35).
     #[serde(default)]
     pub wall_stress: WallStress,
+    /// Hold each soil's density at or above its density at the apex of the yield cone,
+    /// ρ0 (1 − p_t/K) with p_t = k_c/(3α_φ) (ρ0 for a cohesionless soil): the
+    /// volumetric counterpart of the tension cut-off of Eq. (11). Default true; false
+    /// integrates the continuity equation alone.
+    #[serde(default = "default_density_floor")]
+    pub density_floor: bool,
 }
 
 /// The deviatoric stress a dummy wall particle carries against a fine particle; its
@@ -236,8 +242,13 @@ impl Default for NumericsSpec {
             wall_friction: 0.0,
             continuity_jump: ContinuityJump::default(),
             wall_stress: WallStress::default(),
+            density_floor: default_density_floor(),
         }
     }
+}
+
+fn default_density_floor() -> bool {
+    true
 }
 
 fn default_zeta() -> f64 {

@@ -49,6 +49,25 @@ pub struct Closing<'a, const D: usize> {
     pub rho: &'a mut [Real],
     pub vel: &'a [Vect<D>],
     pub drho: &'a [Real],
+    /// The least density of each particle's material, by material index (the soil's
+    /// [`DensityFloor`]); None: no floor (water).
+    pub floor: Option<DensityFloor<'a>>,
+}
+
+/// Per particle its material index, per material its least density
+/// ([`FineMaterial::density_floor`](crate::fine::material::FineMaterial::density_floor)).
+#[derive(Clone, Copy)]
+pub struct DensityFloor<'a> {
+    pub material: &'a [u16],
+    pub floor: &'a [Real],
+}
+
+impl DensityFloor<'_> {
+    /// ρ raised to particle i's floor (a negative or NaN one is left for the guard).
+    #[inline(always)]
+    fn hold(&self, i: usize, rho: &mut Real) {
+        crate::fine::material::hold_floor(rho, self.floor[self.material[i] as usize]);
+    }
 }
 
 /// The relations, lists, loads and scratch of one SPH family (see the module docs).
@@ -226,9 +245,10 @@ impl<const D: usize> FamilyLists<D> {
         );
     }
 
-    /// Seed 000 Eq. (56): x and ρ to the end of the step by `half`; each chunk records
-    /// its largest speed and displacement since the list build, and its first failing
-    /// particle (`more(i)`: the family's own check of particle i, after the common ones).
+    /// Seed 000 Eq. (56): x and ρ to the end of the step by `half`, ρ then held at its
+    /// floor (if any); each chunk records its largest speed and displacement since the
+    /// list build, and its first failing particle (`more(i)`: the family's own check of
+    /// particle i, after the common ones, on the density before the floor).
     pub fn close_step(
         &mut self,
         c: Closing<'_, D>,
@@ -237,6 +257,7 @@ impl<const D: usize> FamilyLists<D> {
         more: impl Fn(usize) -> Option<(&'static str, Real)> + Sync,
     ) {
         let marks = &self.inner.marks;
+        let floor = c.floor;
         c.pos
             .par_chunks_mut(CHUNK)
             .zip(c.rho.par_chunks_mut(CHUNK))
@@ -253,7 +274,12 @@ impl<const D: usize> FamilyLists<D> {
                     vmax2 = vmax2.max(v2);
                     disp2 = disp2.max(d2);
                     if fail.is_none() {
-                        fail = check(i, v2, &x[k], r[k], || more(i), max_speed);
+                        // |dρ/dt| Δt / ρ over the step
+                        let change = (d[k] * 2.0 * half / r[k]).abs();
+                        fail = check(i, (v2, &x[k]), (r[k], change), || more(i), max_speed);
+                    }
+                    if let Some(f) = &floor {
+                        f.hold(i, &mut r[k]);
                     }
                 }
                 (vmax2, disp2, fail)

@@ -4,7 +4,7 @@
 //! walls and coarse grains), the continuity and stress sweep (Eqs. 15, 24–26, 7–12)
 //! and x, ρ to the end of the step (Eq. 56) with the stress check.
 
-use super::family::{Closing, FamilyLists};
+use super::family::{Closing, DensityFloor, FamilyLists};
 use super::params::StepParams;
 use super::relations::WallRelation;
 use super::soil_water_stage::SoilWater;
@@ -71,6 +71,8 @@ pub struct FineStepper<const D: usize> {
     tension: Vec<bool>,
     /// All fine materials share one impedance and sound speed (fixed for a run).
     uniform: bool,
+    /// Per material: the least density (`numerics.density_floor`; empty: off).
+    density_floor: Vec<Real>,
 }
 
 impl<const D: usize> FineStepper<D> {
@@ -112,6 +114,11 @@ impl<const D: usize> FineStepper<D> {
             hourglass,
             tension: world.materials.iter().map(|m| m.cohesion > 0.0).collect(),
             uniform: uniform_acoustics(&world.materials),
+            density_floor: if params.density_floor {
+                world.materials.iter().map(|m| m.density_floor()).collect()
+            } else {
+                Vec::new()
+            },
         }
     }
 
@@ -155,6 +162,7 @@ impl<const D: usize> FineStepper<D> {
             rho: &mut f.rho,
             vel: &f.vel,
             drho: &f.drho,
+            floor: floor_of(&self.density_floor, &f.material),
         };
         self.family.close_step(closing, half, max_speed, |i| {
             (!stress[i].is_finite()).then(|| ("stress", stress[i].trace()))
@@ -169,9 +177,16 @@ impl<const D: usize> FineStepper<D> {
             .guard(Family::Fine, (&f.id, &f.pos), at, max_speed)
     }
 
-    /// Eq. (54): positions and density to the half step, packed for the sweeps.
+    /// Eq. (54): positions and density to the half step (density held at its floor),
+    /// packed for the sweeps.
     pub(super) fn drift(&mut self, world: &mut World<D>, half: Real) {
-        drift_and_pack(&mut world.fine, &world.materials, half, &mut self.src);
+        let floor = floor_of(&self.density_floor, &[]).map(|f| f.floor);
+        drift_and_pack(
+            &mut world.fine,
+            &world.materials,
+            (half, floor),
+            &mut self.src,
+        );
     }
 
     /// Eq. (27): the artificial stress of every particle (cohesive soils only).
@@ -357,4 +372,9 @@ impl<const D: usize> ContinuitySweep<'_, D> {
         f.vel_grad = vel_grad;
         f.hourglass_kept = hourglass_kept;
     }
+}
+
+/// The density floor of particles of `material` (per-material `floor`; empty: off).
+fn floor_of<'a>(floor: &'a [Real], material: &'a [u16]) -> Option<DensityFloor<'a>> {
+    (!floor.is_empty()).then_some(DensityFloor { material, floor })
 }

@@ -39,6 +39,9 @@ pub struct StepParams {
     pub continuity_jump: ContinuityJump,
     /// Deviatoric stress of the dummy wall particles.
     pub wall_stress: WallStress,
+    /// Soil densities held at or above their floor
+    /// ([`FineMaterial::density_floor`](crate::fine::material::FineMaterial::density_floor)).
+    pub density_floor: bool,
     /// The contact law of coarse grains (seeds 001, 004).
     pub contact: ContactLaw,
     /// CFL^c of Eq. (52).
@@ -68,6 +71,7 @@ impl StepParams {
             scheme: s.simulation.time_stepping,
             continuity_jump: n.continuity_jump,
             wall_stress: n.wall_stress,
+            density_floor: n.density_floor,
             contact: ContactLaw::from_spec(&s.contact, res.dp, s.simulation.dimension),
             cfl_coarse: s.simulation.cfl_coarse,
         }

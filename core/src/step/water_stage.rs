@@ -280,6 +280,7 @@ impl<const D: usize> WaterStepper<D> {
             rho: &mut w.rho,
             vel: &w.vel,
             drho: &w.drho,
+            floor: None,
         };
         self.family.close_step(closing, half, max_speed, |_| None);
         t.add(Stage::WaterDriftFinalize, start.elapsed().as_secs_f64());
