@@ -53,7 +53,7 @@ enum Command {
         /// Skip VTK snapshots.
         #[arg(long)]
         no_vtk: bool,
-        /// Skip the quick-look plot (plots/quicklook.png: barrier loads, energies,
+        /// Skip the quick-look plot (plots/quicklook.png: barrier loads, energies, soil density,
         /// run-out against time).
         #[arg(long)]
         no_plots: bool,

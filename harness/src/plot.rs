@@ -172,6 +172,9 @@ pub struct Panel {
     pub title: String,
     pub ylabel: String,
     pub curves: Vec<Curve>,
+    /// A y range the axis always covers (None: the curves' own), so that a quantity
+    /// that barely moves is drawn as flat rather than magnified.
+    pub include: Option<(f64, f64)>,
 }
 
 /// (min, max) of `values`, widened to a non-empty range with a 5 % margin.
@@ -208,7 +211,8 @@ pub fn panels(path: &Path, title: &str, xlabel: &str, panels: &[Panel]) -> Resul
             panel
                 .curves
                 .iter()
-                .flat_map(|c| c.points.iter().map(|q| q.1)),
+                .flat_map(|c| c.points.iter().map(|q| q.1))
+                .chain(panel.include.into_iter().flat_map(|(a, b)| [a, b])),
         );
         let mut chart = ChartBuilder::on(area)
             .caption(&panel.title, ("sans-serif", 18))

@@ -1,8 +1,9 @@
 //! The quick-look plot `granmix run` writes (`plots/quicklook.png`; `--no-plots` turns
 //! it off): an engineer's first questions after a run, answered without a script.
-//! Three panels against time: the barrier loads split into water and grains, the
-//! kinetic energy of each family and their total, and the run-out of the grains with
-//! the water's front. The curves are the rows of series.csv.
+//! Panels against time: the barrier loads split into water and grains, the kinetic
+//! energy of each family and their total, the run-out of the grains with the water's
+//! front, and the soil's density against its material's (median, 10th percentile and
+//! minimum of ρ/ρ0). The curves are the rows of series.csv.
 
 use crate::plot::{self, Curve, Panel};
 use crate::series::{self, Layout, Unit};
@@ -88,6 +89,27 @@ fn fronts(l: &Layout, samples: &[Sample]) -> Vec<Curve> {
     c
 }
 
+/// The fine grains' ρ/ρ0: median, 10th percentile and minimum (empty without them).
+fn densities(samples: &[Sample]) -> Vec<Curve> {
+    type Pick = fn(&granmix_core::observe::DensityRatio) -> f64;
+    let picks: [(&str, Pick); 3] = [
+        ("median", |d| d.median),
+        ("10th percentile", |d| d.p10),
+        ("minimum", |d| d.min),
+    ];
+    picks
+        .iter()
+        .map(|(label, pick)| Curve {
+            label: (*label).into(),
+            points: samples
+                .iter()
+                .filter_map(|s| Some((s.time, pick(&s.density_ratio?))))
+                .collect(),
+        })
+        .filter(|c| !c.points.is_empty())
+        .collect()
+}
+
 /// Write the quick-look PNG of a run's samples to `path`.
 pub fn write(path: &Path, title: &str, l: &Layout, samples: &[Sample]) -> Result<()> {
     let d = l.dim;
@@ -98,12 +120,14 @@ pub fn write(path: &Path, title: &str, l: &Layout, samples: &[Sample]) -> Result
             title: "barrier load (impulse-averaged resultant)".into(),
             ylabel: format!("force [{}]", Unit::Force.symbol(d)),
             curves: load,
+            include: None,
         });
     }
     panels.push(Panel {
         title: "kinetic energy".into(),
         ylabel: format!("energy [{}]", Unit::Energy.symbol(d)),
         curves: energies(l, samples),
+        include: None,
     });
     let front = fronts(l, samples);
     if !front.is_empty() {
@@ -111,6 +135,17 @@ pub fn write(path: &Path, title: &str, l: &Layout, samples: &[Sample]) -> Result
             title: "run-out".into(),
             ylabel: "distance [m]".into(),
             curves: front,
+            include: None,
+        });
+    }
+    let density = densities(samples);
+    if !density.is_empty() {
+        panels.push(Panel {
+            title: "soil density".into(),
+            ylabel: "ρ/ρ0".into(),
+            curves: density,
+            // ρ0 ± 5 %: a soil that keeps its density draws flat at 1
+            include: Some((0.95, 1.05)),
         });
     }
     plot::panels(path, title, "time [s]", &panels)
