@@ -3,7 +3,7 @@
 use crate::fine::state::FineParticles;
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Sym, Vect};
-use crate::sample::{ProbeValue, Sample};
+use crate::sample::{DensityRatio, ProbeValue, Sample};
 
 /// How run-out is measured. Particle volumes are binned by horizontal distance from the
 /// origin (bins of width dp); a bin is deposit where its thickness ΣV / bin-area is at
@@ -44,16 +44,6 @@ pub fn potential_energy<const D: usize>(p: &FineParticles<D>, g: &Vect<D>) -> Re
         .zip(&p.mass)
         .map(|(x, m)| -m * g.dot(x))
         .fold(0.0, |a, e| a + e)
-}
-
-/// The fine grains' density relative to their material's: ρ/ρ0 per particle,
-/// summarised as median, 10th percentile and minimum (issue 41: a cohesionless soil
-/// with ψ = 0 cannot dilate, so a ratio well below 1 is the scheme's, not the soil's).
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct DensityRatio {
-    pub median: Real,
-    pub p10: Real,
-    pub min: Real,
 }
 
 /// ρ/ρ0 of every fine particle (`rho0` per material index), summarised; None without

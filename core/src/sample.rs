@@ -63,6 +63,16 @@ pub struct WaterSample {
     pub momentum: [Real; 3],
 }
 
+/// The fine grains' density relative to their material's: ρ/ρ0 per particle,
+/// summarised as median, 10th percentile and minimum (issue 41: a cohesionless soil
+/// with ψ = 0 cannot dilate, so a ratio well below 1 is the scheme's, not the soil's).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct DensityRatio {
+    pub median: Real,
+    pub p10: Real,
+    pub min: Real,
+}
+
 /// State of one coarse grain (3D layout; z = 0 in 2D, rotation about z).
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct BodySample {
@@ -108,7 +118,7 @@ pub struct Sample {
     pub max_speed: Real,
     /// The fine grains' ρ/ρ0 (median, 10th percentile, minimum); None without fine grains.
     #[serde(default)]
-    pub density_ratio: Option<crate::observe::DensityRatio>,
+    pub density_ratio: Option<DensityRatio>,
     /// Largest coarse-grain particle speed (m/s); 0 without coarse grains.
     #[serde(default)]
     pub coarse_max_speed: Real,

@@ -162,7 +162,7 @@ const S: Unit = Unit::Fixed("s");
 const M: Unit = Unit::Fixed("m");
 const MS: Unit = Unit::Fixed("m/s");
 const PA: Unit = Unit::Fixed("Pa");
-/// The summaries of the fine grains' ρ/ρ0 (`granmix_core::observe::DensityRatio`).
+/// The summaries of the fine grains' ρ/ρ0 (`granmix_core::sample::DensityRatio`).
 const DENSITY_RATIO: [&str; 3] = ["median", "p10", "min"];
 
 /// Columns for a scene of this layout, in row order.

@@ -58,12 +58,23 @@ impl FineMaterial {
     }
 }
 
-/// `rho` raised to `floor` ([`FineMaterial::density_floor`]). Only a positive density
-/// is raised: a negative or NaN one is left for the stability guard to report.
-#[inline(always)]
-pub fn hold_floor(rho: &mut Real, floor: Real) {
-    if *rho > 0.0 && *rho < floor {
-        *rho = floor;
+/// Per particle its material index, per material its least density
+/// ([`FineMaterial::density_floor`]).
+#[derive(Clone, Copy)]
+pub struct DensityFloor<'a> {
+    pub material: &'a [u16],
+    pub floor: &'a [Real],
+}
+
+impl DensityFloor<'_> {
+    /// Particle i's density raised to its material's floor. Only a positive density is
+    /// raised: a negative or NaN one is left for the stability guard to report.
+    #[inline(always)]
+    pub fn hold(&self, i: usize, rho: &mut Real) {
+        let f = self.floor[self.material[i] as usize];
+        if *rho > 0.0 && *rho < f {
+            *rho = f;
+        }
     }
 }
 

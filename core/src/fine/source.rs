@@ -4,7 +4,7 @@
 //! velocities are read from the particle state itself: the distance test then scans a
 //! compact array, and the state is not held twice.
 
-use super::material::{hold_floor, FineMaterial};
+use super::material::{DensityFloor, FineMaterial};
 use super::state::FineParticles;
 use crate::math::{Real, Sym};
 use crate::neighbors::CHUNK;
@@ -76,13 +76,18 @@ pub fn pack<const D: usize>(p: &FineParticles<D>, mats: &[FineMaterial], out: &m
 pub fn drift_and_pack<const D: usize>(
     p: &mut FineParticles<D>,
     mats: &[FineMaterial],
-    (half, floor): (Real, Option<&[Real]>),
+    (half, floor): (Real, &[Real]),
     out: &mut Vec<Source>,
 ) {
     let n = p.len();
     let mut pos = std::mem::take(&mut p.pos);
     let mut rho = std::mem::take(&mut p.rho);
     let state = &*p;
+    // an empty `floor`: no floor
+    let floor = (!floor.is_empty()).then_some(DensityFloor {
+        material: &state.material,
+        floor,
+    });
     out.clear();
     out.par_extend(
         pos.par_iter_mut()
@@ -92,8 +97,8 @@ pub fn drift_and_pack<const D: usize>(
             .map(|(i, (x, r))| {
                 *x += state.vel[i] * half;
                 *r += state.drho[i] * half;
-                if let Some(f) = floor {
-                    hold_floor(r, f[state.material[i] as usize]);
+                if let Some(f) = &floor {
+                    f.hold(i, r);
                 }
                 Source::of(state, mats, i, *r)
             }),

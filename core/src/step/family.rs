@@ -6,6 +6,7 @@
 //! sources, its sweeps' buffers, and what its guard checks beyond the common set.
 
 use super::relations::{CoarseRelation, InnerRelation, Relation, RelationStats, WallRelation};
+use crate::fine::material::DensityFloor;
 use crate::fine::state::FineParticles;
 use crate::guard::{check, Blowup, ChunkFailure, Family};
 use crate::interactions::fine_coarse::CoarseSource;
@@ -49,25 +50,8 @@ pub struct Closing<'a, const D: usize> {
     pub rho: &'a mut [Real],
     pub vel: &'a [Vect<D>],
     pub drho: &'a [Real],
-    /// The least density of each particle's material, by material index (the soil's
-    /// [`DensityFloor`]); None: no floor (water).
+    /// The soil's least densities; None: no floor (water).
     pub floor: Option<DensityFloor<'a>>,
-}
-
-/// Per particle its material index, per material its least density
-/// ([`FineMaterial::density_floor`](crate::fine::material::FineMaterial::density_floor)).
-#[derive(Clone, Copy)]
-pub struct DensityFloor<'a> {
-    pub material: &'a [u16],
-    pub floor: &'a [Real],
-}
-
-impl DensityFloor<'_> {
-    /// ρ raised to particle i's floor (a negative or NaN one is left for the guard).
-    #[inline(always)]
-    fn hold(&self, i: usize, rho: &mut Real) {
-        crate::fine::material::hold_floor(rho, self.floor[self.material[i] as usize]);
-    }
 }
 
 /// The relations, lists, loads and scratch of one SPH family (see the module docs).

@@ -4,13 +4,13 @@
 //! walls and coarse grains), the continuity and stress sweep (Eqs. 15, 24–26, 7–12)
 //! and x, ρ to the end of the step (Eq. 56) with the stress check.
 
-use super::family::{Closing, DensityFloor, FamilyLists};
+use super::family::{Closing, FamilyLists};
 use super::params::StepParams;
 use super::relations::WallRelation;
 use super::soil_water_stage::SoilWater;
 use crate::fine::artificial_stress::gray2001_artificial_stress;
 use crate::fine::continuity::{ContinuityOut, ContinuityParams, JumpDiffusion};
-use crate::fine::material::uniform_acoustics;
+use crate::fine::material::{uniform_acoustics, DensityFloor};
 use crate::fine::momentum::{ArtificialStress, MomentumParams};
 use crate::fine::pair_sums::PairSums;
 use crate::fine::source::{drift_and_pack, pack, Source};
@@ -180,7 +180,7 @@ impl<const D: usize> FineStepper<D> {
     /// Eq. (54): positions and density to the half step (density held at its floor),
     /// packed for the sweeps.
     pub(super) fn drift(&mut self, world: &mut World<D>, half: Real) {
-        let floor = floor_of(&self.density_floor, &[]).map(|f| f.floor);
+        let floor = &self.density_floor;
         drift_and_pack(
             &mut world.fine,
             &world.materials,
