@@ -28,6 +28,7 @@ pub mod math;
 pub mod mesh;
 pub mod neighbors;
 pub mod observe;
+pub mod oscillation;
 pub mod pair_block;
 pub mod panels;
 pub mod periodic;

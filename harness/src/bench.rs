@@ -242,6 +242,10 @@ fn run_level(a: &BenchArgs, c: &Case, (label, over): &Level, finest: bool) -> Re
         "dt_fine": rep.summary["dt_fine"], "dt_coarse": rep.summary["dt_coarse"],
         "blocks": matches!(c.metric, Metric::BlockLanding(_))
             .then(|| block_json(&rep.samples)),
+        "wave": match c.metric {
+            Metric::StandingWave(w) => Some(w.report(&rep.samples)),
+            _ => None,
+        },
     });
     Ok(LevelRun {
         record,
@@ -320,6 +324,20 @@ fn compare(records: &[Value]) -> Vec<Value> {
                 100.0 * mean
             ),
         }));
+    }
+    if let Some(w) = find("standing_wave", "dp=h/50").map(|r| &r["wave"]) {
+        if let Some(e) = w["period_rel_error"].as_f64() {
+            out.push(json!({
+                "name": "standing_wave_period",
+                "period_s": w["period_s"], "period_linear_s": w["period_linear_s"],
+                "period_rel_error": e, "tolerance": 0.01,
+                "pass": e.abs() <= 0.01,
+                "text": format!(
+                    "standing wave at dp = h/50 (issue 42): period {:.2} % off linear theory (tolerance 1 %)",
+                    100.0 * e
+                ),
+            }));
+        }
     }
     if let (Some(m), Some(s)) = (
         find("crater_schemes", "multi-rate"),

@@ -281,6 +281,20 @@ fn water() -> Vec<Case> {
         )
         .tolerance(0.05),
         Case::new(
+            "standing_wave",
+            "standing_wave_2d.toml",
+            vec![
+                dp("dp=h/25", 0.02),
+                dp("dp=h/50", 0.01),
+                dp("dp=h/100", 0.005),
+            ],
+            Metric::StandingWave(crate::metric_wave::WaveRef::TANK),
+            "first sloshing mode, h = 0.5 m, L = 1 m: log decrement per period against the \
+             physical 1.95e-3 (error: their difference, asked ≤ 0.05), period against linear \
+             theory (asked 1 %)",
+        )
+        .tolerance(0.05),
+        Case::new(
             "poiseuille_2d",
             "poiseuille_2d.toml",
             vec![as_is("H/40")],

@@ -9,6 +9,7 @@ mod bench_ipc;
 mod check;
 mod metric;
 mod metric_pores;
+mod metric_wave;
 mod pack;
 mod pattern;
 mod plot;

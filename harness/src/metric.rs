@@ -52,6 +52,11 @@ pub(crate) enum Metric {
     Consolidation(crate::metric_pores::ConsolidationRef),
     /// The final run-out, reported without a reference.
     RunoutReport,
+    /// The first sloshing mode of a closed 2D tank (issue 42): the log decrement per
+    /// period of the water's horizontal momentum against the physical one (Stokes
+    /// layers and interior viscosity); the error is their difference. The period
+    /// against linear theory is reported beside it.
+    StandingWave(crate::metric_wave::WaveRef),
 }
 
 impl Metric {
@@ -266,6 +271,10 @@ impl Metric {
             Metric::Darcy(r) => (r.error(&rep.samples), Some(0.0)),
             Metric::Consolidation(r) => (r.error(&rep.samples), Some(0.0)),
             Metric::RunoutReport => (Some(last.runout), None),
+            Metric::StandingWave(r) => (
+                crate::metric_wave::WaveRef::fit(&rep.samples).map(|f| f.decrement()),
+                Some(r.decrement()),
+            ),
             Metric::StartingAcceleration(radius, r) => {
                 (starting_acceleration(&rep.samples, radius), Some(r))
             }
@@ -298,6 +307,7 @@ impl Metric {
                 Some((ka - v).max(v - k0).max(0.0) / k0)
             }
             (Metric::RestingEnergy(..), Some(v), Some(b)) => Some((v - b).max(0.0) / b),
+            (Metric::StandingWave(_), Some(v), Some(r)) => Some((v - r).abs()),
             (_, Some(v), Some(0.0)) => Some(v.abs()),
             (_, Some(v), Some(r)) => Some((v - r).abs() / r.abs()),
             _ => None,
@@ -345,12 +355,13 @@ impl CraterRef {
 /// A resolution label and its scene overrides.
 pub(crate) type Level = (String, Vec<String>);
 
-/// VALIDATION §2 at aspect ratio `a`: the levels r0/10, r0/15, r0/20, the column
+/// VALIDATION §2 at aspect ratio `a`: the levels r0/10, r0/15, r0/20 and r0/25 (the
+/// convergence study's finest, VALIDATION §2 decision of 2026-11-25), the column
 /// height override and Lube's run-out r∞ = r0 (1 + 1.24 a), r0 = 0.1 m.
 pub(crate) fn collapse_3d(a: f64) -> (Vec<Level>, Vec<String>, Metric) {
     let r0 = 0.1;
     (
-        [10.0, 15.0, 20.0]
+        [10.0, 15.0, 20.0, 25.0]
             .iter()
             .map(|k| (format!("r0/{k}"), vec![format!("simulation.dp={}", r0 / k)]))
             .collect(),

@@ -211,6 +211,7 @@ pub fn header(l: &Layout) -> Vec<Column> {
         h.push(Column::real("water.potential_energy", Unit::Energy));
         h.push(Column::real("water.front", M));
         h.push(Column::real("water.max_speed", MS));
+        axes(&mut h, "water.momentum", Unit::Momentum);
     }
     for (b, panels) in &l.barriers {
         axes(&mut h, &format!("{b}.force"), Unit::Force);
@@ -337,6 +338,7 @@ pub fn row(l: &Layout, s: &Sample) -> Vec<Cell> {
         reals(&mut r, &[w.kinetic_energy, w.potential_energy]);
         r.push(Cell::maybe(w.front));
         r.push(Cell::Real(w.max_speed));
+        reals(&mut r, &w.momentum[..d]);
     }
     for (b, (_, panels)) in s.barriers.iter().zip(&l.barriers) {
         reals(&mut r, &b.force[..d]);

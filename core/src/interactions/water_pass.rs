@@ -25,7 +25,7 @@ use crate::water::correction::{self, Corr};
 use crate::water::momentum::{WaterParams, WaterSums};
 use crate::water::source::WaterSource;
 use crate::water::state::WaterParticles;
-use crate::water::{continuity, momentum};
+use crate::water::{continuity, gradient, momentum};
 use rayon::prelude::*;
 
 /// Runs over the water–water, water–wall and water–coarse relations.
@@ -69,6 +69,27 @@ pub fn correction_sweep<const D: usize>(
         });
 }
 
+/// Runs over the water–water relation.
+///
+/// The corrected velocity gradient ∇v_i = L_i B_i of every particle into `grad`
+/// ([`gradient`]), `corr` holding B. Wall and coarse neighbours do not enter L: the
+/// gradient of a particle by a wall is that of its water neighbours, under-estimated
+/// where B is not blended to I, which only leaves more dissipation there.
+pub fn gradient_sweep<const D: usize>(
+    w: &WaterParticles<D>,
+    src: &[WaterSource],
+    lists: &NeighborLists,
+    prm: &WaterParams<D>,
+    corr: &[Corr<D>],
+    grad: &mut [Corr<D>],
+) {
+    grad.par_iter_mut().for_each(|g| *g = Corr::<D>::zeros());
+    gradient::pair_pass(w, |i| src[i].vol, lists, (&prm.kernel, &prm.wrap), grad);
+    grad.par_iter_mut()
+        .zip(corr.par_iter())
+        .for_each(|(g, b)| *g *= b);
+}
+
 /// Runs over the water–water, water–wall and water–coarse relations.
 ///
 /// v_{n+1} = v_n + Δt (dv/dt + g) into `vel_new`, and the walls' reactions per chunk
@@ -80,7 +101,7 @@ pub fn correction_sweep<const D: usize>(
 pub fn momentum_sweep<const D: usize>(
     w: &WaterParticles<D>,
     src: &[WaterSource],
-    corr: &[Corr<D>],
+    (corr, grad): (&[Corr<D>], &[Corr<D>]),
     walls: &Walls<D>,
     coarse: WaterCoarse<'_, D>,
     lists: &NeighborLists,
@@ -91,7 +112,7 @@ pub fn momentum_sweep<const D: usize>(
     sums: &mut [WaterSums<D>],
 ) {
     let csrc = coarse.src;
-    momentum::pair_pass(w, src, corr, lists, prm, sums);
+    momentum::pair_pass(w, src, (corr, grad), lists, prm, sums);
     let nbs = walls.load_slots().max(1);
     lists
         .chunks

@@ -39,6 +39,10 @@ pub struct WaterSpec {
     /// for linear pressure fields, which a resting tank needs. Default true.
     #[serde(default = "yes")]
     pub gradient_correction: bool,
+    /// MUSCL reconstruction of the Riemann dissipation: each pair's velocities taken to
+    /// its midpoint with the corrected velocity gradient, minmod-limited. Default false.
+    #[serde(default)]
+    pub muscl: bool,
     /// A settling phase (s): over [0, settle_time) the water's velocities are damped
     /// at the rate 10/settle_time, so that a state built at rest comes to rest in
     /// its own discrete equilibrium. Default 0 (off).
@@ -68,6 +72,24 @@ pub struct WaterRegionSpec {
     /// Initial velocity (m/s). Default at rest.
     #[serde(default)]
     pub velocity: Option<Vec<f64>>,
+    /// How the shape is filled: on the lattice (the default) or column by column up to
+    /// its surface.
+    #[serde(default)]
+    pub fill: WaterFill,
+}
+
+/// How a water region's shape is filled with particles.
+#[derive(Debug, Clone, Copy, serde::Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum WaterFill {
+    /// The lattice of spacing dp, every particle of volume dp^d; the surface is
+    /// followed to within a spacing.
+    #[default]
+    Lattice,
+    /// Each vertical column of width dp filled evenly from the shape's bottom to its
+    /// top with round(depth/dp) particles, so that a sloping or wavy surface is
+    /// followed exactly (a standing wave's initial elevation).
+    Columns,
 }
 
 /// Equation of state of the water.

@@ -9,7 +9,7 @@ use super::soil_water_stage::SeepStep;
 use crate::guard::{Blowup, Family};
 use crate::interactions::fine_coarse::{self, CoarseSource};
 use crate::interactions::water_pass::{
-    continuity_sweep, correction_sweep, momentum_sweep, WaterCoarse,
+    continuity_sweep, correction_sweep, gradient_sweep, momentum_sweep, WaterCoarse,
 };
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Vect};
@@ -41,6 +41,9 @@ pub struct WaterStepper<const D: usize> {
     sums: Vec<WaterSums<D>>,
     #[serde(skip)]
     corr: Vec<Corr<D>>,
+    /// Each particle's velocity gradient with `water.muscl` (empty without).
+    #[serde(skip)]
+    grad: Vec<Corr<D>>,
     /// Each particle's acceleration from a soil's seepage force in the last sub-step
     /// (empty without a soil).
     #[serde(skip)]
@@ -64,6 +67,7 @@ impl<const D: usize> WaterStepper<D> {
             vel_new: Vec::new(),
             sums: Vec::new(),
             corr: Vec::new(),
+            grad: Vec::new(),
             body: Vec::new(),
         }
     }
@@ -176,10 +180,23 @@ impl<const D: usize> WaterStepper<D> {
                 mat.correction,
                 &mut self.corr,
             );
+            if mat.muscl {
+                self.grad.resize(n, Corr::<D>::zeros());
+                gradient_sweep(
+                    &world.water.particles,
+                    &self.src,
+                    lists,
+                    &prm,
+                    &self.corr,
+                    &mut self.grad,
+                );
+            } else {
+                self.grad.clear();
+            }
             momentum_sweep(
                 &world.water.particles,
                 &self.src,
-                &self.corr,
+                (&self.corr, &self.grad),
                 &world.walls,
                 WaterCoarse {
                     src: csrc,

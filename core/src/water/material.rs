@@ -21,6 +21,8 @@ pub struct WaterMaterial {
     pub speed_scale: Real,
     /// Kernel gradient correction of the pressure force is on.
     pub correction: bool,
+    /// MUSCL reconstruction of the Riemann dissipation.
+    pub muscl: bool,
     /// Settling phase (s): velocities damped at 10/settle_time before it ends.
     pub settle_time: Real,
 }
@@ -37,6 +39,7 @@ impl WaterMaterial {
             limiter: spec.limiter.unwrap_or(Real::INFINITY),
             speed_scale,
             correction: spec.gradient_correction,
+            muscl: spec.muscl,
             settle_time: spec.settle_time,
         }
     }
@@ -123,6 +126,7 @@ mod tests {
             limiter: 3.0,
             speed_scale: 3.0,
             correction: true,
+            muscl: false,
             settle_time: 0.0,
         }
     }

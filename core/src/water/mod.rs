@@ -10,6 +10,7 @@
 pub mod boundary;
 pub mod continuity;
 pub mod correction;
+pub mod gradient;
 pub mod material;
 pub mod momentum;
 pub mod source;

@@ -16,6 +16,7 @@ use crate::water::material::WaterMaterial;
 use crate::water::state::WaterParticles;
 
 mod boundaries;
+mod column_fill;
 mod regions;
 mod water_fill;
 

@@ -5,13 +5,14 @@
 //!
 //! [`flow_speed::choose`]: crate::flow_speed::choose
 
+use super::column_fill::column_fill;
 use super::v;
 use super::Water;
 use crate::build_error::{empty_region_message, BuildError};
 use crate::flow_speed::{choose, water_spec, Measured};
 use crate::geometry::Shape;
 use crate::math::{extent, up, Real, Vect};
-use crate::scene::{OutflowSpec, Scene, ShapeSpec, WaterRegionSpec};
+use crate::scene::{OutflowSpec, Scene, ShapeSpec, WaterFill, WaterRegionSpec};
 use crate::start_solids::Solids;
 use crate::water::boundary::{Inflow, InflowSpeed, Outflow};
 use crate::water::material::WaterMaterial;
@@ -48,8 +49,11 @@ pub(super) fn fill<const D: usize>(
     let mut regions = Vec::new();
     let mut speed = Measured::default();
     for (ri, r) in spec.regions.iter().enumerate() {
-        let pts = region_points::<D>(scene, (ri, r), &solids, dp)?;
-        let (bottom, top) = extent(&pts, up, dp);
+        let RegionFill {
+            pts,
+            columns,
+            reach: (bottom, top),
+        } = region_points::<D>(scene, (ri, r), &solids, (dp, up))?;
         let vel = r
             .velocity
             .as_deref()
@@ -57,17 +61,28 @@ pub(super) fn fill<const D: usize>(
             .unwrap_or_else(Vect::<D>::zeros);
         speed.fall(gnorm, (bottom, top));
         speed.given(vel.norm());
-        regions.push((r.name.clone(), pts, top, vel));
+        regions.push(Region {
+            name: r.name.clone(),
+            pts,
+            top,
+            vel,
+            columns,
+        });
     }
     for r in pores {
         let bottom = extent(&r.pos, up, dp).0;
         speed.fall(gnorm, (bottom, r.top));
-        let name = format!("pores of {}", r.name);
-        regions.push((name, r.pos.clone(), r.top, Vect::<D>::zeros()));
+        regions.push(Region {
+            name: format!("pores of {}", r.name),
+            pts: r.pos.clone(),
+            top: r.top,
+            vel: Vect::<D>::zeros(),
+            columns: None,
+        });
     }
     // the inlets must meet the scene, the water regions included
     let mut reach = reach;
-    for x in regions.iter().flat_map(|r| r.1.iter()) {
+    for x in regions.iter().flat_map(|r| r.pts.iter()) {
         reach = (reach.0.inf(x), reach.1.sup(x));
     }
     let inflows = inflows::<D>(scene, reach)?;
@@ -101,18 +116,63 @@ pub(super) fn fill<const D: usize>(
     }))
 }
 
-/// One water region's particles: the lattice points of spacing `dp` in its shape,
-/// less those inside a solid; refused if none is left.
+/// One water region's particles, less those inside a solid (refused if none is left):
+/// the lattice points of spacing `dp` in its shape, or with `fill = "columns"` its
+/// column fill along the vertical `up`, with each particle's surface and volume; and
+/// the extent along `up` of its lattice points, from which the sound speed is chosen
+/// (as `flow_speed` estimates it before the build, whichever the fill).
 fn region_points<const D: usize>(
     scene: &Scene,
     (ri, r): (usize, &WaterRegionSpec),
     solids: &Solids<D>,
-    dp: Real,
-) -> Result<Vec<Vect<D>>, BuildError> {
+    (dp, up): (Real, &Vect<D>),
+) -> Result<RegionFill<D>, BuildError> {
     let shape = Shape::<D>::from_spec(&r.shape, &scene.assets);
-    let mut pts = shape.fill(dp);
+    let mut lattice = shape.fill(dp);
     if !solids.is_empty() {
-        pts.retain(|p| !solids.holds(p, dp));
+        lattice.retain(|p| !solids.holds(p, dp));
+    }
+    if lattice.is_empty() {
+        return Err(BuildError {
+            path: format!("water.regions[{ri}].shape"),
+            message: empty_region_message("water region", &r.name, dp),
+        });
+    }
+    let reach = extent(&lattice, up, dp);
+    let (mut pts, mut columns) = match r.fill {
+        WaterFill::Lattice => {
+            return Ok(RegionFill {
+                pts: lattice,
+                columns: None,
+                reach,
+            })
+        }
+        WaterFill::Columns => {
+            let axis = (0..D)
+                .find(|&k| up[k].abs() == 1.0)
+                .ok_or_else(|| BuildError {
+                    path: format!("water.regions[{ri}].fill"),
+                    message: format!(
+                        "water region `{}`: fill = \"columns\" stacks particles along the \
+                     vertical, so the gravity must point along an axis (it is {:?}); use \
+                     fill = \"lattice\" or a gravity along −y (2D) or −z (3D)",
+                        r.name,
+                        (-up).as_slice()
+                    ),
+                })?;
+            let c = column_fill(&shape, dp, axis);
+            (
+                c.iter().map(|p| p.pos).collect::<Vec<_>>(),
+                c.iter().map(|p| (p.surface, p.volume)).collect::<Columns>(),
+            )
+        }
+    };
+    if !solids.is_empty() {
+        let keep: Vec<bool> = pts.iter().map(|p| !solids.holds(p, dp)).collect();
+        let mut k = keep.iter();
+        pts.retain(|_| *k.next().expect("one flag per point"));
+        let mut k = keep.iter();
+        columns.retain(|_| *k.next().expect("one flag per point"));
     }
     if pts.is_empty() {
         return Err(BuildError {
@@ -120,12 +180,33 @@ fn region_points<const D: usize>(
             message: empty_region_message("water region", &r.name, dp),
         });
     }
-    Ok(pts)
+    Ok(RegionFill {
+        pts,
+        columns: Some(columns),
+        reach,
+    })
 }
 
-/// One region of water to place: its name, its particles, its top (along `up`) and
-/// its velocity.
-type Region<const D: usize> = (String, Vec<Vect<D>>, Real, Vect<D>);
+/// A water region's particles, each one's column surface and volume for a column
+/// fill, and the extent of its lattice points along the vertical.
+struct RegionFill<const D: usize> {
+    pts: Vec<Vect<D>>,
+    columns: Option<Columns>,
+    reach: (Real, Real),
+}
+
+/// Each particle's column surface and volume, for a column fill.
+type Columns = Vec<(Real, Real)>;
+
+/// One region of water to place: its name, its particles, its top (along `up`), its
+/// velocity and, for a column fill, each particle's surface and volume.
+struct Region<const D: usize> {
+    name: String,
+    pts: Vec<Vect<D>>,
+    top: Real,
+    vel: Vect<D>,
+    columns: Option<Columns>,
+}
 
 /// How the water starts: its material, whether at the hydrostatic pressure (under
 /// gravity `g` along `up`) or at ρ_w, and the particle volume `vol`.
@@ -151,22 +232,27 @@ impl<const D: usize> Rest<'_, D> {
         let mut water = WaterParticles::<D>::default();
         let mut counts = Vec::new();
         let surface = with_pores.then(|| {
-            let pts: Vec<&Vect<D>> = regions.iter().flat_map(|r| r.1.iter()).collect();
+            let pts: Vec<&Vect<D>> = regions.iter().flat_map(|r| r.pts.iter()).collect();
             column_surfaces(&pts, up, dp)
         });
         let mut at = 0;
-        for (name, pts, top, vel) in regions {
-            for p in &pts {
-                let top = surface.as_ref().map_or(top, |s| s[at]);
+        for r in regions {
+            for (i, p) in r.pts.iter().enumerate() {
+                let column = r.columns.as_ref().map(|c| c[i]);
+                let top = surface
+                    .as_ref()
+                    .map(|s| s[at])
+                    .or(column.map(|c| c.0))
+                    .unwrap_or(r.top);
                 at += 1;
                 let rho = if self.hydrostatic {
                     mat.density(mat.hydrostatic_pressure(self.g, top - p.dot(up)))
                 } else {
                     mat.rho0
                 };
-                water.push(*p, vel, rho, rho * self.vol);
+                water.push(*p, r.vel, rho, rho * column.map_or(self.vol, |c| c.1));
             }
-            counts.push((name, pts.len()));
+            counts.push((r.name, r.pts.len()));
         }
         water.shrink_to_fit();
         (water, counts)
