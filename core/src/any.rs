@@ -97,6 +97,9 @@ impl AnySimulation {
     pub fn barrier_names(&self) -> Vec<String> {
         dispatch!(self, s => s.world.walls.barriers.iter().map(|b| b.name.clone()).collect())
     }
+    pub fn gauge_names(&self) -> Vec<String> {
+        dispatch!(self, s => s.world.gauges.iter().map(|p| p.name.clone()).collect())
+    }
     pub fn probe_names(&self) -> Vec<String> {
         dispatch!(self, s => s.world.probes.iter().map(|p| p.name.clone()).collect())
     }

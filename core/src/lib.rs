@@ -44,6 +44,7 @@ pub mod shape_file;
 pub mod simulation;
 pub mod slabs;
 pub mod solids;
+pub mod sparse_cg;
 pub mod start_solids;
 pub mod step;
 pub mod tessellate;

@@ -61,6 +61,11 @@ pub struct WaterSample {
     pub max_speed: Real,
     /// Σ m v.
     pub momentum: [Real; 3],
+    /// The lowest water pressure of any particle at the sample (Pa); 0 without
+    /// particles. Water has no tensile strength: a value well below zero is the
+    /// scheme's (acoustic ringing), not the flow's.
+    #[serde(default)]
+    pub min_pressure: Real,
 }
 
 /// The fine grains' density relative to their material's: ρ/ρ0 per particle,
@@ -124,6 +129,9 @@ pub struct Sample {
     pub coarse_max_speed: Real,
     pub barriers: Vec<BarrierSample>,
     pub probes: Vec<(String, ProbeValue)>,
+    /// Each water-level gauge's depth of water above its base (m).
+    #[serde(default)]
+    pub gauges: Vec<(String, Real)>,
     /// Coarse sub-steps so far, and κ of the last full step (not one shortened to
     /// land on an output time).
     pub steps_coarse: u64,

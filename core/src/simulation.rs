@@ -215,6 +215,7 @@ impl<const D: usize> Simulation<D> {
             coarse_max_speed: cp.vel.iter().map(|v| v.norm()).fold(0.0, Real::max),
             barriers,
             probes,
+            gauges: self.gauge_samples(),
             steps_coarse,
             kappa,
             dt_fine: self.last_dt_f,
@@ -234,6 +235,11 @@ impl<const D: usize> Simulation<D> {
                     front: wp.front(),
                     max_speed: wp.max_speed(),
                     momentum: to3(&wp.momentum()).into(),
+                    min_pressure: w
+                        .water
+                        .material
+                        .as_ref()
+                        .map_or(0.0, |m| wp.min_pressure(m)),
                 }
             }),
         };
@@ -269,6 +275,24 @@ impl<const D: usize> Simulation<D> {
                     }
                 }
                 (p.name.clone(), v)
+            })
+            .collect()
+    }
+
+    /// Every gauge's depth of water above its base ([`WaterParticles::depth`]).
+    ///
+    /// [`WaterParticles::depth`]: crate::water::state::WaterParticles::depth
+    fn gauge_samples(&self) -> Vec<(String, Real)> {
+        let w = &self.world;
+        let up = crate::math::up(&w.gravity);
+        w.gauges
+            .iter()
+            .map(|g| {
+                let d =
+                    w.water
+                        .particles
+                        .depth(self.stepper.kernel.h, &g.position, &up, &w.periodic);
+                (g.name.clone(), d)
             })
             .collect()
     }

@@ -128,12 +128,18 @@ fn run_level(o: &AccuracyOptions, s: &Series, (label, over): &Level) -> Result<V
     if let Some(r) = cached {
         return Ok(r);
     }
+    let data = s.metric.data(o.scenes)?;
     reset_peak_rss();
     let cpu0 = cpu_time();
-    let rep = run(&RunOptions::batch(o.scenes.join(s.scene), dir, set.clone()))?;
+    let rep = run(&RunOptions::batch(
+        o.scenes.join(s.scene),
+        dir.clone(),
+        set.clone(),
+    ))?;
     let cpu = cpu_time().zip(cpu0).map(|(b, a)| b - a);
     let rss = crate::scale::peak_rss();
-    let (value, reference) = s.metric.evaluate(&rep);
+    let title = format!("{} ({}), {label}", s.case, s.scheme);
+    let (value, reference, detail) = s.metric.scored(&rep, data.as_ref(), (&dir, &title))?;
     let err = s.metric.error(value, reference);
     if let Some(b) = &rep.blowup {
         eprintln!("{} {} {label}: {b}", s.case, s.scheme);
@@ -148,6 +154,7 @@ fn run_level(o: &AccuracyOptions, s: &Series, (label, over): &Level) -> Result<V
         "particle_steps_per_s": rep.particle_steps_per_s, "peak_rss_bytes": rss,
         "value": value, "reference": reference, "rel_error": err,
         "blowup": rep.blowup.as_ref().map(|b| b.to_string()),
+        "lobovsky": detail,
     });
     std::fs::write(&record, serde_json::to_string_pretty(&r)?)?;
     Ok(r)

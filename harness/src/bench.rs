@@ -206,8 +206,10 @@ fn run_level(a: &BenchArgs, c: &Case, (label, over): &Level, finest: bool) -> Re
     let mut set = c.common.clone();
     set.extend(over.iter().cloned());
     let dir = a.out.join(&c.name).join(label.replace('/', "_"));
-    let rep = run(&RunOptions::batch(a.scenes.join(c.scene), dir, set))?;
-    let (value, reference) = c.metric.evaluate(&rep);
+    let data = c.metric.data(&a.scenes)?;
+    let rep = run(&RunOptions::batch(a.scenes.join(c.scene), dir.clone(), set))?;
+    let title = format!("{}, {label}", c.name);
+    let (value, reference, lobovsky) = c.metric.scored(&rep, data.as_ref(), (&dir, &title))?;
     let err = c.metric.error(value, reference);
     let mut failed = finest && err.zip(c.tolerance).is_some_and(|(e, tol)| e > tol);
     if let Some(b) = &rep.blowup {
@@ -242,6 +244,7 @@ fn run_level(a: &BenchArgs, c: &Case, (label, over): &Level, finest: bool) -> Re
         "dt_fine": rep.summary["dt_fine"], "dt_coarse": rep.summary["dt_coarse"],
         "blocks": matches!(c.metric, Metric::BlockLanding(_))
             .then(|| block_json(&rep.samples)),
+        "lobovsky": lobovsky,
         "wave": match c.metric {
             Metric::StandingWave(w) => Some(w.report(&rep.samples)),
             _ => None,
@@ -293,6 +296,42 @@ fn print_stages(stages: &Value, wall: f64) {
 
 /// Cross-run checks: the crater grid mean, multi-rate against single-rate, rigid
 /// against elastic.
+/// Lobovský's sensor 1 at the finest level: its arrival within 0.1 of t √(g/H) and its
+/// mean pressure over 3 ≤ t √(g/H) ≤ 6 within 15 % of the experiment's.
+fn lobovsky_checks(r: &Value) -> Vec<Value> {
+    let Some(s1) = r["sensors"].as_array().and_then(|s| s.first()) else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    if let (Some(a), Some(b)) = (s1["arrival"].as_f64(), s1["arrival_data"].as_f64()) {
+        let d = a - b;
+        out.push(json!({
+            "name": "lobovsky_arrival", "arrival": a, "arrival_data": b,
+            "difference": d, "tolerance": 0.1, "pass": d.abs() <= 0.1,
+            "text": format!(
+                "Lobovsky sensor 1 at H/160: arrives at t √(g/H) = {a:.3} against {b:.3} \
+                 (difference {d:+.3}, tolerance 0.1)"
+            ),
+        }));
+    }
+    if let Some(e) = s1["mean_rel_error"].as_f64() {
+        out.push(json!({
+            "name": "lobovsky_mean_pressure", "mean": s1["mean"], "mean_data": s1["mean_data"],
+            "rel_error": e, "tolerance": 0.15, "pass": e.abs() <= 0.15,
+            "text": format!(
+                "Lobovsky sensor 1 at H/160: mean p/(ρgH) over 3 ≤ t √(g/H) ≤ 6 {:.3} against \
+                 {:.3} ({:+.1} %, tolerance 15 %); peak {:.2} against the experiment's {:.2}",
+                s1["mean"].as_f64().unwrap_or(f64::NAN),
+                s1["mean_data"].as_f64().unwrap_or(f64::NAN),
+                100.0 * e,
+                s1["peak"].as_f64().unwrap_or(f64::NAN),
+                s1["peak_data"].as_f64().unwrap_or(f64::NAN),
+            ),
+        }));
+    }
+    out
+}
+
 fn compare(records: &[Value]) -> Vec<Value> {
     let mut out = Vec::new();
     let find = |case: &str, level: &str| {
@@ -338,6 +377,9 @@ fn compare(records: &[Value]) -> Vec<Value> {
                 ),
             }));
         }
+    }
+    if let Some(r) = find("lobovsky", "H/160").map(|r| &r["lobovsky"]) {
+        out.extend(lobovsky_checks(r));
     }
     if let (Some(m), Some(s)) = (
         find("crater_schemes", "multi-rate"),

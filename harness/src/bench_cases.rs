@@ -295,6 +295,20 @@ fn water() -> Vec<Case> {
         )
         .tolerance(0.05),
         Case::new(
+            "lobovsky",
+            "lobovsky_dam_break.toml",
+            vec![
+                dp("H/40", 0.0075),
+                dp("H/80", 0.00375),
+                dp("H/160", 0.001875),
+            ],
+            Metric::Lobovsky,
+            "dam break H = 0.3 m against Lobovsky et al. (2014): largest RMS of the water \
+             levels H1–H4 over t √(g/H) ≤ 6 in units of H (asked ≤ 0.05); sensor 1's arrival \
+             and mean pressure beside it (lobovsky.png)",
+        )
+        .tolerance(0.05),
+        Case::new(
             "poiseuille_2d",
             "poiseuille_2d.toml",
             vec![as_is("H/40")],

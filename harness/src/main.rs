@@ -8,6 +8,7 @@ mod bench_fmi;
 mod bench_ipc;
 mod check;
 mod metric;
+mod metric_lobovsky;
 mod metric_pores;
 mod metric_wave;
 mod pack;

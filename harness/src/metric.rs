@@ -57,6 +57,12 @@ pub(crate) enum Metric {
     /// layers and interior viscosity); the error is their difference. The period
     /// against linear theory is reported beside it.
     StandingWave(crate::metric_wave::WaveRef),
+    /// Lobovský et al. (2014)'s dam break: the largest RMS difference of the water
+    /// levels H1–H4 from the experiment's over t √(g/H) ≤ 6, in units of H; reference 0.
+    /// Scored with the experiment's series by the bench
+    /// ([`metric_lobovsky`](crate::metric_lobovsky)), which reports the sensors'
+    /// arrival, mean pressure and peaks beside it.
+    Lobovsky,
 }
 
 impl Metric {
@@ -271,6 +277,8 @@ impl Metric {
             Metric::Darcy(r) => (r.error(&rep.samples), Some(0.0)),
             Metric::Consolidation(r) => (r.error(&rep.samples), Some(0.0)),
             Metric::RunoutReport => (Some(last.runout), None),
+            // scored by the bench, which holds the experiment's series
+            Metric::Lobovsky => (None, Some(0.0)),
             Metric::StandingWave(r) => (
                 crate::metric_wave::WaveRef::fit(&rep.samples).map(|f| f.decrement()),
                 Some(r.decrement()),
@@ -294,6 +302,43 @@ impl Metric {
                     last.barriers.first().map(|b| b.force[0] / unit),
                     Some(r.band().1),
                 )
+            }
+        }
+    }
+
+    /// The experiment's data a metric reads from files (Lobovský's series), loaded
+    /// before a run so that a missing file stops the bench at once; None for the
+    /// others.
+    pub(crate) fn data(
+        &self,
+        scenes: &std::path::Path,
+    ) -> anyhow::Result<Option<crate::metric_lobovsky::Lobovsky>> {
+        match self {
+            Metric::Lobovsky => {
+                let dir = crate::metric_lobovsky::reference_dir(scenes)?;
+                Ok(Some(crate::metric_lobovsky::Lobovsky::load(&dir)?))
+            }
+            _ => Ok(None),
+        }
+    }
+
+    /// [`evaluate`](Self::evaluate), or with the experiment's `data` its score, its
+    /// report (a JSON value for the record) and its figure written into `dir`.
+    pub(crate) fn scored(
+        &self,
+        rep: &crate::run::RunReport,
+        data: Option<&crate::metric_lobovsky::Lobovsky>,
+        (dir, title): (&std::path::Path, &str),
+    ) -> anyhow::Result<(Option<f64>, Option<f64>, Option<serde_json::Value>)> {
+        match data {
+            Some(l) => {
+                l.plot(&rep.samples, &dir.join("lobovsky.png"), title)?;
+                let r = l.report(&rep.samples);
+                Ok((r["score"].as_f64(), Some(0.0), Some(r)))
+            }
+            None => {
+                let (v, r) = self.evaluate(rep);
+                Ok((v, r, None))
             }
         }
     }

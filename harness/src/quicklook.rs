@@ -2,8 +2,8 @@
 //! it off): an engineer's first questions after a run, answered without a script.
 //! Panels against time: the barrier loads split into water and grains, the kinetic
 //! energy of each family and their total, the run-out of the grains with the water's
-//! front, and the soil's density against its material's (median, 10th percentile and
-//! minimum of ρ/ρ0). The curves are the rows of series.csv.
+//! front, the water levels of the gauges, and the soil's density against its
+//! material's (median, 10th percentile and minimum of ρ/ρ0). The curves are the rows of series.csv.
 
 use crate::plot::{self, Curve, Panel};
 use crate::series::{self, Layout, Unit};
@@ -136,6 +136,23 @@ pub fn write(path: &Path, title: &str, l: &Layout, samples: &[Sample]) -> Result
             ylabel: "distance [m]".into(),
             curves: front,
             include: None,
+        });
+    }
+    if !l.gauges.is_empty() {
+        panels.push(Panel {
+            title: "water levels (gauges)".into(),
+            ylabel: "depth [m]".into(),
+            curves: l
+                .gauges
+                .iter()
+                .enumerate()
+                .map(|(k, g)| {
+                    curve(g.clone(), samples, |s| {
+                        s.gauges.get(k).map_or(f64::NAN, |x| x.1)
+                    })
+                })
+                .collect(),
+            include: Some((0.0, 0.0)),
         });
     }
     let density = densities(samples);

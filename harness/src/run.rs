@@ -432,6 +432,7 @@ fn observables(l: &Layout, last: &Sample, ke_peak: f64) -> Map<String, Value> {
         obs.insert("water.kinetic_energy".into(), json!(w.kinetic_energy));
         obs.insert("water.front".into(), json!(w.front));
         obs.insert("water.max_speed".into(), json!(w.max_speed));
+        obs.insert("water.min_pressure".into(), json!(w.min_pressure));
     }
     obs
 }

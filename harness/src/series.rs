@@ -23,6 +23,7 @@ pub struct Layout {
     /// Barrier names with their panel counts (empty: one panel, no panel columns).
     pub barriers: Vec<(String, Vec<usize>)>,
     pub probes: Vec<String>,
+    pub gauges: Vec<String>,
     pub bodies: Vec<String>,
 }
 
@@ -39,6 +40,7 @@ impl Layout {
                 .zip(sim.barrier_panels())
                 .collect(),
             probes: sim.probe_names(),
+            gauges: sim.gauge_names(),
             bodies: sim.body_names(),
         }
     }
@@ -212,6 +214,7 @@ pub fn header(l: &Layout) -> Vec<Column> {
         h.push(Column::real("water.front", M));
         h.push(Column::real("water.max_speed", MS));
         axes(&mut h, "water.momentum", Unit::Momentum);
+        h.push(Column::real("water.min_pressure", PA));
     }
     for (b, panels) in &l.barriers {
         axes(&mut h, &format!("{b}.force"), Unit::Force);
@@ -239,6 +242,9 @@ pub fn header(l: &Layout) -> Vec<Column> {
             h.push(Column::real(format!("{p}.water_pressure"), PA));
             axes(&mut h, &format!("{p}.water_velocity"), MS);
         }
+    }
+    for g in &l.gauges {
+        h.push(Column::real(format!("{g}.level"), M));
     }
     for b in &l.bodies {
         axes(&mut h, &format!("{b}.position"), M);
@@ -339,6 +345,7 @@ pub fn row(l: &Layout, s: &Sample) -> Vec<Cell> {
         r.push(Cell::maybe(w.front));
         r.push(Cell::Real(w.max_speed));
         reals(&mut r, &w.momentum[..d]);
+        r.push(Cell::Real(w.min_pressure));
     }
     for (b, (_, panels)) in s.barriers.iter().zip(&l.barriers) {
         reals(&mut r, &b.force[..d]);
@@ -371,6 +378,9 @@ pub fn row(l: &Layout, s: &Sample) -> Vec<Cell> {
             r.push(Cell::Real(p.water_pressure.unwrap_or(0.0)));
             reals(&mut r, &p.water_velocity.unwrap_or_default()[..d]);
         }
+    }
+    for (_, depth) in &s.gauges {
+        r.push(Cell::Real(*depth));
     }
     for b in &s.bodies {
         reals(&mut r, &b.position[..d]);
@@ -434,6 +444,7 @@ mod tests {
             water,
             barriers: vec![("barrier".into(), vec![3])],
             probes: vec!["p".into()],
+            gauges: vec!["g".into()],
             bodies: vec!["b".into()],
         }
     }
@@ -447,6 +458,7 @@ mod tests {
                 ..Default::default()
             }],
             probes: vec![("p".into(), Default::default())],
+            gauges: vec![("g".into(), 0.1)],
             bodies: vec![Default::default()],
             water: water.then(WaterSample::default),
             ..Default::default()

@@ -27,4 +27,5 @@ pub mod wall_contact;
 pub mod wall_pressure;
 pub mod water_coarse;
 pub mod water_pass;
+pub mod water_start;
 pub mod water_wall;

@@ -5,7 +5,11 @@
 //! to the wall, P_w = P_i + ρ_i g·(x_w − x_i) ([`wall_pressure`]: not below zero
 //! upwards), and the velocity
 //! mirrored along the wall normal n of Eq. (33), U_R = 2u_w − U_L (Eq. 34); P* of the
-//! one-sided Riemann problem carries the water's limiter. No-slip walls add the Morris
+//! one-sided Riemann problem carries the water's limiter, and is not below zero: free
+//! water has no tensile strength, so a particle in tension leaves the wall rather than
+//! pulling it (a wall never reads a pull; without it the right wall of
+//! `lobovsky_dam_break.toml` is pulled after the impact). A saturated soil's pore water
+//! keeps its suction (`WaterParams::push_only` is false there). No-slip walls add the Morris
 //! viscous term with the mirrored velocity 2u_w − v_i (the wall velocity at the
 //! surface); free-slip walls add none. In the continuity equation U* = u_w.
 //!
@@ -77,7 +81,9 @@ impl<const D: usize> WaterAtWall<D> {
         // Eq. (35) without its clip at zero: P_w = P_i + ρ_i g·(x_w − x_i), the
         // hydrostatic extrapolation of Adami et al. (2012), not below zero upwards
         let pw = wall_pressure(self.p, self.rho * self.hyd.dot(&(-rij)));
+        // free water has no tensile strength: a wall pushes, never pulls (issue 42)
         let ps = p_star(prm, self.p, pw, du);
+        let ps = if prm.push_only { ps.max(0.0) } else { ps };
         let be = self.corr * e;
         let mut t = be * (-ps * dw);
         if self.no_slip {

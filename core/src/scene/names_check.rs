@@ -54,6 +54,7 @@ fn names(s: &Scene) -> Vec<(String, &str)> {
     v.extend(of("barriers", &s.barriers, |m| &m.name));
     v.extend(of("containers", &s.containers, |m| &m.name));
     v.extend(of("probes", &s.probes, |m| &m.name));
+    v.extend(of("gauges", &s.gauges, |m| &m.name));
     if let Some(w) = &s.water {
         v.extend(of("water.regions", &w.regions, |m| &m.name));
         v.extend(of("water.inflows", &w.inflows, |m| &m.name));

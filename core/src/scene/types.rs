@@ -39,6 +39,8 @@ pub struct Scene {
     #[serde(default)]
     pub probes: Vec<ProbeSpec>,
     #[serde(default)]
+    pub gauges: Vec<GaugeSpec>,
+    #[serde(default)]
     pub observe: ObserveSpec,
     /// Meshes and terrain grids read from files named by shapes (filled by the loader).
     #[serde(skip)]
@@ -465,6 +467,16 @@ pub struct ContainerSpec {
 #[serde(deny_unknown_fields)]
 pub struct ProbeSpec {
     pub name: String,
+    pub position: Vec<f64>,
+}
+
+/// `[[gauges]]`: a water-level gauge, a vertical line from a base point on the floor;
+/// it reads the depth of water above the base, written to the time series.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GaugeSpec {
+    pub name: String,
+    /// The base point (m), on the floor below the line.
     pub position: Vec<f64>,
 }
 

@@ -292,6 +292,15 @@ pub fn validate_grains(s: &Scene) -> Check {
     for (i, pr) in s.probes.iter().enumerate() {
         vec_len(&format!("probes[{i}].position"), &pr.position, d)?;
     }
+    for (i, g) in s.gauges.iter().enumerate() {
+        vec_len(&format!("gauges[{i}].position"), &g.position, d)?;
+        if s.water.is_none() {
+            return fail(
+                format!("gauges[{i}]"),
+                "a water-level gauge reads water: the scene has no [water]",
+            );
+        }
+    }
     if let Some(o) = &s.observe.runout_origin {
         vec_len("observe.runout_origin", o, d - 1)?;
     }

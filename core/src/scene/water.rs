@@ -52,6 +52,12 @@ pub struct WaterSpec {
     /// of state). Default true; false starts at ρ_w everywhere.
     #[serde(default = "yes")]
     pub hydrostatic_start: bool,
+    /// Start from the pressure of an incompressible fluid released at rest (the
+    /// Laplace problem of `interactions::water_start`), which a dam break's column
+    /// takes the instant its gate vanishes. Default true, except with a saturated
+    /// soil, whose pore water starts hydrostatic; needs `hydrostatic_start`.
+    #[serde(default)]
+    pub incompressible_start: Option<bool>,
     /// Where the water starts.
     #[serde(default)]
     pub regions: Vec<WaterRegionSpec>,

@@ -11,6 +11,7 @@ use crate::interactions::fine_coarse::{self, CoarseSource};
 use crate::interactions::water_pass::{
     continuity_sweep, correction_sweep, gradient_sweep, momentum_sweep, WaterCoarse,
 };
+use crate::interactions::water_start::incompressible_start;
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Vect};
 use crate::neighbors::CellGrid;
@@ -141,6 +142,39 @@ impl<const D: usize> WaterStepper<D> {
             pack(&world.water.particles, mat, &mut self.src);
         }
         t.add(Stage::WaterNeighbors, start.elapsed().as_secs_f64());
+    }
+
+    /// Replace the hydrostatic start by the pressure of an incompressible fluid
+    /// released at rest ([`incompressible_start`]), on the lists of the first step:
+    /// each particle's density from it by the equation of state, at its volume.
+    /// Nothing changes where the water has no free surface.
+    pub fn start_incompressible(
+        &mut self,
+        world: &mut World<D>,
+        mat: &WaterMaterial,
+        kernel: WendlandC2,
+        csrc: &[CoarseSource<D>],
+    ) {
+        let prm = water_params(world, mat, kernel, (world.time, 0.0));
+        let w = &world.water.particles;
+        let p0: Vec<Real> = w.rho.iter().map(|&r| mat.pressure(r)).collect();
+        let Some(start) = incompressible_start(
+            w,
+            (|i| w.mass[i] / w.rho[i], &p0),
+            (&world.walls, csrc),
+            &self.family.lists,
+            &prm,
+            world.resolution.dp,
+        ) else {
+            return;
+        };
+        let w = &mut world.water.particles;
+        for (i, p) in start.pressure.iter().enumerate() {
+            let rho = mat.density(*p);
+            w.mass[i] *= rho / w.rho[i];
+            w.rho[i] = rho;
+        }
+        pack(&world.water.particles, mat, &mut self.src);
     }
 
     /// The two sweeps of sub-step `s` of `k`, from `t0` to `t0 + dt`: v_{n+1}, then
@@ -331,5 +365,6 @@ fn water_params<const D: usize>(
         eta: mat.limiter,
         mu: mat.mu,
         keep: mat.velocity_kept(t0, dt),
+        push_only: mat.walls_push_only,
     }
 }

@@ -66,6 +66,11 @@ impl<const D: usize> Stepper<D> {
                 let span = if block { dt } else { dt_w };
                 w.refresh_lists(world, &m, csrc, span, timers);
             }
+            if w.steps == 0 && m.incompressible_start {
+                timers.time(Stage::WaterNeighbors, || {
+                    w.start_incompressible(world, &m, *kernel, csrc)
+                });
+            }
             if let Some(sw) = seep.as_mut().filter(|_| s == 0) {
                 timers.time(Stage::SoilWater, || {
                     let builds = [fine.family.lists.builds, w.family.lists.builds];

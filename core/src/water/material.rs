@@ -23,6 +23,11 @@ pub struct WaterMaterial {
     pub correction: bool,
     /// MUSCL reconstruction of the Riemann dissipation.
     pub muscl: bool,
+    /// The first step starts from the incompressible start pressure
+    /// ([`water_start`](crate::interactions::water_start)).
+    pub incompressible_start: bool,
+    /// Walls push and never pull (the walls' P* ≥ 0); false with a saturated soil.
+    pub walls_push_only: bool,
     /// Settling phase (s): velocities damped at 10/settle_time before it ends.
     pub settle_time: Real,
 }
@@ -40,6 +45,9 @@ impl WaterMaterial {
             speed_scale,
             correction: spec.gradient_correction,
             muscl: spec.muscl,
+            incompressible_start: spec.hydrostatic_start
+                && spec.incompressible_start.unwrap_or(true),
+            walls_push_only: true,
             settle_time: spec.settle_time,
         }
     }
@@ -127,6 +135,8 @@ mod tests {
             speed_scale: 3.0,
             correction: true,
             muscl: false,
+            incompressible_start: false,
+            walls_push_only: true,
             settle_time: 0.0,
         }
     }

@@ -50,6 +50,12 @@ pub struct WaterParams<const D: usize> {
     /// Share of the velocity kept over the step: exp(−Δt/τ) while the settling
     /// damping is on, 1 otherwise.
     pub keep: Real,
+    /// Walls and barriers push and never pull (P* ≥ 0 at them): free water has no
+    /// tensile strength. False with a saturated soil, whose pore water keeps the
+    /// suction it builds ([`WaterMaterial::walls_push_only`]).
+    ///
+    /// [`WaterMaterial::walls_push_only`]: super::material::WaterMaterial::walls_push_only
+    pub push_only: bool,
 }
 
 /// Per-particle sums of the pair passes.

@@ -106,6 +106,28 @@ impl<const D: usize> WaterParticles<D> {
         (wsum > 0.0).then(|| sum * (1.0 / wsum))
     }
 
+    /// The depth of water over the point `base` along the vertical `up`: the water's
+    /// volume per unit length (2D) or area (3D) across the vertical line through it,
+    /// Σ_j V_j W_{d−1}(r⊥_j) over the particles above the base, with r⊥ the distance
+    /// from the line and W_{d−1} the Wendland C2 kernel of smoothing length `h` in one
+    /// dimension fewer. Under a layer of uniform depth it is the depth; water in the
+    /// air above the line (a jet, spray) counts, a cavity under a breaking wave does
+    /// not.
+    pub fn depth(&self, h: Real, base: &Vect<D>, up: &Vect<D>, sep: &impl Separation) -> Real {
+        let lateral = crate::kernel::WendlandC2::new(h, D - 1);
+        (0..self.len())
+            .map(|i| {
+                let r = sep.of(self.pos[i] - base);
+                let height = r.dot(up);
+                if height < 0.0 {
+                    return 0.0;
+                }
+                let across = (r - up * height).norm();
+                lateral.w(across) * self.mass[i] / self.rho[i]
+            })
+            .fold(0.0, |a, e| a + e)
+    }
+
     /// Σ ½ m v²; +0 without particles (a float `sum` of nothing is −0).
     pub fn kinetic_energy(&self) -> Real {
         self.vel
@@ -137,6 +159,16 @@ impl<const D: usize> WaterParticles<D> {
             .map(|v| v.norm_squared())
             .fold(0.0, Real::max)
             .sqrt()
+    }
+
+    /// The lowest pressure of any particle under `mat`'s equation of state (0
+    /// without particles).
+    pub fn min_pressure(&self, mat: &super::material::WaterMaterial) -> Real {
+        self.rho
+            .iter()
+            .map(|&r| mat.pressure(r))
+            .reduce(Real::min)
+            .unwrap_or(0.0)
     }
 
     /// Total linear momentum Σ m v.

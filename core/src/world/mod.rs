@@ -22,7 +22,7 @@ mod water_fill;
 
 pub(crate) use water_fill::column_key;
 
-/// A probe point sampled into the time series.
+/// A probe point sampled into the time series (or a gauge's base point).
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Probe<const D: usize> {
     pub name: String,
@@ -58,6 +58,9 @@ pub struct World<const D: usize> {
     /// Fixed neighbour-search box (particles outside are clamped into border cells).
     pub domain: (Vect<D>, Vect<D>),
     pub probes: Vec<Probe<D>>,
+    /// Water-level gauges: each one's base point (`[[gauges]]`).
+    #[serde(default)]
+    pub gauges: Vec<Probe<D>>,
     /// Per-region particle counts, in scene order.
     pub region_counts: Vec<(String, usize)>,
     /// The water family: particles, material, counts, inflows and outflows (empty,
@@ -191,6 +194,14 @@ impl<const D: usize> World<D> {
             steps: 0,
             domain,
             probes,
+            gauges: scene
+                .gauges
+                .iter()
+                .map(|g| Probe {
+                    name: g.name.clone(),
+                    position: v::<D>(&g.position),
+                })
+                .collect(),
             region_counts,
             water,
             periodic,

@@ -98,7 +98,38 @@ pub(super) fn fill<const D: usize>(
         path: e.path,
         message: e.message,
     })?;
-    let mat = WaterMaterial::from_spec(&spec, chosen.c0, chosen.scale);
+    let mut mat = WaterMaterial::from_spec(&spec, chosen.c0, chosen.scale);
+    match (
+        spec.incompressible_start,
+        spec.hydrostatic_start,
+        pores.is_empty(),
+    ) {
+        (Some(true), false, _) => {
+            return Err(BuildError {
+                path: "water.incompressible_start".into(),
+                message: "the incompressible start needs the hydrostatic one (it replaces \
+                          the hydrostatic pressure where the water is free to move): drop \
+                          water.hydrostatic_start = false or this key"
+                    .into(),
+            })
+        }
+        (Some(true), _, false) => {
+            return Err(BuildError {
+                path: "water.incompressible_start".into(),
+                message: "a saturated soil's pore water starts hydrostatic (the soil \
+                          holds it, which the start's Laplace problem does not know): \
+                          drop this key or set it false"
+                    .into(),
+            })
+        }
+        (_, _, false) => {
+            // pore water starts hydrostatic and keeps its suction at walls
+            // (docs/method.md §Water, "A wall never pulls")
+            mat.incompressible_start = false;
+            mat.walls_push_only = false;
+        }
+        _ => {}
+    }
     let at_rest = Rest {
         mat: &mat,
         hydrostatic: spec.hydrostatic_start,
