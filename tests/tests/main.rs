@@ -1,6 +1,7 @@
 //! The validation and behaviour tests of granmix, one module per concern, linked into
 //! one test binary (one link instead of one per file keeps the suite's build short).
 
+mod added_mass;
 mod barrier_loads;
 mod barrier_panels;
 mod barrier_suction;

@@ -47,8 +47,9 @@ use crate::water::state::WaterParticles;
 
 /// A particle is at the free surface when its support falls short of the fullest by
 /// more than this share. Measured at h = 1.3 dp (2D): the top layer of a flat surface
-/// lacks 0.32 of it, the next under 0.1; a water particle in the staircase gap
-/// around a disc of R/dp = 10 lacks up to 0.21, which is no free surface.
+/// lacks 0.32 of it, the next under 0.1. A water particle in the staircase gap
+/// around a disc lacks up to 0.21 at R/dp = 10 and 0.31 at R/dp = 40, which is no
+/// free surface: the scan ([`free_surface`]) tells them apart.
 const SURFACE_DEFICIT: Real = 0.25;
 
 /// A support within this share of the fullest is full: there the SPH Laplacian of the
