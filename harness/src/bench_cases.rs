@@ -273,6 +273,20 @@ fn water() -> Vec<Case> {
         ]))
         .tolerance(0.0),
         Case::new(
+            "rising_disc",
+            "boulder_in_water.toml",
+            vec![
+                dp("R/10", 0.005),
+                dp("R/20", 0.0025),
+                dp("R/40", 0.00125),
+            ],
+            Metric::StartingAcceleration(0.05, 500.0 * 9.81 / 1500.0),
+            "disc of ρ_w/2 released in still water: mean acceleration over R/10 against \
+             (ρ_w − ρ_b) g/(ρ_b + ρ_w), C_a = 1 (asked 5 % at the finest level)",
+        )
+        .common(strings(&["simulation.end_time=0.065"]))
+        .tolerance(0.05),
+        Case::new(
             "dam_break_2d",
             "dam_break_2d.toml",
             vec![as_is("a/40")],

@@ -346,7 +346,8 @@ fn ring_pressures(f: &granmix_core::sample::Frame, b: u32, r: f64, dp: f64) -> (
 
 /// The saturated debris flow (`debris_flow_saturated.toml`) runs stably to rest
 /// against its barrier; the barrier's load is reported split into water and grains
-/// (both present once the flow arrives); the excess pore pressure upstream and
+/// (both present once the flow arrives); the soil keeps its density to the end
+/// (`spreading_density`); the excess pore pressure upstream and
 /// downstream of each boulder while they move is reported (seed 001 Figs. 23–24; no
 /// ordering asserted).
 #[test]
@@ -404,6 +405,8 @@ fn saturated_debris_flow_runs_to_rest() {
         "barrier loads: grains {grains:.1}, water {water:.1} N/m"
     );
     eprintln!("{report:#?}");
+    // spreading keeps the soil's density (issue 41)
+    crate::spreading_density::assert_density_kept(&last, "debris_flow_saturated");
 }
 
 /// Water streaming through a free block of permeable sand without gravity (no

@@ -79,28 +79,23 @@ fn resting_tank_is_hydrostatic() {
 /// water rearranges and its kinetic energy decays; at dp = H/25, averaged over
 /// 25–30 s, it lies below 1e-8 ρ_w g H² per unit volume (2.45e-5 J/m³), with the
 /// MUSCL reconstruction of the dissipation too (issue 42). With Zhang et al.'s limiter
-/// (η = 3), which docs/method.md measured to keep the tank moving, it does not.
+/// (η = 3) it does not (6.2e-2 J/m³ with MUSCL, docs/method.md §Water): the bound tells
+/// a quiet scheme from a ringing one. That run was this test's mutation check; it left
+/// the suite for time (40 s).
 #[test]
 fn resting_tank_settles() {
-    tank_kinetic_energy_after_30_s(None, true);
+    tank_kinetic_energy_after_30_s(None);
 }
 
 /// The same tank with the MUSCL reconstruction (`water.muscl`) also settles.
 #[test]
 fn resting_tank_settles_with_muscl() {
-    tank_kinetic_energy_after_30_s(Some("water.muscl=true"), true);
-}
-
-/// With the low-dissipation limiter (`water.limiter = 3`) the tank keeps moving: the
-/// bound above is what tells a quiet scheme from a ringing one.
-#[test]
-fn resting_tank_rings_with_the_limiter() {
-    tank_kinetic_energy_after_30_s(Some("water.limiter=3.0"), false);
+    tank_kinetic_energy_after_30_s(Some("water.muscl=true"));
 }
 
 /// Mean kinetic energy per volume of the dp = 0.02 tank over 25–30 s, against
 /// 1e-8 ρ_w g h².
-fn tank_kinetic_energy_after_30_s(option: Option<&str>, settles: bool) {
+fn tank_kinetic_energy_after_30_s(option: Option<&str>) {
     let (h, width) = (0.5, 0.5);
     let bound = 1e-8 * RHO * G * h * h;
     let mut set = vec![
@@ -116,9 +111,8 @@ fn tank_kinetic_energy_after_30_s(option: Option<&str>, settles: bool) {
         .map(|s| s.water.as_ref().unwrap().kinetic_energy / (width * h))
         .collect();
     let mean = tail.iter().sum::<f64>() / tail.len() as f64;
-    assert_eq!(
+    assert!(
         mean < bound,
-        settles,
         "{option:?}: kinetic energy {mean:.3e} J/m³ over 25–30 s against {bound:.3e}"
     );
 }
