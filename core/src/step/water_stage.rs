@@ -34,6 +34,10 @@ pub struct WaterStepper<const D: usize> {
     /// Water steps taken (sub-steps counted).
     #[serde(default)]
     pub steps: u64,
+    /// The water has no free surface (found by the incompressible start): its pressure
+    /// has no reference level, and walls take its tension as well as its push.
+    #[serde(default)]
+    pub confined: bool,
     #[serde(skip)]
     src: Vec<WaterSource>,
     #[serde(skip)]
@@ -64,6 +68,7 @@ impl<const D: usize> WaterStepper<D> {
                 (world.walls.barriers.len(), world.walls.load_slots()),
             ),
             steps: 0,
+            confined: false,
             src: Vec::new(),
             vel_new: Vec::new(),
             sums: Vec::new(),
@@ -147,7 +152,8 @@ impl<const D: usize> WaterStepper<D> {
     /// Replace the hydrostatic start by the pressure of an incompressible fluid
     /// released at rest ([`incompressible_start`]), on the lists of the first step:
     /// each particle's density from it by the equation of state, at its volume.
-    /// Nothing changes where the water has no free surface.
+    /// Nothing changes where the water has no free surface; such water is confined
+    /// ([`confined`](Self::confined)).
     pub fn start_incompressible(
         &mut self,
         world: &mut World<D>,
@@ -155,7 +161,7 @@ impl<const D: usize> WaterStepper<D> {
         kernel: WendlandC2,
         csrc: &[CoarseSource<D>],
     ) {
-        let prm = water_params(world, mat, kernel, (world.time, 0.0));
+        let prm = water_params(world, mat, kernel, (world.time, 0.0), self.confined);
         let w = &world.water.particles;
         let p0: Vec<Real> = w.rho.iter().map(|&r| mat.pressure(r)).collect();
         let Some(start) = incompressible_start(
@@ -166,6 +172,7 @@ impl<const D: usize> WaterStepper<D> {
             &prm,
             world.resolution.dp,
         ) else {
+            self.confined = true;
             return;
         };
         let w = &mut world.water.particles;
@@ -198,7 +205,7 @@ impl<const D: usize> WaterStepper<D> {
         self.vel_new.resize(n, Vect::<D>::zeros());
         self.sums.resize(n, WaterSums::zero());
         self.family.prepare_pass(&world.walls);
-        let prm = water_params(world, mat, kernel, (t0, dt));
+        let prm = water_params(world, mat, kernel, (t0, dt), self.confined);
         let no_slip = mat.wall == WallSlip::NoSlip;
         self.corr.resize(n, Corr::<D>::identity());
 
@@ -347,12 +354,14 @@ impl<const D: usize> WaterStepper<D> {
     }
 }
 
-/// The water's parameters of a sweep over (`t0`, `t0 + dt`).
+/// The water's parameters of a sweep over (`t0`, `t0 + dt`); `confined` water (no
+/// free surface) is not clamped at the walls.
 fn water_params<const D: usize>(
     world: &World<D>,
     mat: &WaterMaterial,
     kernel: WendlandC2,
     (t0, dt): (Real, Real),
+    confined: bool,
 ) -> WaterParams<D> {
     WaterParams {
         kernel,
@@ -365,6 +374,6 @@ fn water_params<const D: usize>(
         eta: mat.limiter,
         mu: mat.mu,
         keep: mat.velocity_kept(t0, dt),
-        push_only: mat.walls_push_only,
+        push_only: mat.walls_push_only && !confined,
     }
 }

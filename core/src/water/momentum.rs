@@ -52,7 +52,9 @@ pub struct WaterParams<const D: usize> {
     pub keep: Real,
     /// Walls and barriers push and never pull (P* ≥ 0 at them): free water has no
     /// tensile strength. False with a saturated soil, whose pore water keeps the
-    /// suction it builds ([`WaterMaterial::walls_push_only`]).
+    /// suction it builds ([`WaterMaterial::walls_push_only`]), and for water without a
+    /// free surface (a closed channel), whose pressure has no reference level: there
+    /// the clamp would turn its fluctuations about zero into a net push.
     ///
     /// [`WaterMaterial::walls_push_only`]: super::material::WaterMaterial::walls_push_only
     pub push_only: bool,
