@@ -49,25 +49,10 @@ pub(super) fn fill<const D: usize>(
     let mut regions = Vec::new();
     let mut speed = Measured::default();
     for (ri, r) in spec.regions.iter().enumerate() {
-        let RegionFill {
-            pts,
-            columns,
-            reach: (bottom, top),
-        } = region_points::<D>(scene, (ri, r), &solids, (dp, up))?;
-        let vel = r
-            .velocity
-            .as_deref()
-            .map(v::<D>)
-            .unwrap_or_else(Vect::<D>::zeros);
+        let (region, (bottom, top)) = region_points::<D>(scene, (ri, r), &solids, (dp, up))?;
         speed.fall(gnorm, (bottom, top));
-        speed.given(vel.norm());
-        regions.push(Region {
-            name: r.name.clone(),
-            pts,
-            top,
-            vel,
-            columns,
-        });
+        speed.given(region.vel.norm());
+        regions.push(region);
     }
     for r in pores {
         let bottom = extent(&r.pos, up, dp).0;
@@ -147,37 +132,32 @@ pub(super) fn fill<const D: usize>(
     }))
 }
 
-/// One water region's particles, less those inside a solid (refused if none is left):
-/// the lattice points of spacing `dp` in its shape, or with `fill = "columns"` its
-/// column fill along the vertical `up`, with each particle's surface and volume; and
-/// the extent along `up` of its lattice points, from which the sound speed is chosen
-/// (as `flow_speed` estimates it before the build, whichever the fill).
+/// One water region to place, less the points inside a solid (refused if none is
+/// left): the lattice points of spacing `dp` in its shape, or with `fill = "columns"`
+/// its column fill along the vertical `up`, with each particle's surface and volume;
+/// and the extent along `up` of its lattice points, from which the sound speed is
+/// chosen (as `flow_speed` estimates it before the build, whichever the fill).
 fn region_points<const D: usize>(
     scene: &Scene,
     (ri, r): (usize, &WaterRegionSpec),
     solids: &Solids<D>,
     (dp, up): (Real, &Vect<D>),
-) -> Result<RegionFill<D>, BuildError> {
+) -> Result<(Region<D>, (Real, Real)), BuildError> {
+    let empty = || BuildError {
+        path: format!("water.regions[{ri}].shape"),
+        message: empty_region_message("water region", &r.name, dp),
+    };
     let shape = Shape::<D>::from_spec(&r.shape, &scene.assets);
     let mut lattice = shape.fill(dp);
     if !solids.is_empty() {
         lattice.retain(|p| !solids.holds(p, dp));
     }
     if lattice.is_empty() {
-        return Err(BuildError {
-            path: format!("water.regions[{ri}].shape"),
-            message: empty_region_message("water region", &r.name, dp),
-        });
+        return Err(empty());
     }
     let reach = extent(&lattice, up, dp);
-    let (mut pts, mut columns) = match r.fill {
-        WaterFill::Lattice => {
-            return Ok(RegionFill {
-                pts: lattice,
-                columns: None,
-                reach,
-            })
-        }
+    let (pts, columns) = match r.fill {
+        WaterFill::Lattice => (lattice, None),
         WaterFill::Columns => {
             let axis = (0..D)
                 .find(|&k| up[k].abs() == 1.0)
@@ -191,39 +171,30 @@ fn region_points<const D: usize>(
                         (-up).as_slice()
                     ),
                 })?;
-            let c = column_fill(&shape, dp, axis);
-            (
-                c.iter().map(|p| p.pos).collect::<Vec<_>>(),
-                c.iter().map(|p| (p.surface, p.volume)).collect::<Columns>(),
-            )
+            let mut c = column_fill(&shape, dp, axis);
+            if !solids.is_empty() {
+                c.retain(|p| !solids.holds(&p.pos, dp));
+            }
+            if c.is_empty() {
+                return Err(empty());
+            }
+            let columns: Columns = c.iter().map(|p| (p.surface, p.volume)).collect();
+            (c.into_iter().map(|p| p.pos).collect(), Some(columns))
         }
     };
-    if !solids.is_empty() {
-        let keep: Vec<bool> = pts.iter().map(|p| !solids.holds(p, dp)).collect();
-        let mut k = keep.iter();
-        pts.retain(|_| *k.next().expect("one flag per point"));
-        let mut k = keep.iter();
-        columns.retain(|_| *k.next().expect("one flag per point"));
-    }
-    if pts.is_empty() {
-        return Err(BuildError {
-            path: format!("water.regions[{ri}].shape"),
-            message: empty_region_message("water region", &r.name, dp),
-        });
-    }
-    Ok(RegionFill {
+    let vel = r
+        .velocity
+        .as_deref()
+        .map(v::<D>)
+        .unwrap_or_else(Vect::<D>::zeros);
+    let region = Region {
+        name: r.name.clone(),
         pts,
-        columns: Some(columns),
-        reach,
-    })
-}
-
-/// A water region's particles, each one's column surface and volume for a column
-/// fill, and the extent of its lattice points along the vertical.
-struct RegionFill<const D: usize> {
-    pts: Vec<Vect<D>>,
-    columns: Option<Columns>,
-    reach: (Real, Real),
+        top: reach.1,
+        vel,
+        columns,
+    };
+    Ok((region, reach))
 }
 
 /// Each particle's column surface and volume, for a column fill.
