@@ -41,3 +41,47 @@ fn rising_disc_starts_with_the_added_mass() {
         100.0 * e20
     );
 }
+
+/// A disc of 2 ρ_w resting on the floor of `boulder_in_water.toml` (R/dp = 10, released
+/// 0.1 dp above it, the water's settling phase over its first 0.5 s): its contact force
+/// is its weight less its buoyancy, W − ρ_w g V. Without the water in the contact's gap
+/// ([`water_buoyancy`], [`gap_water`]) it read 260–290 N/m against 77 N/m: no water
+/// particle fits under the disc where the gap is narrower than a spacing. Measured with
+/// it, as the mean over 1.0–1.2 s: −1.3 to −1.8 % at R/dp = 10 and −3.7 to −4.9 % at
+/// R/dp = 20 (docs/method.md §Water), so the test asks for 5 % at R/dp = 10; the 2 % of
+/// issue 42 is not met yet. Leaving the film's pressure in gives −7 %, leaving the gap's
+/// water out altogether +240 %.
+///
+/// [`water_buoyancy`]: granmix_core::interactions::water_buoyancy
+/// [`gap_water`]: granmix_core::interactions::gap_water
+#[test]
+fn resting_disc_keeps_its_buoyancy() {
+    let (r, rho_b, dp) = (0.05_f64, 2000.0, 0.005);
+    let centre = format!("bodies.0.shape.center=[0.3,{}]", r + 0.1 * dp);
+    let set = [
+        "solids.0.density=2000",
+        "water.settle_time=0.5",
+        "simulation.end_time=1.2",
+        "simulation.output_interval=0.05",
+        &centre,
+    ];
+    let (samples, _, _) = run("boulder_in_water.toml", &set);
+    let vol = std::f64::consts::PI * r * r;
+    let want = (rho_b - RHO) * G * vol;
+    let window: Vec<f64> = samples
+        .iter()
+        .filter(|s| s.time >= 1.0 - 1e-9)
+        .map(|s| {
+            let b = &s.bodies[0];
+            b.force[1] - b.water_force[1] - b.fine_force[1]
+        })
+        .collect();
+    assert!(window.len() >= 4, "{} samples over 1.0–1.2 s", window.len());
+    let mean = window.iter().sum::<f64>() / window.len() as f64;
+    let err = mean / want - 1.0;
+    assert!(
+        err.abs() < 0.05,
+        "contact force {mean:.2} N/m against W − ρ_w g V = {want:.2} N/m ({:+.2} %)",
+        100.0 * err
+    );
+}

@@ -45,6 +45,15 @@ pub struct Body<const D: usize> {
     pub water_force: Vector3<Real>,
     /// Contacts active in the last sub-step.
     pub contacts: usize,
+    /// What the water particles miss of the body's Archimedes force over the last fine
+    /// step, whose reaction the body's contacts carry
+    /// ([`water_buoyancy`](crate::interactions::water_buoyancy)); zero off contact.
+    #[serde(default)]
+    pub uplift: Vector3<Real>,
+    /// Gap partners found at the start of the last fine step: surface particles within
+    /// a spacing of a wall or of another body ([`gap_water`](crate::interactions::gap_water)).
+    #[serde(default)]
+    pub gaps: usize,
 }
 
 impl<const D: usize> Body<D> {

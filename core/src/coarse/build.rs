@@ -92,6 +92,8 @@ impl<const D: usize> Coarse<D> {
                 fine_force: Vector3::zeros(),
                 water_force: Vector3::zeros(),
                 contacts: 0,
+                uplift: Vector3::zeros(),
+                gaps: 0,
             });
         }
         Ok(Coarse {

@@ -19,12 +19,14 @@ pub mod contact;
 pub mod continuity_pass;
 pub mod fine_coarse;
 pub mod fine_wall;
+pub mod gap_water;
 pub mod momentum_pass;
 pub mod soil_water;
 #[cfg(test)]
 mod symmetric_tests;
 pub mod wall_contact;
 pub mod wall_pressure;
+pub mod water_buoyancy;
 pub mod water_coarse;
 pub mod water_pass;
 pub mod water_start;

@@ -82,3 +82,20 @@ pub fn moment<const D: usize>(prm: &WaterParams<D>, c: &CoarseSource<D>, xi: &Ve
         None => Corr::<D>::zeros(),
     }
 }
+
+/// The share of coarse particle `c`'s momentum term (before the factor 2/ρ_i) that the
+/// body's hydrostatic field carries ([`water_buoyancy`](super::water_buoyancy)): the
+/// pair of [`momentum`] with P* replaced by the field's mean ½ (p_b(x_i) + p_b(x_c)),
+/// `p_c` = p_b(x_c), `rho_g` = ρ_w g_h, and without the viscous term.
+#[inline(always)]
+pub fn hydrostatic_share<const D: usize>(
+    prm: &WaterParams<D>,
+    c: &CoarseSource<D>,
+    xi: &Vect<D>,
+    b: &Corr<D>,
+    (p_c, rho_g): (Real, &Vect<D>),
+) -> Option<Vect<D>> {
+    let (rij, r, dw) = boundary_pair(prm, xi, &c.pos)?;
+    let mean = p_c + 0.5 * rho_g.dot(&rij);
+    Some((b * rij) * (-mean * dw * c.vol / r))
+}

@@ -8,6 +8,7 @@
 
 use super::barrier_load;
 use super::fine_coarse::CoarseSource;
+use super::water_buoyancy::Hydrostatics;
 use super::water_coarse;
 use super::water_wall::{self, WaterAtWall};
 
@@ -16,6 +17,11 @@ use super::water_wall::{self, WaterAtWall};
 pub struct WaterCoarse<'a, const D: usize> {
     pub src: &'a [CoarseSource<D>],
     pub reactions: &'a mut [Vec<(u32, Vect<D>)>],
+    /// The bodies' hydrostatic fields ([`water_buoyancy`](super::water_buoyancy)).
+    pub field: &'a Hydrostatics<D>,
+    /// One buffer per chunk that receives each pair's share of the field on the
+    /// coarse particle, `(coarse particle, force)`.
+    pub shares: &'a mut [Vec<(u32, Vect<D>)>],
 }
 use crate::load::Load;
 use crate::math::{Real, Vect};
@@ -111,7 +117,7 @@ pub fn momentum_sweep<const D: usize>(
     loads: &mut [Load],
     sums: &mut [WaterSums<D>],
 ) {
-    let csrc = coarse.src;
+    let (csrc, field) = (coarse.src, coarse.field);
     momentum::pair_pass(w, src, (corr, grad), lists, prm, sums);
     let nbs = walls.load_slots().max(1);
     lists
@@ -121,12 +127,14 @@ pub fn momentum_sweep<const D: usize>(
         .zip(vel_new.par_chunks_mut(CHUNK))
         .zip(loads.par_chunks_mut(nbs))
         .zip(coarse.reactions.par_iter_mut())
+        .zip(coarse.shares.par_iter_mut())
         .enumerate()
-        .for_each(|(c, ((((cl, sums), vout), lout), react))| {
+        .for_each(|(c, (((((cl, sums), vout), lout), react), shares))| {
             for l in lout.iter_mut() {
                 *l = Load::default();
             }
             react.clear();
+            shares.clear();
             for (k, vo) in vout.iter_mut().enumerate() {
                 let i = c * CHUNK + k;
                 let (xi, vi, rho) = (w.pos[i], w.vel[i], w.rho[i]);
@@ -149,12 +157,28 @@ pub fn momentum_sweep<const D: usize>(
                     }
                 }
                 let state = (&xi, &vi, rho, src[i].p);
+                // water in the film between a body and what it lies on (module notes of
+                // water_buoyancy): within the kernel of a wall or of a second body
+                let film = field.film(prm, (walls, csrc), &xi, cl.coarse(k));
                 for &j in cl.coarse(k) {
                     let cj = &csrc[j as usize];
                     if let Some(t) = water_coarse::momentum(prm, cj, state, &corr[i], no_slip) {
                         let a = t * scale;
                         acc += a;
                         react.push((j, a * (-w.mass[i])));
+                        let pc = field.p[j as usize];
+                        if film && field.in_gap(j as usize) {
+                            // the film's pressure is the field's: the body gets none of
+                            // this pair but its share of Archimedes' force
+                            shares.push((j, a * (-w.mass[i])));
+                        } else if pc.is_finite() {
+                            let f = (pc, field.rho_g(j as usize));
+                            if let Some(h) =
+                                water_coarse::hydrostatic_share(prm, cj, &xi, &corr[i], f)
+                            {
+                                shares.push((j, h * (-scale * w.mass[i])));
+                            }
+                        }
                     }
                 }
                 *vo = (vi + (acc + prm.gravity) * prm.dt) * prm.keep;

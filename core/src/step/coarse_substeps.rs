@@ -10,6 +10,7 @@ use crate::coarse::tlsph::Tlsph;
 use crate::coarse::{Body, CoarseParticles};
 use crate::guard::Blowup;
 use crate::interactions::contact::{ContactLaw, Contacts};
+use crate::interactions::gap_water::GapWater;
 use crate::load::Load;
 use crate::math::{from3, to3, Real, Vect};
 use crate::walls::Walls;
@@ -20,6 +21,9 @@ use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 pub struct CoarseStepper<const D: usize> {
     pub law: ContactLaw,
     pub contacts: Contacts<D>,
+    /// Gap partners of the wet bodies: where their missed uplift pushes.
+    #[serde(default)]
+    pub gaps: GapWater<D>,
     pub tlsph: Tlsph<D>,
     /// CFL^c of Eq. (52).
     pub cfl: Real,
@@ -57,6 +61,7 @@ impl<const D: usize> CoarseStepper<D> {
         CoarseStepper {
             law: params.contact.clone(),
             contacts: Contacts::default(),
+            gaps: GapWater::default(),
             tlsph: Tlsph::new(&coarse.particles, &coarse.bodies, dp),
             cfl: params.cfl_coarse,
             h: 1.15 * dp,
@@ -129,6 +134,10 @@ impl<const D: usize> CoarseStepper<D> {
         }
         self.wall_loads.clear();
         self.wall_loads.resize(walls.load_slots(), Load::default());
+        // the water in the wet bodies' gaps, held over the fine step like f_water
+        self.gaps.find(p, &coarse.bodies, walls, self.dp);
+        let mut gap_loads = vec![Load::default(); walls.load_slots()];
+        self.gaps.react(p, &coarse.bodies, walls, &mut gap_loads);
         for _ in 0..kappa {
             self.substep(coarse, walls, dt);
         }
@@ -137,9 +146,9 @@ impl<const D: usize> CoarseStepper<D> {
         for i in 0..p.len() {
             p.vbar[i] = (p.pos[i] - p.pos_start[i]) * inv;
         }
-        for l in &mut self.wall_loads {
-            l.force *= inv;
-            l.moment *= inv;
+        for (l, g) in self.wall_loads.iter_mut().zip(&gap_loads) {
+            l.force = l.force * inv + g.force;
+            l.moment = l.moment * inv + g.moment;
         }
         for (b, (f, t)) in coarse.bodies.iter_mut().zip(&self.impulse) {
             b.force = f * inv;
@@ -150,6 +159,9 @@ impl<const D: usize> CoarseStepper<D> {
         }
         for (b, n) in coarse.bodies.iter_mut().zip(&self.contacts.per_body) {
             b.contacts = *n;
+        }
+        for (b, n) in coarse.bodies.iter_mut().zip(&self.gaps.per_body) {
+            b.gaps = *n;
         }
         for b in coarse.bodies.iter_mut().filter(|b| !b.is_rigid()) {
             elastic_summary(b, p);

@@ -6,14 +6,16 @@
 use super::family::{Closing, FamilyLists};
 use super::relations::WallRelation;
 use super::soil_water_stage::SeepStep;
+use crate::coarse::body::Body;
 use crate::guard::{Blowup, Family};
 use crate::interactions::fine_coarse::{self, CoarseSource};
+use crate::interactions::water_buoyancy::Hydrostatics;
 use crate::interactions::water_pass::{
     continuity_sweep, correction_sweep, gradient_sweep, momentum_sweep, WaterCoarse,
 };
 use crate::interactions::water_start::incompressible_start;
 use crate::kernel::WendlandC2;
-use crate::math::{Real, Vect};
+use crate::math::{to3, Real, Vect};
 use crate::neighbors::CellGrid;
 use crate::scene::WallSlip;
 use crate::timers::{Stage, StageTimers};
@@ -22,6 +24,7 @@ use crate::water::material::WaterMaterial;
 use crate::water::momentum::{WaterParams, WaterSums};
 use crate::water::source::{drift_and_pack, pack, WaterSource};
 use crate::world::World;
+use nalgebra::Vector3;
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -53,6 +56,15 @@ pub struct WaterStepper<const D: usize> {
     /// (empty without a soil).
     #[serde(skip)]
     body: Vec<Vect<D>>,
+    /// The bodies' hydrostatic fields of the sub-step ([`Hydrostatics`]).
+    #[serde(skip)]
+    hydro: Hydrostatics<D>,
+    /// Per chunk: each water–body pair's share of the hydrostatic field on the body.
+    #[serde(skip)]
+    shares: Vec<Vec<(u32, Vect<D>)>>,
+    /// Archimedes' force on each coarse particle in the sub-step.
+    #[serde(skip)]
+    archimedes: Vec<Vect<D>>,
 }
 
 impl<const D: usize> WaterStepper<D> {
@@ -75,6 +87,9 @@ impl<const D: usize> WaterStepper<D> {
             corr: Vec::new(),
             grad: Vec::new(),
             body: Vec::new(),
+            hydro: Hydrostatics::default(),
+            shares: Vec::new(),
+            archimedes: Vec::new(),
         }
     }
 
@@ -210,7 +225,18 @@ impl<const D: usize> WaterStepper<D> {
         self.corr.resize(n, Corr::<D>::identity());
 
         let (lists, chunk_loads, reactions) = self.family.pass_outputs();
+        self.shares.resize_with(reactions.len(), Vec::new);
         t.time(Stage::WaterMomentum, || {
+            if !csrc.is_empty() {
+                let w = &world.water.particles;
+                let c = &world.coarse;
+                self.hydro.update(
+                    (&w.pos, &self.src),
+                    (csrc, &c.particles.body, &c.bodies),
+                    (lists, &world.walls),
+                    (&prm, world.resolution.dp),
+                );
+            }
             correction_sweep(
                 &world.water.particles,
                 &self.src,
@@ -242,6 +268,8 @@ impl<const D: usize> WaterStepper<D> {
                 WaterCoarse {
                     src: csrc,
                     reactions,
+                    field: &self.hydro,
+                    shares: &mut self.shares,
                 },
                 lists,
                 &prm,
@@ -284,12 +312,38 @@ impl<const D: usize> WaterStepper<D> {
             );
         }
         if !csrc.is_empty() {
-            let f = &mut world.coarse.particles.f_water;
+            let coarse = &mut world.coarse;
+            let f = &mut coarse.particles.f_water;
             if s == 0 {
                 f.iter_mut().for_each(|x| *x = Vect::<D>::zeros());
+                coarse
+                    .bodies
+                    .iter_mut()
+                    .for_each(|b| b.uplift = Vector3::zeros());
             }
-            // the mean over the k sub-steps
-            fine_coarse::add_reactions(self.family.reactions(), f, 1.0 / k as Real);
+            // the mean over the k sub-steps: the pairs' forces less their share of the
+            // hydrostatic fields, and Archimedes' force in its place
+            let kk = 1.0 / k as Real;
+            fine_coarse::add_reactions(self.family.reactions(), f, kk);
+            let mut miss = std::mem::take(&mut self.archimedes);
+            let dp = world.resolution.dp;
+            let solids = &coarse.solids;
+            let volume = |b: &Body<D>| b.mass / solids[b.material].rho0;
+            self.hydro.archimedes(&coarse.bodies, volume, dp, &mut miss);
+            for (c, a) in miss.iter().enumerate() {
+                f[c] += a * kk;
+            }
+            fine_coarse::add_reactions(&self.shares, f, -kk);
+            fine_coarse::add_reactions(&self.shares, &mut miss, -1.0);
+            // ΔF_b, what the pairs miss of Archimedes' force: its reaction to the
+            // body's gap partners
+            for b in coarse.bodies.iter_mut().filter(|b| b.gaps > 0) {
+                let df = miss[b.start..b.end]
+                    .iter()
+                    .fold(Vect::<D>::zeros(), |a, x| a + x);
+                b.uplift += to3(&df) * kk;
+            }
+            self.archimedes = miss;
         }
         self.family.sum_loads(&world.walls);
     }
