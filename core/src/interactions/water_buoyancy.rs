@@ -108,6 +108,12 @@ impl<const D: usize> Hydrostatics<D> {
                 0
             }
         }));
+        if bodies.iter().all(|b| b.gaps == 0) {
+            // no body takes the field: skip the pass over the water
+            self.p.clear();
+            self.p.resize(csrc.len(), Real::NAN);
+            return;
+        }
         let this = &*self;
         let shell: Vec<Vec<(u32, u32, Real)>> = lists
             .chunks
