@@ -29,6 +29,7 @@ pub mod mesh;
 pub mod neighbors;
 pub mod observe;
 pub mod oscillation;
+pub mod packing;
 pub mod pair_block;
 pub mod panels;
 pub mod periodic;

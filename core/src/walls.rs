@@ -3,6 +3,7 @@
 
 use crate::geometry::Shape;
 use crate::math::{Real, Vect};
+use crate::scene::ContainerSpec;
 
 /// What a wall object is in the scene: viewers colour by it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -205,4 +206,56 @@ impl<const D: usize> Walls<D> {
             .map(|(o, s)| (o.displacement - s).norm())
             .fold(0.0, Real::max)
     }
+}
+
+/// One closed face of a `[[containers]]` entry: its name ("-x", "+y", …), its axis and
+/// side (−1 or +1), and its box.
+pub struct ContainerFace<const D: usize> {
+    pub face: String,
+    pub axis: usize,
+    pub sign: Real,
+    pub min: Vect<D>,
+    pub max: Vect<D>,
+}
+
+/// The closed faces of container `c` as boxes `t` thick outside it (the open ones
+/// default to the top). Faces on lower axes span the interior; higher axes take the
+/// corners.
+pub fn container_faces<const D: usize>(c: &ContainerSpec, t: Real) -> Vec<ContainerFace<D>> {
+    let v = |x: &[f64]| Vect::<D>::from_iterator(x.iter().copied());
+    let (lo, hi) = (v(&c.min), v(&c.max));
+    let open: Vec<String> = c
+        .open
+        .clone()
+        .unwrap_or_else(|| vec![if D == 2 { "+y".into() } else { "+z".into() }]);
+    let mut faces = Vec::new();
+    for a in 0..D {
+        for (side, sign) in [("-", -1.0), ("+", 1.0)] {
+            let face = format!("{side}{}", ["x", "y", "z"][a]);
+            if open.contains(&face) {
+                continue;
+            }
+            let mut fmin = lo;
+            let mut fmax = hi;
+            if sign < 0.0 {
+                fmin[a] = lo[a] - t;
+                fmax[a] = lo[a];
+            } else {
+                fmin[a] = hi[a];
+                fmax[a] = hi[a] + t;
+            }
+            for b in 0..a {
+                fmin[b] = lo[b] - t;
+                fmax[b] = hi[b] + t;
+            }
+            faces.push(ContainerFace {
+                face,
+                axis: a,
+                sign,
+                min: fmin,
+                max: fmax,
+            });
+        }
+    }
+    faces
 }

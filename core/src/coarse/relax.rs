@@ -7,20 +7,14 @@
 //! particles, keeping their number, until they are evenly spaced and the outer layer
 //! lies half a spacing inside the surface everywhere.
 //!
-//! Each sweep pushes every particle away from its neighbours with the kernel gradient,
-//! F_i = −Σ_j ∇W(r_ij) dp^d. Particles within the kernel support of the surface also
-//! see the mirror images of their neighbours (and of themselves) across the surface,
-//! which stands in for the missing material outside, so a particle half a spacing
-//! inside is in balance. Displacements are Jacobi updates (all forces first, then all
-//! moves), so the result does not depend on the order of the particles.
+//! The sweeps are [`packing`](crate::packing)'s. Particles within the kernel support of
+//! the surface also see the mirror images of their neighbours (and of themselves)
+//! across the surface, which stands in for the missing material outside, so a particle
+//! half a spacing inside is in balance.
 
 use crate::geometry::Shape;
-use crate::kernel::WendlandC2;
 use crate::math::{Real, Vect};
-use std::collections::HashMap;
-
-/// Sweeps of relaxation.
-pub const SWEEPS: usize = 120;
+use crate::packing::{Packing, SWEEPS};
 
 /// Bodies with fewer particles than this (2D, 3D) are left as lattices: with hardly
 /// any interior, relaxation would spread them over the surface and open gaps.
@@ -32,14 +26,10 @@ pub fn relax<const D: usize>(shape: &Shape<D>, pts: &mut [Vect<D>], dp: Real) {
         // a centred lattice already puts every face half a spacing inside
         return;
     }
-    let h = 1.15 * dp;
-    let kernel = WendlandC2::new(h, D);
-    let cut = kernel.cutoff;
-    let vol = dp.powi(D as i32);
+    let packing = Packing::new(dp, D);
+    let cut = packing.cutoff();
     let eps = 1e-3 * dp;
-    let n = pts.len();
-    let mut force = vec![Vect::<D>::zeros(); n];
-    let mut images: Vec<Vect<D>> = Vec::with_capacity(n);
+    let mut images: Vec<Vect<D>> = Vec::with_capacity(pts.len());
     for sweep in 0..SWEEPS {
         // mirror images across the surface of particles near it
         images.clear();
@@ -50,62 +40,9 @@ pub fn relax<const D: usize>(shape: &Shape<D>, pts: &mut [Vect<D>], dp: Real) {
                 images.push(p - nrm * (2.0 * s));
             }
         }
-        let cell = |x: &Vect<D>| -> [i64; 3] {
-            let mut c = [0i64; 3];
-            for k in 0..D {
-                c[k] = (x[k] / cut).floor() as i64;
-            }
-            c
-        };
-        let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
-        for (k, x) in pts.iter().chain(images.iter()).enumerate() {
-            grid.entry(cell(x)).or_default().push(k as u32);
-        }
-        let at = |k: usize| -> &Vect<D> {
-            if k < n {
-                &pts[k]
-            } else {
-                &images[k - n]
-            }
-        };
-        for (i, f) in force.iter_mut().enumerate() {
-            let xi = pts[i];
-            let c = cell(&xi);
-            let mut acc = Vect::<D>::zeros();
-            let span: i64 = 1;
-            let range = |k: usize| if k < D { -span..=span } else { 0..=0 };
-            for dx in range(0) {
-                for dy in range(1) {
-                    for dz in range(2) {
-                        let key = [c[0] + dx, c[1] + dy, c[2] + dz];
-                        if let Some(list) = grid.get(&key) {
-                            for &j in list {
-                                let j = j as usize;
-                                if j == i {
-                                    continue;
-                                }
-                                let rij = xi - at(j);
-                                let r = rij.norm();
-                                if r >= cut || r == 0.0 {
-                                    continue;
-                                }
-                                acc -= rij * (kernel.dw(r) / r * vol);
-                            }
-                        }
-                    }
-                }
-            }
-            *f = acc;
-        }
-        // step: a fraction of h² F, shrinking over the sweeps, capped at dp/10
-        let relax = 0.1 * (1.0 - sweep as Real / SWEEPS as Real) + 0.02;
+        let force = packing.forces(pts, &images);
         for (p, f) in pts.iter_mut().zip(&force) {
-            let mut dx = f * (relax * h * h);
-            let len = dx.norm();
-            if len > 0.1 * dp {
-                dx *= 0.1 * dp / len;
-            }
-            *p += dx;
+            *p += packing.step((sweep, SWEEPS), f);
             // never closer than 0.4 dp to the surface
             let s = shape.sdf(p);
             if s > -0.4 * dp {

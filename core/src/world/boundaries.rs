@@ -7,7 +7,7 @@ use crate::geometry::Shape;
 use crate::math::{Real, Vect};
 use crate::periodic::Wrap;
 use crate::scene::{ContainerSpec, Scene, ShapeSpec};
-use crate::walls::{Barrier, WallKind, WallObject, Walls};
+use crate::walls::{container_faces, Barrier, ContainerFace, WallKind, WallObject, Walls};
 
 /// The wall particles of every wall, barrier and container face, barriers split into
 /// their panels.
@@ -89,54 +89,37 @@ fn container<const D: usize>(
     periodic: Wrap,
 ) {
     let (lo, hi) = (v::<D>(&c.min), v::<D>(&c.max));
-    let open: Vec<String> = c
-        .open
-        .clone()
-        .unwrap_or_else(|| vec![if D == 2 { "+y".into() } else { "+z".into() }]);
-    for a in 0..D {
-        for (side, sign) in [("-", -1.0), ("+", 1.0)] {
-            let face = format!("{side}{}", ["x", "y", "z"][a]);
-            if open.contains(&face) {
-                continue;
-            }
-            let mut fmin = lo;
-            let mut fmax = hi;
-            if sign < 0.0 {
-                fmin[a] = lo[a] - t;
-                fmax[a] = lo[a];
-            } else {
-                fmin[a] = hi[a];
-                fmax[a] = hi[a] + t;
-            }
-            // Faces on lower axes span the interior; higher axes take the corners.
-            for b in 0..a {
-                fmin[b] = lo[b] - t;
-                fmax[b] = hi[b] + t;
-            }
-            if let Some(p) = periodic {
-                (fmin[p.axis], fmax[p.axis]) = (p.lo, p.lo + p.len);
-            }
-            let shape = Shape::<D>::Box {
-                min: fmin,
-                max: fmax,
-            };
-            let pts = shape.fill(dp);
-            let name = format!("{}.{}", c.name, face_name(&face, D));
-            let solid = shape.clone();
-            let mut reference = (lo + hi) * 0.5;
-            reference[a] = if sign < 0.0 { lo[a] } else { hi[a] };
-            add_object(
-                walls,
-                &name,
-                pts,
-                Vect::<D>::zeros(),
-                (Real::NEG_INFINITY, Real::INFINITY),
-                c.report_loads.then_some(reference),
-                solid,
-            );
-            if let Some(o) = walls.objects.last_mut() {
-                o.kind = WallKind::Container;
-            }
+    for ContainerFace {
+        face,
+        axis: a,
+        sign,
+        min: mut fmin,
+        max: mut fmax,
+    } in container_faces::<D>(c, t)
+    {
+        if let Some(p) = periodic {
+            (fmin[p.axis], fmax[p.axis]) = (p.lo, p.lo + p.len);
+        }
+        let shape = Shape::<D>::Box {
+            min: fmin,
+            max: fmax,
+        };
+        let pts = shape.fill(dp);
+        let name = format!("{}.{}", c.name, face_name(&face, D));
+        let solid = shape.clone();
+        let mut reference = (lo + hi) * 0.5;
+        reference[a] = if sign < 0.0 { lo[a] } else { hi[a] };
+        add_object(
+            walls,
+            &name,
+            pts,
+            Vect::<D>::zeros(),
+            (Real::NEG_INFINITY, Real::INFINITY),
+            c.report_loads.then_some(reference),
+            solid,
+        );
+        if let Some(o) = walls.objects.last_mut() {
+            o.kind = WallKind::Container;
         }
     }
 }
