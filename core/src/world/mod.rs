@@ -18,6 +18,7 @@ use crate::water::state::WaterParticles;
 mod boundaries;
 mod column_fill;
 mod regions;
+pub mod water_at_bodies;
 mod water_fill;
 
 pub(crate) use water_fill::column_key;

@@ -7,6 +7,7 @@
 
 use super::column_fill::column_fill;
 use super::v;
+use super::water_at_bodies::conform;
 use super::Water;
 use crate::build_error::{empty_region_message, BuildError};
 use crate::flow_speed::{choose, water_spec, Measured};
@@ -151,6 +152,9 @@ fn region_points<const D: usize>(
     let mut lattice = shape.fill(dp);
     if !solids.is_empty() {
         lattice.retain(|p| !solids.holds(p, dp));
+        let kept = conform(&mut lattice, solids, dp);
+        let mut k = kept.iter();
+        lattice.retain(|_| *k.next().expect("one flag per point"));
     }
     if lattice.is_empty() {
         return Err(empty());
@@ -174,6 +178,13 @@ fn region_points<const D: usize>(
             let mut c = column_fill(&shape, dp, axis);
             if !solids.is_empty() {
                 c.retain(|p| !solids.holds(&p.pos, dp));
+                let mut pos: Vec<Vect<D>> = c.iter().map(|p| p.pos).collect();
+                let kept = conform(&mut pos, solids, dp);
+                for (p, x) in c.iter_mut().zip(pos) {
+                    p.pos = x;
+                }
+                let mut k = kept.iter();
+                c.retain(|_| *k.next().expect("one flag per point"));
             }
             if c.is_empty() {
                 return Err(empty());
