@@ -3,9 +3,7 @@
 //! in the order `granmix bench --list` prints them. The accuracy suite runs every case
 //! with a reference ([`crate::accuracy`]).
 
-use crate::metric::{
-    collapse_3d, CraterRef, EarthPressureRef, Level, Metric, DISC_IN_TANK_CA, SPHERE_IN_TANK_CA,
-};
+use crate::metric::{collapse_3d, CraterRef, EarthPressureRef, Level, Metric, DISC_IN_TANK_CA};
 use crate::metric_pores::{ConsolidationRef, DarcyRef};
 
 pub(crate) struct Case {
@@ -288,17 +286,6 @@ fn water() -> Vec<Case> {
              asked 5 % at R/20)",
         )
         .common(strings(&["simulation.end_time=0.065"]))
-        .tolerance(0.05),
-        Case::new(
-            "rising_sphere",
-            "sphere_in_water.toml",
-            vec![dp("R/10", 0.005), dp("R/20", 0.0025)],
-            Metric::StartingAcceleration(0.05, 500.0 * 9.81 / (500.0 + SPHERE_IN_TANK_CA * 1000.0)),
-            "sphere of ρ_w/2 released in still water (3D): mean acceleration over R/10 \
-             against (ρ_w − ρ_b) g/(ρ_b + C_a ρ_w), C_a = 0.532 in this tank (1/2 \
-             unbounded; asked 5 % at R/20)",
-        )
-        .common(strings(&["simulation.end_time=0.06"]))
         .tolerance(0.05),
         Case::new(
             "dam_break_2d",

@@ -80,13 +80,6 @@ impl Metric {
 /// as 1/N²; the same code gives 1.0000000 for the unbounded circle). Unbounded, 1.
 pub(crate) const DISC_IN_TANK_CA: f64 = 1.046765;
 
-/// The same for the sphere in `sphere_in_water.toml` (R = 0.05 m at the centre of a
-/// 0.3 m cube of water, free surface on top): 0.53204 ± 1e-4 (panels on the sphere and
-/// the walls, converging as h², bounded from both sides by the true and the faceted
-/// volume; 0.500000 unbounded, and within 1e-5 of the exact added mass of a sphere in
-/// a concentric rigid or free spherical shell). Unbounded, 1/2.
-pub(crate) const SPHERE_IN_TANK_CA: f64 = 0.53204;
-
 /// The mean acceleration of the first body over its first `radius`/10 of travel from
 /// rest, 2 (R/10)/t² with t interpolated between samples; None if it never got there.
 pub(crate) fn starting_acceleration(
