@@ -9,16 +9,30 @@
 # granmix study package (python/, editable, with dask + distributed, bokeh, pandas,
 # pyarrow, matplotlib and tqdm) and ruff (the Python lint of the test script). Safe to
 # run again.
+#
+# `setup.sh system` installs the apt packages only, `setup.sh python` the venv only
+# (scripts/test.sh builds the venv while clippy compiles); without an argument, both.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-missing=()
-if ! dpkg -s libclang-dev >/dev/null 2>&1; then missing+=(libclang-dev); fi
-if ! command -v objdump >/dev/null || ! command -v nm >/dev/null; then missing+=(binutils); fi
-if [ "${#missing[@]}" -gt 0 ]; then
-    SUDO=""
-    if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-    $SUDO apt-get update -qq && $SUDO apt-get install -y -qq "${missing[@]}"
+part="${1:-all}"
+case "$part" in
+all | system | python) ;;
+*)
+    echo "scripts/setup.sh: unknown part '$part' (system, python, or none for both)" >&2
+    exit 2
+    ;;
+esac
+if [ "$part" != python ]; then
+    missing=()
+    if ! dpkg -s libclang-dev >/dev/null 2>&1; then missing+=(libclang-dev); fi
+    if ! command -v objdump >/dev/null || ! command -v nm >/dev/null; then missing+=(binutils); fi
+    if [ "${#missing[@]}" -gt 0 ]; then
+        SUDO=""
+        if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+        $SUDO apt-get update -qq && $SUDO apt-get install -y -qq "${missing[@]}"
+    fi
 fi
+if [ "$part" = system ]; then exit 0; fi
 if ! .venv/bin/python -c "import fmpy, pytest, iceoryx2, mcap, numpy" >/dev/null 2>&1; then
     python3 -m venv .venv
     .venv/bin/pip install --quiet fmpy==0.3.32 pytest iceoryx2==0.10.0 mcap==1.6.0 numpy

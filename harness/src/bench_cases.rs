@@ -273,6 +273,19 @@ fn water() -> Vec<Case> {
         ]))
         .tolerance(0.0),
         Case::new(
+            "water_tank_rest_muscl",
+            "hydrostatic_tank.toml",
+            vec![dp("dp=20mm", 0.02)],
+            Metric::RestingEnergy(0.25, 1e-8 * 1000.0 * 9.81 * 0.25),
+            "resting tank H = 0.5 m with the MUSCL reconstruction of the dissipation (water.muscl): kinetic energy per volume over 25–30 s under 1e-8 ρ_w g H²",
+        )
+        .common(strings(&[
+            "simulation.end_time=30.0",
+            "simulation.output_interval=0.5",
+            "water.muscl=true",
+        ]))
+        .tolerance(0.0),
+        Case::new(
             "rising_disc",
             "boulder_in_water.toml",
             vec![

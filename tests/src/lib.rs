@@ -101,3 +101,17 @@ pub fn refusal(text: &str) -> String {
 pub fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
+
+/// The cases of a test: those that must pass, and with `GRANMIX_MUTATIONS=1` in the
+/// environment also its mutation runs, that must fail (a wrong porosity, a wrong
+/// permeability: proof that the test can fail). The mutation runs double a test's time,
+/// so the suite leaves them out by default; run them after changing a test's physics
+/// or tolerance: `GRANMIX_MUTATIONS=1 cargo test --release -p granmix-tests --test
+/// validation saturated`.
+pub fn with_mutations<T>(cases: Vec<(T, bool)>) -> Vec<(T, bool)> {
+    let all = std::env::var("GRANMIX_MUTATIONS").is_ok_and(|v| v == "1");
+    cases
+        .into_iter()
+        .filter(|(_, must_pass)| all || *must_pass)
+        .collect()
+}

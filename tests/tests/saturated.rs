@@ -4,7 +4,7 @@
 //! pore keys.
 
 use granmix_core::simulation::Sample;
-use granmix_tests::{refusal, rel, run};
+use granmix_tests::{refusal, rel, run, with_mutations};
 
 const G: f64 = 9.81;
 const RHO_W: f64 = 1000.0;
@@ -50,15 +50,16 @@ fn column(set: &[&str]) -> Vec<Sample> {
 
 /// Darcy: q = k_h i within 3 % at every sample of the quasi-steady flow, upward
 /// (reservoir 0.15 m above the column's water) and downward (0.15 m below), with
-/// k_h = k ρ_w g / μ. The check fails with the permeability 10 % off.
+/// k_h = k ρ_w g / μ. The check fails with the permeability 10 % off (its mutation run,
+/// [`with_mutations`]).
 #[test]
 fn darcy_discharge_through_the_column() {
     let kh = K * RHO_W * G / MU;
-    for (set, must_pass) in [
+    for (set, must_pass) in with_mutations(vec![
         (vec![], true),
         (vec!["water.regions[1].shape.max=[0.1, 0.2]"], true),
         (vec!["materials[0].permeability=1.1e-9"], false),
-    ] {
+    ]) {
         let mut report = Vec::new();
         let mut ok = true;
         for s in column(&set) {
@@ -96,10 +97,10 @@ fn base_stress(set: &[&str]) -> (f64, f64) {
 /// base is (ρ' − ρ_w i) g L with ρ' = ρ_sat − ρ_w (Terzaghi), within 5 % of its value
 /// at rest, at rest and at two heads; the line through the three vanishes at
 /// i_c = ρ'/ρ_w within 5 %. The check fails for a sand of porosity 0.3 (ρ' 10 % less
-/// than the reference takes).
+/// than the reference takes; its mutation run, [`with_mutations`]).
 #[test]
 fn quick_condition_of_the_column() {
-    for (porosity, must_pass) in [("0.4", true), ("0.3", false)] {
+    for (porosity, must_pass) in with_mutations(vec![("0.4", true), ("0.3", false)]) {
         let rho_sub = RHO_D + N * RHO_W - RHO_W;
         let s0 = rho_sub * G * L;
         let n = format!("materials[0].porosity={porosity}");
@@ -131,13 +132,14 @@ fn quick_condition_of_the_column() {
 /// A saturated layer at rest against a barrier: σ'_v = ρ' g (H − z) within 3 % and the
 /// pore pressure ρ_w g (H − z) within 1 % at mid-depth; the barrier's water load
 /// ½ ρ_w g H² within 2 %, its grain load within [K_a, K0] × ½ ρ' g H². The check fails
-/// for a sand of porosity 0.3 (ρ' 10 % less than the reference takes).
+/// for a sand of porosity 0.3 (ρ' 10 % less than the reference takes; its mutation run,
+/// [`with_mutations`]).
 #[test]
 fn submerged_layer_at_rest() {
     let h: f64 = 0.3;
     let phi = 30f64.to_radians();
     let rho_sub = RHO_D + N * RHO_W - RHO_W;
-    for (porosity, must_pass) in [("0.4", true), ("0.3", false)] {
+    for (porosity, must_pass) in with_mutations(vec![("0.4", true), ("0.3", false)]) {
         let n = format!("materials[0].porosity={porosity}");
         let (samples, _, _) = run("submerged_layer.toml", &[n.as_str()]);
         let last = samples.last().unwrap();
@@ -233,7 +235,7 @@ fn bad_pore_input_names_the_key() {
 /// exp(−M² T), T = c_v t / H², with c_v = k / (μ (m_v + 1/(ρ_w c0²))) (the scheme's
 /// pore water stores 1/(ρ_w c0²): n/K_w with K_w = n ρ_w c0²), s∞ = Δσ H m_v and
 /// s0 = s∞ (1 − B), B = m_v / (m_v + 1/(ρ_w c0²)); within 5 % at U = 50 % and 90 %.
-/// The check fails with the permeability 50 % high.
+/// The check fails with the permeability 50 % high (its mutation run, [`with_mutations`]).
 #[test]
 fn terzaghi_consolidation() {
     let (h, k, mu, e, nu, c0) = (0.1, 7e-11, MU, 2e5, 0.3, 50.0);
@@ -278,7 +280,7 @@ fn terzaghi_consolidation() {
         let row: Vec<f64> = clay.into_iter().filter(|y| *y > max - 0.005).collect();
         row.iter().sum::<f64>() / row.len() as f64
     };
-    for (perm, must_pass) in [("7.0e-11", true), ("1.05e-10", false)] {
+    for (perm, must_pass) in with_mutations(vec![("7.0e-11", true), ("1.05e-10", false)]) {
         let set = format!("materials[0].permeability={perm}");
         let loaded = granmix_tests::load("consolidation_layer.toml", &[set.as_str()]);
         let mut sim = granmix_core::AnySimulation::new(&loaded).unwrap();
