@@ -6,12 +6,22 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 export CARGO_TERM_COLOR=never
 bash scripts/setup.sh system
-# the Python venv builds while clippy compiles (a minute and a half on a fresh checkout)
+# The Python venv builds while cargo compiles (a minute and a half on a fresh checkout);
+# the FMU library's link (scripts/fmu-link-gcc) waits for the venv's zig.
 venv_log="$(mktemp)"
-bash scripts/setup.sh python >"$venv_log" 2>&1 &
+GRANMIX_VENV_PENDING="$(mktemp)"
+export GRANMIX_VENV_PENDING
+(
+    status=0
+    bash scripts/setup.sh python >"$venv_log" 2>&1 || status=$?
+    rm -f "$GRANMIX_VENV_PENDING"
+    exit "$status"
+) &
 venv=$!
 cargo fmt --all -- --check
-cargo clippy --release --all-targets -- -D warnings
+cargo test --release --workspace --no-run
+# the FMU tests pack FMUs with the granmix binary and the granmix-fmu library
+cargo build --release --workspace
 if ! wait "$venv"; then
     cat "$venv_log" >&2
     echo "scripts/test.sh: scripts/setup.sh python failed (its output above)" >&2
@@ -21,9 +31,18 @@ cat "$venv_log"
 rm -f "$venv_log"
 .venv/bin/ruff check python tests/python scripts examples
 cargo test --release --workspace
-# the FMU tests pack FMUs with the granmix binary and the granmix-fmu library
-cargo build --release --workspace
+# clippy checks while the FMU tests run (they keep one core busy, clippy the other)
+clippy_log="$(mktemp)"
+cargo clippy --release --all-targets -- -D warnings >"$clippy_log" 2>&1 &
+clippy=$!
 .venv/bin/python -m pytest -q tests/python
+if ! wait "$clippy"; then
+    cat "$clippy_log" >&2
+    echo "scripts/test.sh: cargo clippy failed (its output above)" >&2
+    exit 1
+fi
+cat "$clippy_log"
+rm -f "$clippy_log"
 # smoke runs of the accuracy, stability, scale and FMI-overhead suites on tiny cases (the
 # full suites are benchmarks)
 smoke="$(mktemp -d)"

@@ -22,7 +22,6 @@ mod thin_layer_slope;
 mod validation_blocks;
 mod validation_collapse_2d;
 mod validation_collapse_3d;
-mod validation_crater;
 mod validation_geostatic;
 mod validation_incline;
 mod validation_rings;
