@@ -74,7 +74,7 @@ pub fn accuracy(o: &AccuracyOptions) -> Result<()> {
         "error"
     );
     // with --quick, a series whose scene and scheme an earlier one ran (the crater grid's
-    // twelve) is skipped: a smoke run of the same code path
+    // nine scene-default runs after its first) is skipped: a smoke run of the same code path
     let mut smoked = std::collections::HashSet::new();
     for s in all
         .iter()
