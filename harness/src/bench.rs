@@ -112,7 +112,11 @@ fn run_suite(suite: &str, a: &BenchArgs) -> Result<ExitCode> {
 
 /// `--list`: one line per case, its scene, levels and note.
 fn list(all: &[Case]) {
-    let width = all.iter().map(|c| c.name.chars().count()).max().unwrap_or(0);
+    let width = all
+        .iter()
+        .map(|c| c.name.chars().count())
+        .max()
+        .unwrap_or(0);
     for c in all {
         let lv: Vec<&str> = c.levels.iter().map(|l| l.0.as_str()).collect();
         println!(

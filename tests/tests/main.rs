@@ -16,6 +16,7 @@ mod scene_errors;
 mod scene_headers;
 mod scenes_smoke;
 mod slope_stability;
+mod soil_models;
 mod spreading_density;
 mod stability_guard;
 mod thin_layer_slope;

@@ -95,7 +95,7 @@ fn overrides_apply_and_report_errors() {
     )
     .unwrap();
     assert_eq!(ok.scene.simulation.dp, 0.02);
-    assert_eq!(ok.scene.materials[0].friction_angle, 25.0);
+    assert_eq!(ok.scene.materials[0].friction_angle, Some(25.0));
     let e = err(GOOD, &["materials.3.density=1"]);
     assert!(e.to_string().contains("out of range"), "{e}");
     let e = err(GOOD, &["simulation.dp"]);

@@ -21,7 +21,7 @@
 use super::hourglass::penalty_kept;
 use super::material::FineMaterial;
 use super::pair_sums::{ContinuitySums, PairSums};
-use super::plasticity::update_stress;
+use super::plasticity::constitutive_step;
 use super::source::Source;
 use super::state::FineParticles;
 use crate::kernel::WendlandC2;
@@ -134,7 +134,7 @@ impl<const D: usize> Rates<D> {
             }
         }
         let d = self.diff.scale(2.0 * prm.zeta * prm.kernel.h * mi.c0);
-        let u = update_stress(mi, &l, out.stress, &d, prm.dt);
+        let u = constitutive_step(mi, &l, out.stress, *out.plastic_strain, &d, prm.dt);
         *out.stress = u.stress;
         *out.plastic_strain += u.plastic_strain;
         *out.vel_grad = grad.cast::<f32>();

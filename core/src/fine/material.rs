@@ -1,8 +1,13 @@
-//! Derived constants of the Drucker–Prager soil (Eqs. 4–8, 22 of seed 000).
+//! Derived constants of the Drucker–Prager soil (Eqs. 4–8, 22 of seed 000), on the cone
+//! of its `yield_surface`, with friction hardening (seed 004 Eq. 43) or μ(I).
 
+use super::hardening::Hardening;
+use super::mu_i::MuI;
 use super::pores::Pores;
-use crate::math::Real;
-use crate::scene::MaterialSpec;
+use super::yield_surface::{fit, Yield};
+use crate::math::{Real, Sym};
+use crate::scene::{MaterialSpec, YieldSurface};
+use nalgebra::Matrix3;
 
 /// One fine-grain material with its derived constants.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
@@ -16,21 +21,66 @@ pub struct FineMaterial {
     pub bulk: Real,
     /// Sound speed c0 = √(E / (3(1−2ν)ρ0)), Eq. (22).
     pub c0: Real,
-    /// α_φ = tan φ / √(9 + 12 tan²φ), Eq. (6).
+    /// α_φ of φ on the cone `surface` (Eq. (6) for `plane_strain`; at ε_p = 0 with
+    /// hardening, at I = 0 with μ(I)).
     pub alpha_phi: Real,
-    /// k_c = 3c / √(9 + 12 tan²φ), Eq. (6).
+    /// k_c of c on the cone `surface` (Eq. (6) for `plane_strain`).
     pub k_c: Real,
-    /// α_ψ = tan ψ / √(9 + 12 tan²ψ), Eq. (6).
+    /// α_ψ of ψ on the cone `surface`.
     pub alpha_psi: Real,
     /// Jaky's K0 = 1 − sin φ (Eq. 26).
     pub k0: Real,
-    /// Friction angle φ (rad).
+    /// Friction angle φ (rad): φ_e with hardening, atan μ_s with μ(I).
     pub phi: Real,
     /// Cohesion c (Pa).
     pub cohesion: Real,
     /// Porosity and permeability (None: water passes the soil freely).
     #[serde(default)]
     pub pores: Option<Pores>,
+    /// The Drucker–Prager cone φ and c are fitted on.
+    #[serde(default)]
+    pub surface: YieldSurface,
+    /// Friction hardening and softening (seed 004 Eq. 43).
+    #[serde(default)]
+    pub hardening: Option<Hardening>,
+    /// The μ(I) rheology, on the `shear` cone.
+    #[serde(default)]
+    pub mu_i: Option<MuI>,
+}
+
+impl FineMaterial {
+    /// The yield constants of a particle with accumulated plastic strain `eps_p`,
+    /// velocity gradient `l` and stress `sigma` (Pa, tension positive) for this step:
+    /// the material's own, φ(ε_p) of seed 004 Eq. (43) refitted on its cone, or
+    /// α_φ = μ(I)/3 from the deviatoric strain rate and the pressure at the start of the
+    /// step (`mu_i`).
+    #[inline(always)]
+    pub fn yield_at(&self, eps_p: Real, l: &Matrix3<Real>, sigma: &Sym) -> Yield {
+        match (&self.hardening, &self.mu_i) {
+            (None, None) => Yield {
+                alpha_phi: self.alpha_phi,
+                k_c: self.k_c,
+                alpha_psi: self.alpha_psi,
+            },
+            (Some(h), _) => {
+                let (alpha_phi, k_c) = fit(self.surface, h.angle(eps_p), self.cohesion);
+                Yield {
+                    alpha_phi,
+                    k_c,
+                    alpha_psi: self.alpha_psi,
+                }
+            }
+            (None, Some(m)) => {
+                let e = Sym::from_matrix_sym(l).dev();
+                let rate = (2.0 * e.ddot(&e)).sqrt();
+                Yield {
+                    alpha_phi: m.mu(rate, -sigma.trace() / 3.0) / 3.0,
+                    k_c: self.k_c,
+                    alpha_psi: self.alpha_psi,
+                }
+            }
+        }
+    }
 }
 
 impl FineMaterial {
@@ -78,31 +128,33 @@ impl DensityFloor<'_> {
     }
 }
 
-fn dp_alpha(angle_rad: Real) -> Real {
-    let t = angle_rad.tan();
-    t / (9.0 + 12.0 * t * t).sqrt()
-}
-
 impl FineMaterial {
     pub fn from_spec(m: &MaterialSpec) -> Self {
         let e = m.youngs_modulus;
         let nu = m.poisson_ratio;
-        let phi = m.friction_angle.to_radians();
+        let phi = m.static_friction_angle().to_radians();
         let psi = m.dilation_angle.to_radians();
-        let t = phi.tan();
+        let surface = m.surface();
+        let (alpha_phi, k_c) = fit(surface, phi, m.cohesion);
         FineMaterial {
             name: m.name.clone(),
             rho0: m.density,
             shear: e / (2.0 * (1.0 + nu)),
             bulk: e / (3.0 * (1.0 - 2.0 * nu)),
             c0: (e / (3.0 * (1.0 - 2.0 * nu) * m.density)).sqrt(),
-            alpha_phi: dp_alpha(phi),
-            k_c: 3.0 * m.cohesion / (9.0 + 12.0 * t * t).sqrt(),
-            alpha_psi: dp_alpha(psi),
+            alpha_phi,
+            k_c,
+            alpha_psi: fit(surface, psi, 0.0).0,
             k0: 1.0 - phi.sin(),
             phi,
             cohesion: m.cohesion,
             pores: Pores::of(m),
+            surface,
+            hardening: m
+                .hardening
+                .as_ref()
+                .map(|h| Hardening::from_spec(h, m.static_friction_angle())),
+            mu_i: m.mu_i.as_ref().map(MuI::from_spec),
         }
     }
 }

@@ -7,6 +7,7 @@
 //! 9α_φKα_ψ + G.
 
 use super::material::FineMaterial;
+use super::yield_surface::Yield;
 use crate::math::{Real, Sym};
 use nalgebra::Matrix3;
 
@@ -18,12 +19,30 @@ pub struct StressUpdate {
     pub plastic_strain: Real,
 }
 
+/// One particle's constitutive step: its yield constants for the step
+/// ([`FineMaterial::yield_at`]: fixed, hardened by its accumulated plastic strain
+/// `eps_p`, or μ(I)) and [`update_stress`]. The solver and the element tests
+/// ([`element`](super::element)) both step the stress through here.
+#[inline(always)]
+pub fn constitutive_step(
+    m: &FineMaterial,
+    l: &Matrix3<Real>,
+    sigma: &Sym,
+    eps_p: Real,
+    diffusion: &Sym,
+    dt: Real,
+) -> StressUpdate {
+    let y = m.yield_at(eps_p, l, sigma);
+    update_stress(m, &y, l, sigma, diffusion, dt)
+}
+
 /// Integrate the stress over `dt` given the velocity gradient `l` (L_ab = ∂v_a/∂x_b,
 /// zero out-of-plane rows/columns in 2D) and the stress-diffusion rate `diffusion`
 /// (Eq. 25), then apply the return mapping (Eqs. 11–12).
 #[inline]
 pub fn update_stress(
     m: &FineMaterial,
+    y: &Yield,
     l: &Matrix3<Real>,
     sigma: &Sym,
     diffusion: &Sym,
@@ -48,13 +67,13 @@ pub fn update_stress(
     let j2 = 0.5 * s.ddot(&s);
     if j2 > 0.0 {
         let sj = j2.sqrt();
-        let f = sj + m.alpha_phi * i1 - m.k_c;
-        if f >= -1e-12 * (m.k_c + m.alpha_phi * i1.abs() + sj) {
-            let num = 3.0 * m.alpha_phi * m.bulk * tr + (m.shear / sj) * s.ddot(&strain_rate);
-            let gamma = num / (9.0 * m.alpha_phi * m.bulk * m.alpha_psi + m.shear);
+        let f = sj + y.alpha_phi * i1 - y.k_c;
+        if f >= -1e-12 * (y.k_c + y.alpha_phi * i1.abs() + sj) {
+            let num = 3.0 * y.alpha_phi * m.bulk * tr + (m.shear / sj) * s.ddot(&strain_rate);
+            let gamma = num / (9.0 * y.alpha_phi * m.bulk * y.alpha_psi + m.shear);
             if gamma > 0.0 {
                 let mut g = s.scale(gamma * m.shear / sj);
-                let v = gamma * 3.0 * m.bulk * m.alpha_psi;
+                let v = gamma * 3.0 * m.bulk * y.alpha_psi;
                 g.0[0] += v;
                 g.0[1] += v;
                 g.0[2] += v;
@@ -66,7 +85,7 @@ pub fn update_stress(
 
     let mut trial = *sigma;
     trial.axpy(dt, &rate);
-    let stress = return_map(m, trial);
+    let stress = return_map(y, trial);
     if !corrected && stress == trial {
         // elastic: the trial state is the elastic one
         return StressUpdate {
@@ -105,10 +124,10 @@ pub fn jaumann(sigma: &Sym, l: &Matrix3<Real>) -> Sym {
 /// Return mapping to the Drucker–Prager cone: tension cut-off at the apex, Eq. (11),
 /// then radial scaling of the deviator, Eq. (12).
 #[inline]
-pub fn return_map(m: &FineMaterial, mut sigma: Sym) -> Sym {
+pub fn return_map(y: &Yield, mut sigma: Sym) -> Sym {
     let mut i1 = sigma.trace();
-    if m.alpha_phi > 0.0 && -m.alpha_phi * i1 + m.k_c < 0.0 {
-        let shift = (i1 - m.k_c / m.alpha_phi) / 3.0;
+    if y.alpha_phi > 0.0 && -y.alpha_phi * i1 + y.k_c < 0.0 {
+        let shift = (i1 - y.k_c / y.alpha_phi) / 3.0;
         sigma.0[0] -= shift;
         sigma.0[1] -= shift;
         sigma.0[2] -= shift;
@@ -116,7 +135,7 @@ pub fn return_map(m: &FineMaterial, mut sigma: Sym) -> Sym {
     }
     let s = sigma.dev();
     let sj = (0.5 * s.ddot(&s)).sqrt();
-    let cap = (-m.alpha_phi * i1 + m.k_c).max(0.0);
+    let cap = (-y.alpha_phi * i1 + y.k_c).max(0.0);
     if cap < sj {
         let r = cap / sj;
         let mut out = s.scale(r);
@@ -140,7 +159,10 @@ mod tests {
             density: 2000.0,
             youngs_modulus: 5e6,
             poisson_ratio: 0.3,
-            friction_angle: phi,
+            friction_angle: Some(phi),
+            yield_surface: None,
+            hardening: None,
+            mu_i: None,
             cohesion: c,
             dilation_angle: 0.0,
             porosity: None,
@@ -148,6 +170,11 @@ mod tests {
             grain_size: None,
             saturated: false,
         })
+    }
+
+    /// The material's own yield constants (no hardening, no μ(I)).
+    fn fixed(m: &FineMaterial) -> Yield {
+        m.yield_at(0.0, &Matrix3::zeros(), &Sym::ZERO)
     }
 
     /// The written-out Jaumann terms equal σ Ωᵀ + Ω σ by matrix products.
@@ -184,7 +211,7 @@ mod tests {
         let mut l = Matrix3::zeros();
         l[(0, 0)] = -1e-3; // compression rate
         let p0 = Sym::iso(-1e4); // confinement keeps it elastic
-        let u = update_stress(&m, &l, &p0, &Sym::ZERO, 1.0e-3);
+        let u = constitutive_step(&m, &l, &p0, 0.0, &Sym::ZERO, 1.0e-3);
         let eps = -1e-6;
         assert!((u.stress.0[0] - (-1e4 + (m.bulk + 4.0 * m.shear / 3.0) * eps)).abs() < 1e-9);
         assert!((u.stress.0[1] - (-1e4 + (m.bulk - 2.0 * m.shear / 3.0) * eps)).abs() < 1e-9);
@@ -197,14 +224,14 @@ mod tests {
         for (phi, c) in [(30.0, 0.0), (21.9, 0.0), (15.0, 8400.0)] {
             let m = sand(phi, c);
             let s = Sym([-1e4, -3e4, -2e4, 2e4, 1e3, -5e3]);
-            let r = return_map(&m, s);
+            let r = return_map(&fixed(&m), s);
             let f = r.j2().sqrt() + m.alpha_phi * r.trace() - m.k_c;
             assert!(f.abs() < 1e-8 * 3e4, "phi {phi}: f = {f}");
             assert!((r.trace() - s.trace()).abs() < 1e-8, "pressure kept");
         }
         // tension beyond the apex returns to the apex
         let m = sand(30.0, 0.0);
-        let r = return_map(&m, Sym([1e3, 2e3, 5e2, 1e2, 0.0, 0.0]));
+        let r = return_map(&fixed(&m), Sym([1e3, 2e3, 5e2, 1e2, 0.0, 0.0]));
         assert!(r.0.iter().all(|x| x.abs() < 1e-9), "{r:?}");
     }
 
@@ -219,7 +246,7 @@ mod tests {
         let mut acc = 0.0;
         // elastic until γ = τ_y / G ≈ 0.025; shear to γ = 0.06
         for _ in 0..6000 {
-            let u = update_stress(&m, &l, &s, &Sym::ZERO, 1e-5);
+            let u = constitutive_step(&m, &l, &s, 0.0, &Sym::ZERO, 1e-5);
             s = u.stress;
             acc += u.plastic_strain;
         }
@@ -252,7 +279,7 @@ mod tests {
                 let mut l = Matrix3::zeros();
                 l[(0, 0)] = rate;
                 l[(1, 1)] = eyy;
-                update_stress(m, &l, &s, &Sym::ZERO, dt)
+                constitutive_step(m, &l, &s, 0.0, &Sym::ZERO, dt)
             };
             let (f0, f1) = (probe(0.0).stress.0[1] - sv, probe(1e-6).stress.0[1] - sv);
             let eyy = -f0 * 1e-6 / (f1 - f0);

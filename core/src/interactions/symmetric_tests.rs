@@ -13,7 +13,7 @@ use crate::fine::material::uniform_acoustics;
 use crate::fine::material::FineMaterial;
 use crate::fine::momentum::MomentumParams;
 use crate::fine::pair_sums::PairSums;
-use crate::fine::plasticity::update_stress;
+use crate::fine::plasticity::constitutive_step;
 use crate::fine::source::{pack, Source};
 use crate::fine::state::FineParticles;
 use crate::kernel::WendlandC2;
@@ -54,6 +54,9 @@ fn material(name: &str, rho0: Real, e: Real) -> FineMaterial {
         phi,
         cohesion: 0.0,
         pores: None,
+        surface: Default::default(),
+        hardening: None,
+        mu_i: None,
     }
 }
 
@@ -417,7 +420,7 @@ fn continuity_matches<const D: usize>(two_soils: bool, jump: ContinuityJump) {
             }
         }
         let diffusion = psi.scale(2.0 * zeta * h * mi.c0);
-        let u = update_stress(mi, &l, &p.stress[i], &diffusion, dt);
+        let u = constitutive_step(mi, &l, &p.stress[i], 0.0, &diffusion, dt);
         for c in 0..6 {
             close(stress[i].0[c], u.stress.0[c], 2e4, "stress", i);
         }

@@ -6,6 +6,8 @@ mod names_check;
 mod periodic_check;
 mod polygon_check;
 mod pores_check;
+mod soil_model;
+mod soil_model_check;
 mod text;
 mod types;
 mod validate;
@@ -14,6 +16,7 @@ mod water_check;
 
 pub use error::{KeyError, SceneError};
 pub use names_check::{unsafe_name, MAX_NAME_CHARS};
+pub use soil_model::{HardeningSpec, MuISpec, YieldSurface};
 pub use text::{apply_overrides, at, attribute, locate, parse, reattribute};
 pub use types::*;
 pub use validate::{unknown_solid, validate_shape};

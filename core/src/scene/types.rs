@@ -1,6 +1,7 @@
 //! The scene file schema (TOML). Units are SI, angles in degrees.
 //! Documented for users in `docs/scenes.md`; keep the two in step.
 
+use super::soil_model::{HardeningSpec, MuISpec, YieldSurface};
 use crate::math::Real;
 use nalgebra::{Rotation3, Vector3};
 use serde::Deserialize;
@@ -278,7 +279,9 @@ fn default_layers() -> usize {
     4
 }
 
-/// `[[materials]]`: elastic–perfectly-plastic Drucker–Prager soil (Eqs. 4–12).
+/// `[[materials]]`: elastic–plastic Drucker–Prager soil (seed 000 Eqs. 4–12), on the
+/// cone `yield_surface`, with optional friction hardening (`hardening`) or the μ(I)
+/// rheology (`mu_i`).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialSpec {
@@ -289,8 +292,21 @@ pub struct MaterialSpec {
     pub youngs_modulus: f64,
     /// Poisson's ratio ν.
     pub poisson_ratio: f64,
-    /// Friction angle φ (degrees).
-    pub friction_angle: f64,
+    /// Friction angle φ (degrees); φ_e, the angle at zero plastic strain, with
+    /// `hardening`. Required, except with `mu_i` (whose μ_s sets it: φ = atan μ_s).
+    #[serde(default)]
+    pub friction_angle: Option<f64>,
+    /// The Drucker–Prager cone the friction angle and cohesion are fitted on. Default
+    /// `plane_strain` (seed 000 Eq. 6); `shear` with `mu_i`.
+    #[serde(default)]
+    pub yield_surface: Option<YieldSurface>,
+    /// Friction hardening and softening on the accumulated plastic strain (seed 004
+    /// Eq. 43). Default none: perfect plasticity.
+    #[serde(default)]
+    pub hardening: Option<HardeningSpec>,
+    /// The μ(I) rheology (Jop et al. 2006) in place of a fixed friction angle.
+    #[serde(default)]
+    pub mu_i: Option<MuISpec>,
     /// Cohesion c (Pa). Default 0.
     #[serde(default)]
     pub cohesion: f64,
@@ -313,6 +329,28 @@ pub struct MaterialSpec {
     /// pressure below the region's top. Default false.
     #[serde(default)]
     pub saturated: bool,
+}
+
+impl MaterialSpec {
+    /// φ in degrees: `friction_angle`, or atan μ_s with `mu_i` (NaN if neither is
+    /// given; `scene::validate` refuses such a scene).
+    pub fn static_friction_angle(&self) -> f64 {
+        match (self.friction_angle, &self.mu_i) {
+            (Some(phi), _) => phi,
+            (None, Some(m)) => m.mu_s.atan().to_degrees(),
+            (None, None) => f64::NAN,
+        }
+    }
+
+    /// The cone φ and c are fitted on: `yield_surface`, else `shear` with `mu_i` and
+    /// `plane_strain` without.
+    pub fn surface(&self) -> YieldSurface {
+        match (self.yield_surface, &self.mu_i) {
+            (Some(y), _) => y,
+            (None, Some(_)) => YieldSurface::Shear,
+            (None, None) => YieldSurface::PlaneStrain,
+        }
+    }
 }
 
 /// Initial stress of a region.

@@ -474,11 +474,21 @@ fn validate_materials_and_regions(s: &Scene) -> Result<HashSet<&str>, KeyError> 
             );
         }
         elastic_constants(&p, m.density, m.youngs_modulus, m.poisson_ratio)?;
-        if !(m.friction_angle > 0.0 && m.friction_angle < 90.0) {
-            return fail(
-                format!("{p}.friction_angle"),
-                format!("must lie in (0, 90) degrees, found {:?}", m.friction_angle),
-            );
+        match (m.friction_angle, &m.mu_i) {
+            (None, None) => {
+                return fail(
+                    format!("{p}.friction_angle"),
+                    "missing: give the friction angle φ in degrees (or a [materials.mu_i] \
+                     block, whose μ_s sets it)",
+                )
+            }
+            (Some(phi), _) if !(phi > 0.0 && phi < 90.0) => {
+                return fail(
+                    format!("{p}.friction_angle"),
+                    format!("must lie in (0, 90) degrees, found {phi:?}"),
+                );
+            }
+            _ => {}
         }
         if !(m.cohesion >= 0.0 && m.cohesion.is_finite()) {
             return fail(
@@ -486,12 +496,14 @@ fn validate_materials_and_regions(s: &Scene) -> Result<HashSet<&str>, KeyError> 
                 format!("must be ≥ 0 Pa, found {:?}", m.cohesion),
             );
         }
-        if !(m.dilation_angle >= 0.0 && m.dilation_angle <= m.friction_angle) {
+        super::soil_model_check::check_soil_model(&p, m)?;
+        let phi = m.static_friction_angle();
+        if !(m.dilation_angle >= 0.0 && m.dilation_angle <= phi) {
             return fail(
                 format!("{p}.dilation_angle"),
                 format!(
-                    "must lie in [0, friction_angle = {:?}] degrees, found {:?}",
-                    m.friction_angle, m.dilation_angle
+                    "must lie in [0, friction_angle = {phi:?}] degrees, found {:?}",
+                    m.dilation_angle
                 ),
             );
         }

@@ -349,7 +349,9 @@ struct Param<T> {
     key: &'static str,
     unit: Option<&'static str>,
     what: &'static str,
-    value: fn(&T) -> f64,
+    /// The start value; None where the key does not apply (a μ(I) material has no
+    /// `friction_angle`): no variable.
+    value: fn(&T) -> Option<f64>,
 }
 
 impl<T> Param<T> {
@@ -357,7 +359,7 @@ impl<T> Param<T> {
         key: &'static str,
         unit: Option<&'static str>,
         what: &'static str,
-        value: fn(&T) -> f64,
+        value: fn(&T) -> Option<f64>,
     ) -> Self {
         Param {
             key,
@@ -384,19 +386,21 @@ const MATERIALS: Params<MaterialSpec> = Params {
     who: "fine-grain material",
     name: |m| &m.name,
     params: &[
-        Param::new("density", Some("kg/m3"), "initial density", |m| m.density),
+        Param::new("density", Some("kg/m3"), "initial density", |m| {
+            Some(m.density)
+        }),
         Param::new("youngs_modulus", Some("Pa"), "Young's modulus", |m| {
-            m.youngs_modulus
+            Some(m.youngs_modulus)
         }),
         Param::new("poisson_ratio", None, "Poisson's ratio", |m| {
-            m.poisson_ratio
+            Some(m.poisson_ratio)
         }),
         Param::new("friction_angle", Some("deg"), "friction angle", |m| {
             m.friction_angle
         }),
-        Param::new("cohesion", Some("Pa"), "cohesion", |m| m.cohesion),
+        Param::new("cohesion", Some("Pa"), "cohesion", |m| Some(m.cohesion)),
         Param::new("dilation_angle", Some("deg"), "dilation angle", |m| {
-            m.dilation_angle
+            Some(m.dilation_angle)
         }),
     ],
 };
@@ -407,12 +411,12 @@ const SOLIDS: Params<SolidSpec> = Params {
     who: "coarse-grain solid",
     name: |s| &s.name,
     params: &[
-        Param::new("density", Some("kg/m3"), "density", |s| s.density),
+        Param::new("density", Some("kg/m3"), "density", |s| Some(s.density)),
         Param::new("youngs_modulus", Some("Pa"), "Young's modulus", |s| {
-            s.youngs_modulus
+            Some(s.youngs_modulus)
         }),
         Param::new("poisson_ratio", None, "Poisson's ratio", |s| {
-            s.poisson_ratio
+            Some(s.poisson_ratio)
         }),
     ],
 };
@@ -503,11 +507,14 @@ impl Builder {
         for (i, spec) in specs.iter().enumerate() {
             let name = (family.name)(spec);
             for p in params.iter() {
+                let Some(value) = (p.value)(spec) else {
+                    continue;
+                };
                 let variable = Variable::parameter(
                     format!("{list}.{name}.{}", p.key),
                     p.unit,
                     format!("{who} `{name}`: {}", p.what),
-                    (p.value)(spec),
+                    value,
                 );
                 self.push(variable, Slot::SceneValue(format!("{list}[{i}].{}", p.key)));
             }
@@ -750,5 +757,47 @@ mod tests {
         );
         assert_eq!(fill("{", &v), "{");
         assert_eq!(fill("{name", &v), "{name");
+    }
+}
+
+#[cfg(test)]
+mod soil_model_tests {
+    use super::build_table;
+    use granmix_core::input::load_scene_str;
+    use granmix_core::AnySimulation;
+
+    /// A μ(I) material has no friction angle to tune: its table carries no
+    /// `friction_angle` parameter (setting one would make the scene invalid), and a
+    /// Drucker–Prager material's does.
+    #[test]
+    fn a_mu_i_material_has_no_friction_angle_parameter() {
+        let text = |material: &str| {
+            format!(
+                "[simulation]\ndimension = 2\ngravity = [0.0, -9.81]\nend_time = 0.1\n\
+                 dp = 0.01\noutput_interval = 0.01\n\n[[materials]]\nname = \"soil\"\n\
+                 density = 1500.0\nyoungs_modulus = 1e6\npoisson_ratio = 0.3\n{material}\n\n\
+                 [[regions]]\nname = \"block\"\nmaterial = \"soil\"\n\
+                 shape = {{ type = \"box\", min = [0.0, 0.0], max = [0.05, 0.05] }}\n"
+            )
+        };
+        for (material, has) in [
+            ("friction_angle = 30.0", true),
+            (
+                "mu_i = { mu_s = 0.383, mu_2 = 0.643, i_0 = 0.279, grain_diameter = 5e-4, \
+                 grain_density = 2500.0 }",
+                false,
+            ),
+        ] {
+            let loaded = load_scene_str(&text(material), "soil.toml", &[]).unwrap();
+            let sim = AnySimulation::new(&loaded).unwrap();
+            let table = build_table(&loaded, &sim).unwrap();
+            let names: Vec<_> = table.variables.iter().map(|v| v.name.as_str()).collect();
+            assert_eq!(
+                names.contains(&"materials.soil.friction_angle"),
+                has,
+                "{material}: {names:?}"
+            );
+            assert!(names.contains(&"materials.soil.density"), "{names:?}");
+        }
     }
 }

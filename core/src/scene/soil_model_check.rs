@@ -1,0 +1,134 @@
+//! Checks on a `[[materials]]` entry's soil-model keys (`yield_surface`, `hardening`,
+//! `mu_i`), called by `validate` for each material before its dilation angle.
+
+use super::soil_model::{HardeningSpec, MuISpec, YieldSurface};
+use super::validate::{fail, Check};
+use super::MaterialSpec;
+
+/// The soil-model keys of material `m` at key path `p` (`materials[i]`).
+pub(super) fn check_soil_model(p: &str, m: &MaterialSpec) -> Check {
+    if let Some(mu) = &m.mu_i {
+        if m.friction_angle.is_some() {
+            return fail(
+                format!("{p}.friction_angle"),
+                "leave it out with [materials.mu_i]: μ_s is the static friction (φ = atan μ_s)",
+            );
+        }
+        if m.hardening.is_some() {
+            return fail(
+                format!("{p}.hardening"),
+                "give either [materials.hardening] or [materials.mu_i], not both",
+            );
+        }
+        if let Some(y) = m.yield_surface {
+            if y != YieldSurface::Shear {
+                return fail(
+                    format!("{p}.yield_surface"),
+                    format!(
+                        "μ(I) is a ratio √J2/p (Jop et al. 2006): it acts on the `shear` \
+                         cone; found `{}`",
+                        surface_name(y)
+                    ),
+                );
+            }
+        }
+        check_mu_i(&format!("{p}.mu_i"), mu)?;
+    }
+    if let Some(h) = &m.hardening {
+        check_hardening(&format!("{p}.hardening"), h, m.dilation_angle)?;
+    }
+    Ok(())
+}
+
+fn surface_name(y: YieldSurface) -> &'static str {
+    match y {
+        YieldSurface::PlaneStrain => "plane_strain",
+        YieldSurface::CompressionCone => "compression_cone",
+        YieldSurface::ExtensionCone => "extension_cone",
+        YieldSurface::Shear => "shear",
+    }
+}
+
+fn positive(key: String, v: f64, what: &str) -> Check {
+    if v > 0.0 && v.is_finite() {
+        Ok(())
+    } else {
+        fail(key, format!("must be a positive {what}, found {v:?}"))
+    }
+}
+
+fn check_mu_i(p: &str, mu: &MuISpec) -> Check {
+    positive(format!("{p}.mu_s"), mu.mu_s, "static friction coefficient")?;
+    if !(mu.mu_2 >= mu.mu_s && mu.mu_2.is_finite()) {
+        return fail(
+            format!("{p}.mu_2"),
+            format!(
+                "must be at least mu_s = {:?} (μ grows from μ_s to μ_2 with I), found {:?}",
+                mu.mu_s, mu.mu_2
+            ),
+        );
+    }
+    positive(format!("{p}.i_0"), mu.i_0, "number (I_0 of μ(I))")?;
+    positive(
+        format!("{p}.grain_diameter"),
+        mu.grain_diameter,
+        "grain diameter in m",
+    )?;
+    positive(
+        format!("{p}.grain_density"),
+        mu.grain_density,
+        "grain density in kg/m³ (the solid's, not the bulk density)",
+    )
+}
+
+fn check_hardening(p: &str, h: &HardeningSpec, dilation: f64) -> Check {
+    positive(format!("{p}.peak_strain"), h.peak_strain, "plastic strain")?;
+    for (key, v) in [
+        ("peak_angle", h.peak_angle),
+        ("residual_angle", h.residual_angle),
+    ] {
+        if !(v > 0.0 && v < 90.0) {
+            return fail(
+                format!("{p}.{key}"),
+                format!("must lie in (0, 90) degrees, found {v:?}"),
+            );
+        }
+    }
+    if !(h.softening >= 0.0 && h.softening.is_finite()) {
+        return fail(
+            format!("{p}.softening"),
+            format!(
+                "must be ≥ 0 (the rate H of the softening branch), found {:?}",
+                h.softening
+            ),
+        );
+    }
+    // the hardening branch, sampled on (0, ε_p^peak], must stay an angle in (0, 90°)
+    let [a, b, c, d] = h.cubic;
+    let worst = (1..=64)
+        .map(|k| {
+            let e = h.peak_strain * k as f64 / 64.0;
+            ((a * e + b) * e + c) * e + d
+        })
+        .find(|phi| !(*phi > 0.0 && *phi < std::f64::consts::FRAC_PI_2));
+    if let Some(phi) = worst {
+        return fail(
+            format!("{p}.cubic"),
+            format!(
+                "the hardening branch a ε³ + b ε² + c ε + d (radians) must stay in (0, π/2) \
+                 for 0 < ε ≤ peak_strain; it reaches {phi:?} rad"
+            ),
+        );
+    }
+    if dilation > h.residual_angle {
+        return fail(
+            format!("{p}.residual_angle"),
+            format!(
+                "must be at least the dilation angle {dilation:?}° (ψ ≤ φ at every strain), \
+                 found {:?}",
+                h.residual_angle
+            ),
+        );
+    }
+    Ok(())
+}
