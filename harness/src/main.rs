@@ -7,6 +7,7 @@ mod bench_cases;
 mod bench_fmi;
 mod bench_ipc;
 mod check;
+mod element;
 mod metric;
 mod metric_lobovsky;
 mod metric_pores;
@@ -93,6 +94,10 @@ enum Command {
     },
     /// Run benchmark cases at several resolutions; writes JSON and a PNG.
     Bench(bench::BenchArgs),
+    /// Drive one material point of a scene's soil through a drained triaxial
+    /// compression or a simple shear: peak and end stresses against Mohr–Coulomb,
+    /// element.csv and element.png.
+    Element(element::ElementArgs),
     /// Package a scene (or a structure file) as an FMI 2.0 Co-Simulation FMU.
     PackFmu(pack::PackArgs),
     /// Subscribe to a particle service: frame rate, particle count, latency; can record.
@@ -211,6 +216,10 @@ fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
             Ok(ExitCode::SUCCESS)
         }
         Command::Bench(args) => bench::bench(&args),
+        Command::Element(args) => {
+            element::element(&args)?;
+            Ok(ExitCode::SUCCESS)
+        }
         Command::PackFmu(args) => {
             pack::pack(&args)?;
             Ok(ExitCode::SUCCESS)

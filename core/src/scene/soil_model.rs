@@ -27,6 +27,18 @@ pub enum YieldSurface {
     Shear,
 }
 
+impl YieldSurface {
+    /// The key's value in a scene file.
+    pub fn name(self) -> &'static str {
+        match self {
+            YieldSurface::PlaneStrain => "plane_strain",
+            YieldSurface::CompressionCone => "compression_cone",
+            YieldSurface::ExtensionCone => "extension_cone",
+            YieldSurface::Shear => "shear",
+        }
+    }
+}
+
 /// `[materials.hardening]`: the friction angle as a function of the accumulated
 /// equivalent plastic strain ε_p (seed 004 Eq. 43). The material's `friction_angle` is
 /// φ_e, the angle at ε_p = 0.

@@ -27,7 +27,7 @@ pub(super) fn check_soil_model(p: &str, m: &MaterialSpec) -> Check {
                     format!(
                         "μ(I) is a ratio √J2/p (Jop et al. 2006): it acts on the `shear` \
                          cone; found `{}`",
-                        surface_name(y)
+                        y.name()
                     ),
                 );
             }
@@ -38,15 +38,6 @@ pub(super) fn check_soil_model(p: &str, m: &MaterialSpec) -> Check {
         check_hardening(&format!("{p}.hardening"), h, m.dilation_angle)?;
     }
     Ok(())
-}
-
-fn surface_name(y: YieldSurface) -> &'static str {
-    match y {
-        YieldSurface::PlaneStrain => "plane_strain",
-        YieldSurface::CompressionCone => "compression_cone",
-        YieldSurface::ExtensionCone => "extension_cone",
-        YieldSurface::Shear => "shear",
-    }
 }
 
 fn positive(key: String, v: f64, what: &str) -> Check {
