@@ -32,6 +32,7 @@ pub fn check(scene: &Path, set: &[String], exact: bool) -> Result<()> {
             p.max
         );
     }
+    materials(&loaded);
     let res = Resolution::of_scene(&loaded.scene);
     let e = estimate(&loaded.scene, &res);
     let b = budget(&loaded.scene);
@@ -141,6 +142,33 @@ fn check_exact(loaded: &LoadedScene) -> Result<()> {
     };
     cost(loaded, n, step, fine);
     Ok(())
+}
+
+/// Each soil's model: the cone its friction angle is fitted on, and its hardening or
+/// μ(I) (docs/method.md §Soil models).
+fn materials(loaded: &LoadedScene) {
+    for m in &loaded.scene.materials {
+        let surface = m.surface();
+        let model = match (&m.hardening, &m.mu_i) {
+            (Some(h), _) => format!(
+                ", hardening to φ_p = {}° at ε_p = {}, softening to φ_r = {}° (seed 004 Eq. 43)",
+                h.peak_angle, h.peak_strain, h.residual_angle
+            ),
+            (None, Some(mu)) => format!(
+                ", μ(I): μ_s = {}, μ_2 = {}, I_0 = {}, d = {} m, ρ_s = {} kg/m³",
+                mu.mu_s, mu.mu_2, mu.i_0, mu.grain_diameter, mu.grain_density
+            ),
+            (None, None) => String::new(),
+        };
+        println!(
+            "  material {:<18} φ = {:.2}°, c = {} Pa, ψ = {}° on the `{}` cone{model}",
+            m.name,
+            m.static_friction_angle(),
+            m.cohesion,
+            m.dilation_angle,
+            surface.name()
+        );
+    }
 }
 
 fn rock_reports(loaded: &LoadedScene) {
