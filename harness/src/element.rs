@@ -178,15 +178,12 @@ pub fn element(a: &ElementArgs) -> Result<()> {
     }
     let csv_path = out.join("element.csv");
     std::fs::write(&csv_path, csv).with_context(|| format!("write {}", csv_path.display()))?;
-    let curves = |k: usize, scale: f64| -> Vec<Curve> {
+    // per run, (strain, y(point)) against the strain
+    let curves = |y: fn(&(f64, f64, f64)) -> f64| -> Vec<Curve> {
         runs.iter()
             .map(|r| Curve {
                 label: format!("σ3 = {:.0} kPa", r.confining / 1e3),
-                points: r
-                    .points
-                    .iter()
-                    .map(|p| (p.0, if k == 1 { p.1 * scale } else { p.2 * scale }))
-                    .collect(),
+                points: r.points.iter().map(|p| (p.0, y(p))).collect(),
             })
             .collect()
     };
@@ -211,13 +208,13 @@ pub fn element(a: &ElementArgs) -> Result<()> {
             Panel {
                 title: "stress against strain".into(),
                 ylabel: measure.into(),
-                curves: curves(1, 1e-3),
+                curves: curves(|p| p.1 * 1e-3),
                 include: Some((0.0, 0.0)),
             },
             Panel {
                 title: second.0.into(),
                 ylabel: second.1.into(),
-                curves: curves(2, 1.0),
+                curves: curves(|p| p.2),
                 include: None,
             },
         ],

@@ -21,10 +21,11 @@ pub use text::{apply_overrides, at, attribute, locate, parse, reattribute};
 pub use types::*;
 pub use validate::{unknown_solid, validate_shape};
 
-/// Semantic checks on a deserialised scene: the names, the grains, walls and probes, then the
-/// water, then the soils' pores, then a periodic axis. Errors carry the key path.
+/// Semantic checks on a deserialised scene: the names, the soils' models (before their
+/// angles: a μ(I) block's μ_s sets φ), the grains, walls and probes, then the water, then the soils' pores, then a periodic axis. Errors carry the key path.
 pub fn validate(s: &Scene) -> Result<(), KeyError> {
     names_check::validate_names(s)?;
+    soil_model_check::validate_soil_models(s)?;
     validate::validate_grains(s)?;
     water_check::validate_water(s)?;
     pores_check::validate_pores(s)?;

@@ -1,12 +1,21 @@
-//! Checks on a `[[materials]]` entry's soil-model keys (`yield_surface`, `hardening`,
-//! `mu_i`), called by `validate` for each material before its dilation angle.
+//! Checks on the `[[materials]]` entries' soil-model keys (`yield_surface`, `hardening`,
+//! `mu_i`), before the rest of the grains (`scene::validate`): a μ(I) block's μ_s sets
+//! the friction angle the dilation angle is checked against.
 
 use super::soil_model::{HardeningSpec, MuISpec, YieldSurface};
-use super::validate::{fail, Check};
-use super::MaterialSpec;
+use super::validate::{fail, positive, Check};
+use super::{MaterialSpec, Scene};
+
+/// The soil-model keys of every `[[materials]]` entry.
+pub(super) fn validate_soil_models(s: &Scene) -> Check {
+    for (i, m) in s.materials.iter().enumerate() {
+        check_soil_model(&format!("materials[{i}]"), m)?;
+    }
+    Ok(())
+}
 
 /// The soil-model keys of material `m` at key path `p` (`materials[i]`).
-pub(super) fn check_soil_model(p: &str, m: &MaterialSpec) -> Check {
+fn check_soil_model(p: &str, m: &MaterialSpec) -> Check {
     if let Some(mu) = &m.mu_i {
         if m.friction_angle.is_some() {
             return fail(
@@ -40,16 +49,8 @@ pub(super) fn check_soil_model(p: &str, m: &MaterialSpec) -> Check {
     Ok(())
 }
 
-fn positive(key: String, v: f64, what: &str) -> Check {
-    if v > 0.0 && v.is_finite() {
-        Ok(())
-    } else {
-        fail(key, format!("must be a positive {what}, found {v:?}"))
-    }
-}
-
 fn check_mu_i(p: &str, mu: &MuISpec) -> Check {
-    positive(format!("{p}.mu_s"), mu.mu_s, "static friction coefficient")?;
+    positive(&format!("{p}.mu_s"), mu.mu_s)?;
     if !(mu.mu_2 >= mu.mu_s && mu.mu_2.is_finite()) {
         return fail(
             format!("{p}.mu_2"),
@@ -59,21 +60,13 @@ fn check_mu_i(p: &str, mu: &MuISpec) -> Check {
             ),
         );
     }
-    positive(format!("{p}.i_0"), mu.i_0, "number (I_0 of μ(I))")?;
-    positive(
-        format!("{p}.grain_diameter"),
-        mu.grain_diameter,
-        "grain diameter in m",
-    )?;
-    positive(
-        format!("{p}.grain_density"),
-        mu.grain_density,
-        "grain density in kg/m³ (the solid's, not the bulk density)",
-    )
+    positive(&format!("{p}.i_0"), mu.i_0)?;
+    positive(&format!("{p}.grain_diameter"), mu.grain_diameter)?;
+    positive(&format!("{p}.grain_density"), mu.grain_density)
 }
 
 fn check_hardening(p: &str, h: &HardeningSpec, dilation: f64) -> Check {
-    positive(format!("{p}.peak_strain"), h.peak_strain, "plastic strain")?;
+    positive(&format!("{p}.peak_strain"), h.peak_strain)?;
     for (key, v) in [
         ("peak_angle", h.peak_angle),
         ("residual_angle", h.residual_angle),

@@ -496,7 +496,6 @@ fn validate_materials_and_regions(s: &Scene) -> Result<HashSet<&str>, KeyError> 
                 format!("must be ≥ 0 Pa, found {:?}", m.cohesion),
             );
         }
-        super::soil_model_check::check_soil_model(&p, m)?;
         let phi = m.static_friction_angle();
         if !(m.dilation_angle >= 0.0 && m.dilation_angle <= phi) {
             return fail(

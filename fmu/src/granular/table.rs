@@ -746,7 +746,9 @@ pub fn build_table(loaded: &LoadedScene, sim: &AnySimulation) -> Result<Table, G
 
 #[cfg(test)]
 mod tests {
-    use super::fill;
+    use super::{build_table, fill};
+    use granmix_core::input::load_scene_str;
+    use granmix_core::AnySimulation;
 
     #[test]
     fn fill_replaces_known_keys_once() {
@@ -758,13 +760,6 @@ mod tests {
         assert_eq!(fill("{", &v), "{");
         assert_eq!(fill("{name", &v), "{name");
     }
-}
-
-#[cfg(test)]
-mod soil_model_tests {
-    use super::build_table;
-    use granmix_core::input::load_scene_str;
-    use granmix_core::AnySimulation;
 
     /// A μ(I) material has no friction angle to tune: its table carries no
     /// `friction_angle` parameter (setting one would make the scene invalid), and a
