@@ -42,7 +42,7 @@ pub trait Separation: Sync {
     fn of<const D: usize>(&self, rij: Vect<D>) -> Vect<D>;
 }
 
-/// No periodic axis: the plain difference (the fine grains' sweeps).
+/// No periodic axis: the plain difference.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Open;
 
@@ -53,23 +53,31 @@ impl Separation for Open {
     }
 }
 
-/// A periodic axis or none (the water's sweeps).
+/// A periodic axis or none.
 pub type Wrap = Option<Period>;
 
-impl Separation for Wrap {
+impl Separation for Period {
     /// Positions lie within a skin of [lo, lo + L), so one period at most separates
     /// a pair from its minimum image.
     #[inline(always)]
     fn of<const D: usize>(&self, mut rij: Vect<D>) -> Vect<D> {
-        if let Some(p) = self {
-            let (a, half) = (p.axis, 0.5 * p.len);
-            if rij[a] > half {
-                rij[a] -= p.len;
-            } else if rij[a] < -half {
-                rij[a] += p.len;
-            }
+        let (a, half) = (self.axis, 0.5 * self.len);
+        if rij[a] > half {
+            rij[a] -= self.len;
+        } else if rij[a] < -half {
+            rij[a] += self.len;
         }
         rij
+    }
+}
+
+impl Separation for Wrap {
+    #[inline(always)]
+    fn of<const D: usize>(&self, rij: Vect<D>) -> Vect<D> {
+        match self {
+            Some(p) => p.of(rij),
+            None => rij,
+        }
     }
 }
 

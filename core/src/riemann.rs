@@ -20,6 +20,20 @@
 
 use crate::math::Real;
 
+/// The jump `du` = U_L − U_R of a pair limited against `rec`, the same jump between
+/// the two velocities reconstructed to the pair's midpoint by the particles' gradients
+/// (MUSCL, van Leer 1979, as Vila (1999) brings it to SPH): minmod, so zero for a
+/// linear velocity field (rec = 0), the raw jump where the reconstruction would exceed
+/// it, and zero where the two disagree in sign.
+#[inline(always)]
+pub fn minmod_jump(du: Real, rec: Real) -> Real {
+    if du * rec > 0.0 {
+        du.signum() * du.abs().min(rec.abs())
+    } else {
+        0.0
+    }
+}
+
 /// Parameters of the solver for one pair of materials.
 #[derive(Clone, Copy, Debug)]
 pub struct Riemann {

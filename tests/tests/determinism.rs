@@ -72,6 +72,8 @@ fn bitwise_identical_across_thread_counts() {
         ("dam_break_3d.toml", vec!["simulation.dp=0.0057"], 150),
         // water across a periodic seam
         ("poiseuille_2d.toml", vec!["simulation.dp=0.00125"], 300),
+        // soil across a periodic seam, μ(I), the Riemann jump reconstructed
+        ("bagnold_incline.toml", vec!["simulation.dp=2.5e-4"], 400),
         // soil and water: seepage, buoyancy, a permeable sieve
         ("seepage_column.toml", vec![], 300),
     ] {

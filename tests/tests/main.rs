@@ -2,6 +2,7 @@
 //! one test binary (one link instead of one per file keeps the suite's build short).
 
 mod added_mass;
+mod bagnold_incline;
 mod barrier_loads;
 mod barrier_panels;
 mod barrier_suction;

@@ -97,7 +97,7 @@ fn poiseuille_flow_follows_the_series_solution() {
 }
 
 /// A period that is not a whole number of spacings, one under three list radii, an
-/// axis the scene lacks, grains in a periodic scene, a container closed across the
+/// axis the scene lacks, soil beside water in a periodic scene, a container closed across the
 /// axis, and water outside the period are refused, naming the key.
 #[test]
 fn bad_periodic_input_names_the_key() {
@@ -138,7 +138,7 @@ fn bad_periodic_input_names_the_key() {
                  shape = {{ type = \"box\", min = [0.0, 0.0], max = [0.1, 0.01] }}\n"
             ),
             "`regions`",
-            "water only",
+            "not both together",
         ),
     ] {
         let e = refusal(&text);

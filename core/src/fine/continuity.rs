@@ -28,7 +28,7 @@ use crate::kernel::WendlandC2;
 use crate::math::{sub_outer, Real, Sym, Vect};
 use crate::neighbors::NeighborLists;
 use crate::pair_block::{Pair, PairBlock, BLOCK};
-use crate::periodic::Open;
+use crate::periodic::{Open, Separation, Wrap};
 use crate::riemann::pair_reciprocals;
 use crate::scene::ContinuityJump;
 use crate::slabs::two_phase;
@@ -52,13 +52,16 @@ pub struct ContinuityParams<'a, const D: usize> {
     /// less the water's vertical force over the weight `geostatic` holds (seepage
     /// changes the gradient a soil rests at); empty: 1 for all.
     pub weight: &'a [Real],
-    /// Unit vector opposite to gravity (zero without gravity).
+    /// Unit vector opposite to the hydrostatic gravity (zero without gravity; along a
+    /// periodic slope, normal to the bed).
     pub up: Vect<D>,
     /// Pressure of the jump term of Eq. (19).
     pub jump: ContinuityJump,
     /// All materials share one impedance and sound speed
     /// ([`uniform_acoustics`](super::material::uniform_acoustics)).
     pub uniform: bool,
+    /// The periodic axis, if any: pairs across it take the minimum image.
+    pub wrap: Wrap,
 }
 
 /// Output buffers of the sweep.
@@ -245,6 +248,23 @@ pub fn pair_pass<const D: usize>(
     prm: &ContinuityParams<'_, D>,
     sums: &mut [PairSums<D>],
 ) {
+    // one pass per separation, so that the open scene's pair loop has no branch on it
+    match &prm.wrap {
+        None => separated_pair_pass(p, src, mats, lists, prm, sums, &Open),
+        Some(period) => separated_pair_pass(p, src, mats, lists, prm, sums, period),
+    }
+}
+
+#[inline(always)]
+fn separated_pair_pass<const D: usize>(
+    p: &FineParticles<D>,
+    src: &[Source],
+    mats: &[FineMaterial],
+    lists: &NeighborLists,
+    prm: &ContinuityParams<'_, D>,
+    sums: &mut [PairSums<D>],
+    sep: &impl Separation,
+) {
     let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
     let n = p.len();
     let (pos, vel, src, material) = (&p.pos[..n], &p.vel[..n], &src[..n], &p.material[..n]);
@@ -261,7 +281,7 @@ pub fn pair_pass<const D: usize>(
                 let (xi, vi, vol_i) = (pos[i], vel[i], si.vol);
                 let mut own = ContinuitySums::<D>::zero();
                 for js in lists.inner_of(i).chunks(BLOCK) {
-                    block.fill((&xi, js, pos), cut2, 0.0, &Open);
+                    block.fill((&xi, js, pos), cut2, 0.0, sep);
                     for Pair {
                         j, rij, r, inv_r, ..
                     } in block.pairs(0.0)

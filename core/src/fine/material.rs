@@ -84,6 +84,25 @@ impl FineMaterial {
 }
 
 impl FineMaterial {
+    /// (α_φ, k_c) of the strongest cone the material reaches: its own, the largest of
+    /// φ_e, φ_p and φ_r with hardening, μ_2 with μ(I). The dummy wall particles scale
+    /// their stress on it ([`WallStrength`](crate::interactions::fine_wall::WallStrength)):
+    /// measured on the cone of a μ(I) soil at rest, a particle flowing at μ(I) > μ_s
+    /// passed the wall only μ_s/μ of its shear, and a layer on a slope tan θ between μ_s
+    /// and μ_2 slid on its bed instead of shearing.
+    pub fn strongest_cone(&self) -> (Real, Real) {
+        match (&self.hardening, &self.mu_i) {
+            (None, None) => (self.alpha_phi, self.k_c),
+            (Some(h), _) => {
+                let phi = h.initial.max(h.peak).max(h.residual);
+                fit(self.surface, phi, self.cohesion)
+            }
+            (None, Some(m)) => (m.mu_2 / 3.0, self.k_c),
+        }
+    }
+}
+
+impl FineMaterial {
     /// The density whose weight the skeleton carries: ρ' = ρ_d − (1 − n) ρ_w for a
     /// saturated soil under water of density `rho_w`, else ρ0.
     pub fn skeleton_density(&self, rho_w: Option<Real>) -> Real {

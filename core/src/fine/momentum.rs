@@ -25,8 +25,8 @@ use crate::kernel::WendlandC2;
 use crate::math::{Real, Sym, Vect};
 use crate::neighbors::NeighborLists;
 use crate::pair_block::{Pair, PairBlock, BLOCK};
-use crate::periodic::Open;
-use crate::riemann::{pair_reciprocals, Riemann, Side};
+use crate::periodic::{Open, Separation, Wrap};
+use crate::riemann::{minmod_jump, pair_reciprocals, Riemann, Side};
 use crate::slabs::two_phase;
 use nalgebra::SVector;
 
@@ -55,6 +55,10 @@ pub struct MomentumParams<'a, const D: usize> {
     /// All materials share one impedance and sound speed
     /// ([`uniform_acoustics`](super::material::uniform_acoustics)).
     pub uniform: bool,
+    /// The periodic axis, if any: pairs across it take the minimum image.
+    pub wrap: Wrap,
+    /// MUSCL reconstruction of the Riemann jump (`numerics.muscl`).
+    pub muscl: bool,
 }
 
 /// The acceleration of particle i from its fine–fine pair sums: (2/ρ_i) times the sum
@@ -164,6 +168,27 @@ pub fn pair_pass<const D: usize>(
     jump: &JumpDiffusion<'_, D>,
     sums: &mut [PairSums<D>],
 ) {
+    // one pass per separation and reconstruction, so that the common scene's pair loop
+    // branches on neither
+    let a = (p, src, lists, art);
+    match (&prm.wrap, prm.muscl) {
+        (None, false) => separated_pair_pass::<D, false>(a, prm, jump, sums, &Open),
+        (None, true) => separated_pair_pass::<D, true>(a, prm, jump, sums, &Open),
+        (Some(period), false) => separated_pair_pass::<D, false>(a, prm, jump, sums, period),
+        (Some(period), true) => separated_pair_pass::<D, true>(a, prm, jump, sums, period),
+    }
+}
+
+/// [`pair_pass`] with pairs separated by `sep`, the Riemann jump reconstructed if
+/// `MUSCL`.
+#[inline(always)]
+fn separated_pair_pass<const D: usize, const MUSCL: bool>(
+    (p, src, lists, art): (&FineParticles<D>, &[Source], &NeighborLists, &[Sym]),
+    prm: &MomentumParams<'_, D>,
+    jump: &JumpDiffusion<'_, D>,
+    sums: &mut [PairSums<D>],
+    sep: &impl Separation,
+) {
     let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
     let n = p.len();
     let (pos, vel, src) = (&p.pos[..n], &p.vel[..n], &src[..n]);
@@ -185,7 +210,7 @@ pub fn pair_pass<const D: usize>(
                 let li = &vel_grad[i];
                 let mut own = PairSums::<D>::zero();
                 for js in lists.inner_of(i).chunks(BLOCK) {
-                    block.fill((&xi, js, pos), cut2, jump.reg, &Open);
+                    block.fill((&xi, js, pos), cut2, jump.reg, sep);
                     for Pair {
                         j,
                         rij,
@@ -197,7 +222,13 @@ pub fn pair_pass<const D: usize>(
                         let (sj, vj) = (&src[j], vel[j]);
                         let e = rij * inv_r;
                         let dw = prm.kernel.dw_within(r);
-                        let (ul, ur) = (-vi.dot(&e), -vj.dot(&e));
+                        let (mut ul, ur) = (-vi.dot(&e), -vj.dot(&e));
+                        if MUSCL {
+                            // the jump between v_i − ½L_i r e and v_j + ½L_j r e
+                            let l = (li + vel_grad[j]).cast::<Real>();
+                            let du = ul - ur;
+                            ul = ur + minmod_jump(du, du + 0.5 * r * e.dot(&(l * e)));
+                        }
                         let mat_j = material[j] as usize;
                         let (pstar, two_inv_z) = star.p_star(prm, (ul, ur), sj, mat_j);
                         // σ*·e = (σ̄ˢ − P* I)·e, Eq. (18)

@@ -56,7 +56,8 @@ pub fn continuity_sweep<const D: usize>(
                     let mut rates = Rates::from_sums(prm, &src[i], (mat, weight), &sum);
                     let (drho, grad) = (&mut rates.drho, &mut rates.grad);
                     for &w in cl.wall(k) {
-                        fine_wall::continuity(&prm.kernel, walls, &xi, &vi, w as usize, drho, grad);
+                        let (k, wrap) = (&prm.kernel, &prm.wrap);
+                        fine_wall::continuity(k, walls, wrap, &xi, &vi, w as usize, drho, grad);
                     }
                     for &j in cl.coarse(k) {
                         let cj = &coarse[j as usize];

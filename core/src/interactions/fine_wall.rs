@@ -14,7 +14,7 @@ use crate::fine::material::FineMaterial;
 use crate::fine::source::Source;
 use crate::kernel::WendlandC2;
 use crate::math::{sub_outer, Real, Vect};
-use crate::periodic::Separation;
+use crate::periodic::{Separation, Wrap};
 use crate::riemann::Riemann;
 use crate::scene::WallStress;
 use crate::walls::Walls;
@@ -31,6 +31,8 @@ pub struct WallLaw<const D: usize> {
     pub friction: Real,
     /// Deviatoric stress of the dummy wall particles.
     pub stress: WallStress,
+    /// The periodic axis, if any: pairs across it take the minimum image.
+    pub wrap: Wrap,
 }
 
 /// Wall normal at `xi`, Eq. (33): Φ = −Σ_w ∇_i W_iw V_w, normalised (zero where Φ is).
@@ -79,6 +81,7 @@ fn normals<const D: usize>(
     walls: &Walls<D>,
     xi: &Vect<D>,
     wl: &[u32],
+    sep: &impl Separation,
 ) -> (Vect<D>, ObjectNormals<D>) {
     let cut2 = kernel.cutoff * kernel.cutoff;
     let mut phi = Vect::<D>::zeros();
@@ -88,7 +91,7 @@ fn normals<const D: usize>(
     };
     for &w in wl {
         let w = w as usize;
-        let rij = xi - walls.pos[w];
+        let rij = sep.of(xi - walls.pos[w]);
         let r2 = rij.norm_squared();
         if r2 >= cut2 || r2 == 0.0 {
             continue;
@@ -168,7 +171,7 @@ impl<'a, const D: usize> FineAtWall<'a, D> {
         src: &'a Source,
         wl: &[u32],
     ) -> Self {
-        let (n, faces) = normals(&law.kernel, walls, &pos, wl);
+        let (n, faces) = normals(&law.kernel, walls, &pos, wl, &law.wrap);
         FineAtWall {
             pos,
             vel,
@@ -195,7 +198,7 @@ impl<'a, const D: usize> FineAtWall<'a, D> {
     #[inline(always)]
     pub fn acceleration(&self, law: &WallLaw<D>, walls: &Walls<D>, w: usize) -> Option<Vect<D>> {
         let si = self.src;
-        let rij = self.pos - walls.pos[w];
+        let rij = law.wrap.of(self.pos - walls.pos[w]);
         let r2 = rij.norm_squared();
         if r2 >= self.cut2 || r2 == 0.0 {
             return None;
@@ -251,9 +254,11 @@ pub fn wall_pressure(p: Real, rho: Real, r: Real, g_to_wall: Real) -> Real {
 /// the momentum equation only (kept here, it made every grain resting on a floor gain
 /// density exponentially).
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 pub fn continuity<const D: usize>(
     kernel: &WendlandC2,
     walls: &Walls<D>,
+    sep: &impl Separation,
     xi: &Vect<D>,
     vi: &Vect<D>,
     w: usize,
@@ -261,7 +266,7 @@ pub fn continuity<const D: usize>(
     grad: &mut SMatrix<Real, D, D>,
 ) {
     let cut2 = kernel.cutoff * kernel.cutoff;
-    let rij = xi - walls.pos[w];
+    let rij = sep.of(xi - walls.pos[w]);
     let r2 = rij.norm_squared();
     if r2 >= cut2 || r2 == 0.0 {
         return;
@@ -302,12 +307,14 @@ impl WallStrength {
         inv_used: 0.0,
     };
 
+    /// On the strongest cone of `m` ([`FineMaterial::strongest_cone`]).
     pub fn new(m: &FineMaterial, si: &Source) -> Self {
-        let three_alpha = 3.0 * m.alpha_phi;
-        let used = (three_alpha * si.p + m.k_c).max(si.dev.j2().sqrt());
+        let (alpha_phi, k_c) = m.strongest_cone();
+        let three_alpha = 3.0 * alpha_phi;
+        let used = (three_alpha * si.p + k_c).max(si.dev.j2().sqrt());
         WallStrength {
             three_alpha,
-            k_c: m.k_c,
+            k_c,
             inv_used: if used > 0.0 { 1.0 / used } else { 0.0 },
         }
     }

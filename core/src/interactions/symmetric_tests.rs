@@ -180,6 +180,7 @@ fn continuity_params<'a, const D: usize>(
         up,
         jump,
         uniform: uniform_acoustics(mats),
+        wrap: None,
     }
 }
 
@@ -218,6 +219,8 @@ fn momentum<const D: usize>(
         hourglass_leak: &leak,
         materials: mats,
         uniform: uniform_acoustics(mats),
+        wrap: None,
+        muscl: false,
     };
     let walls = Walls::<D>::default();
     let mut vel_new = vec![Vect::<D>::zeros(); n];
@@ -244,6 +247,7 @@ fn momentum<const D: usize>(
         dt: cprm.dt,
         friction: 0.0,
         stress: WallStress::Extrapolated,
+        wrap: None,
     };
     momentum_sweep(
         p,

@@ -51,17 +51,23 @@ pub(super) fn validate_periodic(s: &Scene) -> Check {
         );
     }
     for (key, used) in [
-        ("regions", !s.regions.is_empty()),
         ("bodies", !s.bodies.is_empty()),
         ("rock_fills", !s.rock_fills.is_empty()),
     ] {
         if used {
             return fail(
                 key,
-                "periodic boundaries carry water only so far: remove the grains or \
-                 `simulation.periodic`",
+                "periodic boundaries carry soil or water, not boulders, so far: remove \
+                 the boulders or `simulation.periodic`",
             );
         }
+    }
+    if !s.regions.is_empty() && s.water.is_some() {
+        return fail(
+            "regions",
+            "periodic boundaries carry soil or water, not both together, so far: remove \
+             the soil, the `[water]` section or `simulation.periodic`",
+        );
     }
     for (i, c) in s.containers.iter().enumerate() {
         let open = c.open.clone().unwrap_or_default();

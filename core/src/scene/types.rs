@@ -157,6 +157,12 @@ pub struct NumericsSpec {
     /// Dissipation-limiter coefficient η of Eq. (23). Default 20·d.
     #[serde(default)]
     pub eta: Option<f64>,
+    /// MUSCL reconstruction of the fine grains' Riemann dissipation: each pair's
+    /// velocities taken to its midpoint with the velocity gradient of the last sweep,
+    /// minmod-limited, so that a resolved (linear) shear is not dissipated. Default
+    /// false.
+    #[serde(default)]
+    pub muscl: bool,
     /// Stress-diffusion coefficient ζ of Eq. (25). Default 0.1; 0 switches it off.
     #[serde(default = "default_zeta")]
     pub stress_diffusion: f64,
@@ -234,6 +240,7 @@ impl Default for NumericsSpec {
     fn default() -> Self {
         NumericsSpec {
             eta: None,
+            muscl: false,
             stress_diffusion: default_zeta(),
             hourglass: default_hourglass(),
             hourglass_memory: default_hourglass_memory(),

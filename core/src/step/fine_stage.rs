@@ -22,7 +22,6 @@ use crate::interactions::momentum_pass::momentum_sweep;
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Sym, Vect};
 use crate::neighbors::CellGrid;
-use crate::periodic::Open;
 use crate::riemann::Riemann;
 use crate::timers::{Stage, StageTimers};
 use crate::world::{geostatic_tensor, World};
@@ -79,7 +78,8 @@ impl<const D: usize> FineStepper<D> {
     /// Lists with cells of `cell` over the world's domain; `up` and `params` set the
     /// per-material factors.
     pub fn new(world: &World<D>, params: &StepParams, cell: Real, up: &Vect<D>) -> Self {
-        let g = world.gravity.norm();
+        // along a periodic slope the geostatic state holds the weight normal to the bed
+        let g = world.hydrostatic_gravity().norm();
         // a saturated soil's skeleton carries its submerged weight
         let rho_w = world.water.material.map(|w| w.rho0);
         let geostatic = world
@@ -96,7 +96,8 @@ impl<const D: usize> FineStepper<D> {
         } else {
             Vec::new()
         };
-        let grid = || CellGrid::new(&world.domain.0, &world.domain.1, cell);
+        let (lo, hi) = &world.domain;
+        let grid = || CellGrid::periodic(lo, hi, cell, world.periodic);
         FineStepper {
             family: FamilyLists::new(
                 grid(),
@@ -146,8 +147,11 @@ impl<const D: usize> FineStepper<D> {
         {
             return false;
         }
-        self.family
-            .rebuild(&mut world.fine, &world.walls, csrc, &Open);
+        let f = &mut world.fine;
+        if let Some(p) = world.periodic {
+            f.pos.par_iter_mut().for_each(|x| p.wrap_point(x));
+        }
+        self.family.rebuild(f, &world.walls, csrc, &world.periodic);
         pack(&world.fine, &world.materials, &mut self.src);
         true
     }
@@ -256,6 +260,7 @@ impl<const D: usize> FineStepper<D> {
             up: cx.up,
             jump: cx.params.continuity_jump,
             uniform: self.uniform,
+            wrap: world.periodic,
         };
         let mprm = MomentumParams {
             kernel: cx.kernel,
@@ -267,14 +272,18 @@ impl<const D: usize> FineStepper<D> {
             hourglass_leak: &self.hourglass_leak,
             materials: &world.materials,
             uniform: self.uniform,
+            wrap: world.periodic,
+            muscl: cx.params.muscl,
         };
         let wall = WallLaw {
             kernel: cx.kernel,
             riemann: mprm.riemann,
-            gravity: world.gravity,
+            // no hydrostatic increase along a periodic axis (the bed of a slope)
+            gravity: world.hydrostatic_gravity(),
             dt,
             friction: cx.params.wall_friction,
             stress: cx.params.wall_stress,
+            wrap: world.periodic,
         };
         let (lists, chunk_loads, reactions) = self.family.pass_outputs();
         let side = CoarseSide {

@@ -70,7 +70,8 @@ pub struct Stepper<const D: usize> {
 impl<const D: usize> Stepper<D> {
     pub fn new(world: &World<D>, params: StepParams) -> Self {
         let kernel = WendlandC2::new(params.h, D);
-        let up = up(&world.gravity);
+        // along a periodic slope, normal to the bed
+        let up = up(&world.hydrostatic_gravity());
         let cell = kernel.cutoff + params.skin;
         let skipped = skipped_stages(world, &params);
         let coarse = (!world.coarse.is_empty()).then(|| {

@@ -15,6 +15,9 @@ pub struct StepParams {
     pub cfl: Real,
     /// Limiter coefficient η of Eq. (23).
     pub eta: Real,
+    /// MUSCL reconstruction of the fine grains' Riemann jump (`numerics.muscl`).
+    #[serde(default)]
+    pub muscl: bool,
     /// Stress-diffusion ζ of Eq. (25).
     pub zeta: Real,
     /// ξ of the hourglass penalty (0: off).
@@ -58,6 +61,7 @@ impl StepParams {
             h: res.h,
             cfl: s.simulation.cfl,
             eta: n.eta.unwrap_or(20.0 * d),
+            muscl: n.muscl,
             zeta: n.stress_diffusion,
             hourglass: n.hourglass,
             hourglass_memory: n.hourglass_memory,

@@ -104,11 +104,7 @@ pub fn reconstructed_jump<const D: usize>(
     (gi, gj): (&Corr<D>, &Corr<D>),
 ) -> Real {
     let rec = du + 0.5 * r * e.dot(&((gi + gj) * e));
-    if du * rec > 0.0 {
-        du.signum() * du.abs().min(rec.abs())
-    } else {
-        0.0
-    }
+    crate::riemann::minmod_jump(du, rec)
 }
 
 /// Runs over the water–water relation (`NeighborLists::inner_of`).

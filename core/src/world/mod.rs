@@ -111,18 +111,20 @@ impl<const D: usize> World<D> {
         reserve_memory(scene, &resolution)?;
         let (dp, vol) = (resolution.dp, resolution.volume);
         let gravity = v::<D>(&scene.simulation.gravity);
-        let up = up(&gravity);
-        let materials: Vec<FineMaterial> = scene
-            .materials
-            .iter()
-            .map(FineMaterial::from_spec)
-            .collect();
-        let (mut fine, region_counts) = regions::fill(scene, &materials, &up, dp, vol)?;
         let periodic: Wrap = scene.simulation.periodic.as_ref().map(|p| Period {
             axis: axis_index(&p.axis).unwrap_or(0),
             lo: p.min,
             len: p.max - p.min,
         });
+        let g_hyd = hydrostatic(gravity, periodic.map(|p| p.axis));
+        // along a periodic slope, normal to the bed
+        let up = up(&g_hyd);
+        let materials: Vec<FineMaterial> = scene
+            .materials
+            .iter()
+            .map(FineMaterial::from_spec)
+            .collect();
+        let (mut fine, region_counts) = regions::fill(scene, &materials, &g_hyd, dp, vol)?;
         let walls = boundaries::build(scene, dp, vol, periodic)?;
         let coarse = Coarse::<D>::build(scene, &resolution)?;
 
@@ -138,7 +140,6 @@ impl<const D: usize> World<D> {
             lo = lo.inf(p);
             hi = hi.sup(p);
         }
-        let g_hyd = hydrostatic(gravity, periodic.map(|p| p.axis));
         let pores = pore_water(scene, &materials, &fine, &region_counts, &up, dp);
         let filled = water_fill::fill(scene, &g_hyd, (dp, vol), (lo, hi), &pores)?;
         let water = filled.unwrap_or_default();
@@ -153,24 +154,25 @@ impl<const D: usize> World<D> {
         let margin = (hi - lo).max() * 0.1 + 8.0 * dp;
         let mut domain = (lo.add_scalar(-margin), hi.add_scalar(margin));
         if let Some(p) = periodic {
-            // exactly one period along the axis; the water must lie within it
+            // exactly one period along the axis; the particles must lie within it
             (domain.0[p.axis], domain.1[p.axis]) = (p.lo, p.lo + p.len);
-            if let Some(x) = water
-                .particles
-                .pos
-                .iter()
-                .find(|x| x[p.axis] < p.lo || x[p.axis] >= p.lo + p.len)
-            {
-                return Err(BuildError {
-                    path: "simulation.periodic".into(),
-                    message: format!(
-                        "a water particle at {:?} lies outside the period [{:?}, {:?}) \
-                         along its axis: keep [[water.regions]] within it",
-                        x.as_slice(),
-                        p.lo,
-                        p.lo + p.len
-                    ),
-                });
+            let outside = |x: &&Vect<D>| x[p.axis] < p.lo || x[p.axis] >= p.lo + p.len;
+            for (family, keys, pos) in [
+                ("water", "[[water.regions]]", &water.particles.pos),
+                ("soil", "[[regions]]", &fine.pos),
+            ] {
+                if let Some(x) = pos.iter().find(outside) {
+                    return Err(BuildError {
+                        path: "simulation.periodic".into(),
+                        message: format!(
+                            "a {family} particle at {:?} lies outside the period [{:?}, {:?}) \
+                             along its axis: keep {keys} within it",
+                            x.as_slice(),
+                            p.lo,
+                            p.lo + p.len
+                        ),
+                    });
+                }
             }
         }
 

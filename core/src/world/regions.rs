@@ -11,15 +11,17 @@ use crate::math::{extent, Real, Sym, Vect};
 use crate::scene::{InitialStress, Scene};
 use crate::start_solids::Solids;
 
-/// The fine particles of every region, and the particle count of each (scene order).
+/// The fine particles of every region, and the particle count of each (scene order),
+/// geostatic under the hydrostatic gravity `g_hyd` (the scene's, less its component
+/// along a periodic axis).
 pub(super) fn fill<const D: usize>(
     scene: &Scene,
     materials: &[FineMaterial],
-    up: &Vect<D>,
+    g_hyd: &Vect<D>,
     dp: Real,
     vol: Real,
 ) -> Result<(FineParticles<D>, Vec<(String, usize)>), BuildError> {
-    let gnorm = v::<D>(&scene.simulation.gravity).norm();
+    let (gnorm, up) = (g_hyd.norm(), &crate::math::up(g_hyd));
     // a saturated soil starts at the effective stress of its submerged weight
     let rho_w = scene.water.as_ref().map_or(1000.0, |w| w.density);
     let solids = Solids::<D>::of(scene, false);
