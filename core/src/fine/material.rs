@@ -86,10 +86,10 @@ impl FineMaterial {
 impl FineMaterial {
     /// (α_φ, k_c) of the strongest cone the material reaches: its own, the largest of
     /// φ_e, φ_p and φ_r with hardening, μ_2 with μ(I). The dummy wall particles scale
-    /// their stress on it ([`WallStrength`](crate::interactions::fine_wall::WallStrength)):
-    /// measured on the cone of a μ(I) soil at rest, a particle flowing at μ(I) > μ_s
-    /// passed the wall only μ_s/μ of its shear, and a layer on a slope tan θ between μ_s
-    /// and μ_2 slid on its bed instead of shearing.
+    /// their stress on it ([`WallStrength`](crate::interactions::fine_wall::WallStrength)).
+    /// On the static cone (μ_s) a particle flowing at μ(I) > μ_s passed the wall only
+    /// μ_s/μ(I) of its shear, and a layer on a slope tan θ between μ_s and μ_2 slid on
+    /// its bed instead of shearing.
     pub fn strongest_cone(&self) -> (Real, Real) {
         match (&self.hardening, &self.mu_i) {
             (None, None) => (self.alpha_phi, self.k_c),

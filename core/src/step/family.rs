@@ -13,7 +13,7 @@ use crate::interactions::fine_coarse::CoarseSource;
 use crate::load::Load;
 use crate::math::{Real, Vect};
 use crate::neighbors::{CellGrid, NeighborLists, CHUNK};
-use crate::periodic::Separation;
+use crate::periodic::Wrap;
 use crate::permute::PermuteScratch;
 use crate::walls::Walls;
 use crate::water::state::WaterParticles;
@@ -22,6 +22,7 @@ use rayon::prelude::*;
 /// What the skeleton needs of a family's particle arrays.
 pub trait FamilyParticles<const D: usize> {
     fn positions(&self) -> &[Vect<D>];
+    fn positions_mut(&mut self) -> &mut [Vect<D>];
     /// Reorder every array by `order` (new index k holds old particle `order[k]`).
     fn reorder(&mut self, order: &[u32], scratch: &mut PermuteScratch);
 }
@@ -29,6 +30,9 @@ pub trait FamilyParticles<const D: usize> {
 impl<const D: usize> FamilyParticles<D> for FineParticles<D> {
     fn positions(&self) -> &[Vect<D>] {
         &self.pos
+    }
+    fn positions_mut(&mut self) -> &mut [Vect<D>] {
+        &mut self.pos
     }
     fn reorder(&mut self, order: &[u32], scratch: &mut PermuteScratch) {
         self.permute(order, scratch);
@@ -38,6 +42,9 @@ impl<const D: usize> FamilyParticles<D> for FineParticles<D> {
 impl<const D: usize> FamilyParticles<D> for WaterParticles<D> {
     fn positions(&self) -> &[Vect<D>] {
         &self.pos
+    }
+    fn positions_mut(&mut self) -> &mut [Vect<D>] {
+        &mut self.pos
     }
     fn reorder(&mut self, order: &[u32], scratch: &mut PermuteScratch) {
         self.permute(order, scratch);
@@ -166,15 +173,21 @@ impl<const D: usize> FamilyLists<D> {
             || self.coarse.expired(moved, csrc, skin)
     }
 
-    /// Re-sort the particles by cell and rebuild the lists with their wall and coarse
-    /// neighbours; pairs are separated by `sep` (the minimum image across a period).
+    /// Wrap the particles back into the period (if `wrap` has one), re-sort them by
+    /// cell and rebuild the lists with their wall and coarse neighbours; pairs are
+    /// separated by their minimum image across the period.
     pub fn rebuild<P: FamilyParticles<D>>(
         &mut self,
         p: &mut P,
         walls: &Walls<D>,
         csrc: &[CoarseSource<D>],
-        sep: &impl Separation,
+        wrap: &Wrap,
     ) {
+        if let Some(period) = wrap {
+            p.positions_mut()
+                .par_iter_mut()
+                .for_each(|x| period.wrap_point(x));
+        }
         self.inner.grid.bin(p.positions());
         self.order.clear();
         self.order.extend_from_slice(self.inner.grid.order());
@@ -188,7 +201,7 @@ impl<const D: usize> FamilyLists<D> {
             self.walls.binned(walls),
             self.coarse.binned(),
             self.inner.radius,
-            sep,
+            wrap,
         );
         self.reactions
             .resize_with(self.lists.chunks.len(), Vec::new);

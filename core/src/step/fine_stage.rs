@@ -148,9 +148,6 @@ impl<const D: usize> FineStepper<D> {
             return false;
         }
         let f = &mut world.fine;
-        if let Some(p) = world.periodic {
-            f.pos.par_iter_mut().for_each(|x| p.wrap_point(x));
-        }
         self.family.rebuild(f, &world.walls, csrc, &world.periodic);
         pack(&world.fine, &world.materials, &mut self.src);
         true

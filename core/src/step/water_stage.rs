@@ -25,7 +25,6 @@ use crate::water::momentum::{WaterParams, WaterSums};
 use crate::water::source::{drift_and_pack, pack, WaterSource};
 use crate::world::World;
 use nalgebra::Vector3;
-use rayon::prelude::*;
 use std::time::Instant;
 
 /// The water's stepper: the family skeleton ([`FamilyLists`]) and the water's own
@@ -155,9 +154,6 @@ impl<const D: usize> WaterStepper<D> {
         let n = world.water.particles.len();
         if self.family.needs_rebuild(n, &world.walls, csrc, dt) {
             let w = &mut world.water.particles;
-            if let Some(p) = world.periodic {
-                w.pos.par_iter_mut().for_each(|x| p.wrap_point(x));
-            }
             self.family.rebuild(w, &world.walls, csrc, &world.periodic);
             pack(&world.water.particles, mat, &mut self.src);
         }
