@@ -57,9 +57,12 @@ pub fn accuracy(o: &AccuracyOptions) -> Result<()> {
             names.join(", ")
         );
     }
+    let earlier = match o.report {
+        Some(r) if !o.cases.is_empty() => Some(earlier_runs(r, o.quick)?),
+        _ => None,
+    };
     std::fs::create_dir_all(o.out)?;
     let mut runs = Vec::new();
-    let mut curves = Vec::new();
     println!(
         "{:<24} {:<22} {:<8} {:>9} {:>9} {:>11} {:>9} {:>11} {:>11} {:>8}",
         "case",
@@ -92,27 +95,90 @@ pub fn accuracy(o: &AccuracyOptions) -> Result<()> {
         } else {
             &s.levels[..]
         };
-        let mut pts = Vec::new();
         for level in levels {
             let r = run_level(o, s, level)?;
             print_row(s, &level.0, &r);
-            if let (Some(e), Some(w)) = (r["rel_error"].as_f64(), r["wall_time_s"].as_f64()) {
-                pts.push((w.max(1e-3), e.max(1e-16)));
-            }
             runs.push(r);
-        }
-        if !pts.is_empty() {
-            curves.push(Curve {
-                label: format!("{} ({})", s.case, s.scheme),
-                points: pts,
-            });
         }
     }
     let doc = json!({
         "suite": "accuracy", "quick": o.quick, "threads": rayon::current_num_threads(),
         "runs": runs,
     });
-    write_outputs(o, &doc, &curves)
+    write_outputs(o, &doc, earlier.as_ref())
+}
+
+/// The report's earlier runs (its JSON beside it), which a run of some cases only
+/// (`--case`) is merged into; read before anything runs, so that a missing file stops
+/// the suite at once.
+fn earlier_runs(report: &Path, quick: bool) -> Result<Value> {
+    let data = report.with_extension("json");
+    if quick {
+        anyhow::bail!(
+            "bench --suite accuracy --quick --report {}: a smoke run is not merged into a report",
+            report.display()
+        );
+    }
+    let text = std::fs::read_to_string(&data).map_err(|e| {
+        anyhow::anyhow!(
+            "bench --suite accuracy --case … --report {}: the report's runs ({}) keep the \
+             other cases' sections, and they cannot be read ({e}); run the whole suite to \
+             write them",
+            report.display(),
+            data.display()
+        )
+    })?;
+    serde_json::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", data.display()))
+}
+
+/// One curve of (wall time, error) per case and scheme, in the order of `runs`.
+fn curves(runs: &[Value]) -> Vec<Curve> {
+    let mut out: Vec<Curve> = Vec::new();
+    for r in runs {
+        let (Some(e), Some(w)) = (r["rel_error"].as_f64(), r["wall_time_s"].as_f64()) else {
+            continue;
+        };
+        let label = format!(
+            "{} ({})",
+            r["case"].as_str().unwrap_or(""),
+            r["scheme"].as_str().unwrap_or("")
+        );
+        let point = (w.max(1e-3), e.max(1e-16));
+        match out.iter_mut().find(|c| c.label == label) {
+            Some(c) => c.points.push(point),
+            None => out.push(Curve {
+                label,
+                points: vec![point],
+            }),
+        }
+    }
+    out
+}
+
+/// The report's runs after a run of some cases only (`--case`): the report's earlier
+/// runs (its JSON beside it) with those of the cases run now replaced by the new ones,
+/// in the suite's order of cases. The report then keeps every other case's section.
+fn merged(earlier: &Value, doc: &Value) -> Value {
+    let new = doc["runs"].as_array().cloned().unwrap_or_default();
+    let ran: Vec<&str> = new.iter().filter_map(|r| r["case"].as_str()).collect();
+    let mut runs: Vec<Value> = earlier["runs"]
+        .as_array()
+        .cloned()
+        .unwrap_or_default()
+        .into_iter()
+        .filter(|r| !r["case"].as_str().is_some_and(|c| ran.contains(&c)))
+        .chain(new.iter().cloned())
+        .collect();
+    let order: Vec<String> = series().into_iter().map(|s| s.case).collect();
+    let rank = |r: &Value| {
+        let c = r["case"].as_str().unwrap_or("");
+        order.iter().position(|o| o == c).unwrap_or(order.len())
+    };
+    // stable: the levels of a case keep their order
+    runs.sort_by_key(rank);
+    json!({
+        "suite": "accuracy", "quick": false, "threads": doc["threads"], "runs": runs,
+    })
 }
 
 /// The record of series `s` at `level`: the one under --out when --resume finds it made
@@ -199,38 +265,61 @@ fn print_row(s: &Series, label: &str, r: &Value) {
 }
 
 /// accuracy.json, accuracy.png and accuracy.md under --out, and the report with its
-/// plot beside it where --report names one.
-fn write_outputs(o: &AccuracyOptions, doc: &Value, curves: &[Curve]) -> Result<()> {
+/// plot and its JSON beside it where --report names one. A run of some cases only
+/// (`--case`) is merged into the report's JSON, so that the report keeps the others.
+fn write_outputs(o: &AccuracyOptions, doc: &Value, earlier: Option<&Value>) -> Result<()> {
     let path = o.out.join("accuracy.json");
     std::fs::write(&path, serde_json::to_string_pretty(doc)?)?;
     println!("wrote {}", path.display());
-    if !curves.is_empty() {
-        let png = o.out.join("accuracy.png");
-        loglog(
-            &png,
-            "granmix bench --suite accuracy: error against run time",
-            "wall time [s]",
-            "relative error",
-            curves,
-            &[(0.05, "5 %".into())],
-        )?;
+    let runs = doc["runs"].as_array().cloned().unwrap_or_default();
+    let png = o.out.join("accuracy.png");
+    let plotted = plot(&png, &runs)?;
+    if plotted {
         println!("wrote {}", png.display());
     }
     std::fs::write(o.out.join("accuracy.md"), markdown(doc, "accuracy.png"))?;
-    if let Some(r) = o.report {
-        // the plot goes beside the report, under the report's name
-        let png = r.with_extension("png");
-        let name = png
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        if !curves.is_empty() {
-            std::fs::copy(o.out.join("accuracy.png"), &png)?;
-        }
-        std::fs::write(r, markdown(doc, &name))?;
-        println!("wrote {} and {}", r.display(), png.display());
-    }
+    let Some(r) = o.report else {
+        return Ok(());
+    };
+    let doc = match earlier {
+        Some(e) => merged(e, doc),
+        None => doc.clone(),
+    };
+    // the plot goes beside the report, under the report's name
+    let png = r.with_extension("png");
+    let name = png
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let runs = doc["runs"].as_array().cloned().unwrap_or_default();
+    plot(&png, &runs)?;
+    std::fs::write(r, markdown(&doc, &name))?;
+    let data = r.with_extension("json");
+    std::fs::write(&data, serde_json::to_string_pretty(&doc)?)?;
+    println!(
+        "wrote {}, {} and {}",
+        r.display(),
+        png.display(),
+        data.display()
+    );
     Ok(())
+}
+
+/// Error against wall time, one curve per case and scheme; false if no run has both.
+fn plot(png: &Path, runs: &[Value]) -> Result<bool> {
+    let curves = curves(runs);
+    if curves.is_empty() {
+        return Ok(false);
+    }
+    loglog(
+        png,
+        "granmix bench --suite accuracy: error against run time",
+        "wall time [s]",
+        "relative error",
+        &curves,
+        &[(0.05, "5 %".into())],
+    )?;
+    Ok(true)
 }
 
 /// One row of seed 000 Table 3: dp (mm), particles, Δt_f, Δt_c, κ, single-rate and
@@ -394,8 +483,47 @@ mod tests {
         }
         assert!(
             missing.is_empty(),
-            "docs/benchmarks.md has no section for {missing:?}: regenerate it with \
-             `granmix bench --suite accuracy --report docs/benchmarks.md`"
+            "docs/benchmarks.md has no section for {missing:?}: add them with \
+             `granmix bench --suite accuracy --case NAME --report docs/benchmarks.md`"
         );
+    }
+
+    /// A run of some cases replaces those cases' runs in the report's and keeps the
+    /// others, in the suite's order of cases and each case's order of levels.
+    #[test]
+    fn a_partial_run_replaces_only_its_cases() {
+        let run = |case: &str, level: &str, value: f64| json!({"case": case, "scheme": "s", "level": level, "value": value});
+        let earlier = json!({"threads": 2, "runs": [
+            run("collapse_2d", "8 mm", 1.0),
+            run("geostatic", "H/10", 2.0),
+            run("geostatic", "H/20", 3.0),
+        ]});
+        let now = json!({"threads": 2, "runs": [
+            run("geostatic", "H/10", 4.0),
+            run("geostatic", "H/20", 5.0),
+            run("collapse_3d_a0.5", "r0/10", 6.0),
+        ]});
+        let m = merged(&earlier, &now);
+        let got: Vec<(String, f64)> = m["runs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| {
+                (
+                    r["case"].as_str().unwrap().to_string(),
+                    r["value"].as_f64().unwrap(),
+                )
+            })
+            .collect();
+        let want = [
+            ("collapse_3d_a0.5", 6.0),
+            ("collapse_2d", 1.0),
+            ("geostatic", 4.0),
+            ("geostatic", 5.0),
+        ];
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        for ((c, v), (wc, wv)) in got.iter().zip(want) {
+            assert_eq!((c.as_str(), *v), (wc, wv), "{got:?}");
+        }
     }
 }

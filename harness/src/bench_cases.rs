@@ -70,7 +70,7 @@ fn strings(set: &[&str]) -> Vec<String> {
 pub(crate) fn cases() -> Vec<Case> {
     [
         collapses(),
-        vec![geostatic()],
+        vec![geostatic(), bagnold(), sphinxsys_collapse()],
         crater_grid(),
         crater_pairs(),
         vec![blocks(), retained_layer()],
@@ -140,6 +140,34 @@ fn geostatic() -> Case {
     )
     .common(strings(&["simulation.end_time=1.0"]))
     .tolerance(0.03)
+}
+
+/// μ(I) down an incline (`bagnold_incline.toml`): the steady depth-averaged velocity
+/// against Bagnold's.
+fn bagnold() -> Case {
+    Case::new(
+        "bagnold_incline",
+        "bagnold_incline.toml",
+        vec![as_is("H/20"), dp("H/40", 2.5e-4)],
+        Metric::Bagnold(crate::metric::BagnoldRef::GLASS_BEADS),
+        "μ(I) layer H = 10 mm on tan θ = 0.42, periodic: depth-averaged velocity over the \
+         last second against Bagnold's (2/5) I_θ √(φ g cos θ) H^{3/2}/d = 0.08627 m/s",
+    )
+    .tolerance(0.03)
+}
+
+/// SPHinXsys's 2D column collapse (`column_collapse_sphinxsys.toml`, its dp = 2 mm as
+/// is): the mechanical energy at 0.8 s against its regression record.
+fn sphinxsys_collapse() -> Case {
+    Case::new(
+        "sphinxsys_collapse",
+        "column_collapse_sphinxsys.toml",
+        vec![dp("4 mm", 0.004), as_is("2 mm")],
+        Metric::SoilEnergy(13.7905),
+        "SPHinXsys's column collapse (tests/2d_examples/test_2d_column_collapse, dp = 2 mm): \
+         Σ m (½ v² + g y) at 0.8 s against its record, 13.7905 J/m (asked 2 %)",
+    )
+    .tolerance(0.02)
 }
 
 /// The crater of R = 0.02 m, μ = 0.3, H = 0.2 m that the pairs and the accuracy suite
@@ -265,6 +293,48 @@ fn resting_tank(name: &'static str, note: &'static str, extra: &[&str]) -> Case 
     .tolerance(0.0)
 }
 
+/// A disc of 2 ρ_w (R = 0.05 m) resting on the floor of `boulder_in_water.toml` made
+/// smaller (0.3 m wide, 0.25 m of water, released 0.1 dp above the floor, the water
+/// settling over its first 0.2 s): the mean contact force over 0.25–0.35 s against
+/// W − ρ_w g V (issue 42's 2 %).
+fn resting_disc() -> Case {
+    let r: f64 = 0.05;
+    let level = |label: &str, n: f64| -> Level {
+        let dp = r / n;
+        (
+            label.into(),
+            vec![
+                format!("simulation.dp={dp}"),
+                format!("bodies.0.shape.center=[0.15,{}]", r + 0.1 * dp),
+            ],
+        )
+    };
+    Case::new(
+        "resting_disc",
+        "boulder_in_water.toml",
+        vec![
+            level("R/10", 10.0),
+            level("R/20", 20.0),
+            level("R/40", 40.0),
+        ],
+        Metric::RestingContact(
+            0.25,
+            (2000.0 - 1000.0) * 9.81 * std::f64::consts::PI * r * r,
+        ),
+        "disc of 2 ρ_w resting on the floor under water: mean contact force over 0.25–0.35 s \
+         against W − ρ_w g V (asked 2 %)",
+    )
+    .common(strings(&[
+        "solids.0.density=2000",
+        "water.regions.0.shape.max=[0.3,0.25]",
+        "containers.0.max=[0.3,0.35]",
+        "water.settle_time=0.2",
+        "simulation.end_time=0.35",
+        "simulation.output_interval=0.025",
+    ]))
+    .tolerance(0.02)
+}
+
 fn water() -> Vec<Case> {
     vec![
         Case::new(
@@ -301,6 +371,7 @@ fn water() -> Vec<Case> {
         )
         .common(strings(&["simulation.end_time=0.065"]))
         .tolerance(0.05),
+        resting_disc(),
         Case::new(
             "dam_break_2d",
             "dam_break_2d.toml",

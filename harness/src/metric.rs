@@ -63,6 +63,16 @@ pub(crate) enum Metric {
     /// ([`metric_lobovsky`](crate::metric_lobovsky)), which reports the sensors'
     /// arrival, mean pressure and peaks beside it.
     Lobovsky,
+    /// A μ(I) layer flowing down an incline, periodic along it: its depth-averaged
+    /// velocity (momentum over mass) averaged over the last second, against Bagnold's.
+    Bagnold(BagnoldRef),
+    /// The soil's mechanical energy Σ m (½ v² + g·z) at the end against a reference
+    /// (J/m in 2D): SPHinXsys's record of its column collapse.
+    SoilEnergy(f64),
+    /// A body resting on the floor under water: the mean vertical contact force on the
+    /// first body (its force less the water's and the soil's) from time `.0` (s) to the
+    /// end, against its weight less its buoyancy `.1` (N/m in 2D).
+    RestingContact(f64, f64),
 }
 
 impl Metric {
@@ -198,6 +208,54 @@ pub(crate) fn dam_front_error(samples: &[granmix_core::simulation::Sample], a: f
     Some(worst)
 }
 
+/// A layer of depth `depth` (m) and bulk density φ ρ_s over a period `period` (m) on a
+/// slope tan θ = `slope`, of grains of diameter `grain` (m) and density `grain_density`
+/// (kg/m³) with μ(I) = μ_s + (μ_2 − μ_s)/(1 + I_0/I).
+#[derive(Clone, Copy)]
+pub(crate) struct BagnoldRef {
+    pub(crate) slope: f64,
+    pub(crate) depth: f64,
+    pub(crate) period: f64,
+    pub(crate) grain: f64,
+    pub(crate) grain_density: f64,
+    pub(crate) solid_fraction: f64,
+    pub(crate) mu: (f64, f64, f64),
+}
+
+impl BagnoldRef {
+    /// `bagnold_incline.toml`: glass beads (Jop et al. 2006), H = 10 mm, tan θ = 0.42.
+    pub(crate) const GLASS_BEADS: BagnoldRef = BagnoldRef {
+        slope: 0.42,
+        depth: 0.01,
+        period: 0.006,
+        grain: 5e-4,
+        grain_density: 2500.0,
+        solid_fraction: 0.6,
+        mu: (0.383, 0.643, 0.279),
+    };
+
+    /// ū = (2/5) I_θ √(φ g cos θ) H^{3/2}/d, I_θ = I_0 (tan θ − μ_s)/(μ_2 − tan θ)
+    /// (GDR MiDi 2004).
+    pub(crate) fn mean_velocity(&self) -> f64 {
+        let (mu_s, mu_2, i_0) = self.mu;
+        let i = i_0 * (self.slope - mu_s) / (mu_2 - self.slope);
+        let cos = self.slope.atan().cos();
+        0.4 * i * (self.solid_fraction * 9.81 * cos).sqrt() * self.depth.powf(1.5) / self.grain
+    }
+
+    /// The layer's depth-averaged velocity over the last second of `samples`.
+    pub(crate) fn measured(&self, samples: &[granmix_core::simulation::Sample]) -> Option<f64> {
+        let end = samples.last()?.time;
+        let mass = self.solid_fraction * self.grain_density * self.depth * self.period;
+        let tail: Vec<f64> = samples
+            .iter()
+            .filter(|s| s.time >= end - 1.0)
+            .map(|s| s.momentum[0] / mass)
+            .collect();
+        (!tail.is_empty()).then(|| tail.iter().sum::<f64>() / tail.len() as f64)
+    }
+}
+
 /// A level layer of height `height` and density `density` behind a vertical barrier,
 /// friction angle `phi` (degrees): K_a = (1 − sin φ)/(1 + sin φ), K0 = 1 − sin φ.
 #[derive(Clone, Copy)]
@@ -286,6 +344,25 @@ impl Metric {
             Metric::RunoutReport => (Some(last.runout), None),
             // scored by the bench, which holds the experiment's series
             Metric::Lobovsky => (None, Some(0.0)),
+            Metric::Bagnold(r) => (r.measured(&rep.samples), Some(r.mean_velocity())),
+            Metric::SoilEnergy(r) => (
+                rep.samples
+                    .last()
+                    .map(|l| l.kinetic_energy + l.potential_energy),
+                Some(r),
+            ),
+            Metric::RestingContact(from, r) => {
+                let window: Vec<f64> = rep
+                    .samples
+                    .iter()
+                    .filter(|s| s.time >= from - 1e-9)
+                    .filter_map(|s| s.bodies.first())
+                    .map(|b| b.force[1] - b.water_force[1] - b.fine_force[1])
+                    .collect();
+                let mean =
+                    (!window.is_empty()).then(|| window.iter().sum::<f64>() / window.len() as f64);
+                (mean, Some(r))
+            }
             Metric::StandingWave(r) => (
                 crate::metric_wave::WaveRef::fit(&rep.samples).map(|f| f.decrement()),
                 Some(r.decrement()),

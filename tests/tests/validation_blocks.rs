@@ -5,13 +5,25 @@
 //! read off the figure, widened here by one coarse output interval).
 
 use granmix_core::observe::block_events;
-use granmix_tests::run;
+use granmix_core::simulation::Sample;
+use granmix_tests::run_until;
+
+/// The first time block 2 lies on its side (β < 10°).
+fn landed(samples: &[Sample]) -> Option<f64> {
+    block_events(samples, "block1", "block2")
+        .beta
+        .iter()
+        .find(|(_, b)| *b < 10.0)
+        .map(|(t, _)| *t)
+}
 
 #[test]
 fn flow_topples_block_two_on_time() {
-    let (samples, _, _) = run(
+    // the run stops once block 2 lies on its side (β < 10°), at about 0.42 s
+    let (samples, _, _) = run_until(
         "blocks_impact.toml",
         &["simulation.dp=0.0025", "simulation.end_time=0.5"],
+        |s| landed(s).is_some(),
     );
     let e = block_events(&samples, "block1", "block2");
     let arrival = e.arrival.expect("the flow never reached block 1");
@@ -30,12 +42,7 @@ fn flow_topples_block_two_on_time() {
         topple > arrival,
         "block 2 toppled at {topple} s, before the flow arrived"
     );
-    let landed = e
-        .beta
-        .iter()
-        .find(|(_, b)| *b < 10.0)
-        .map(|(t, _)| *t)
-        .expect("block 2 never came to lie on its side (β < 10°)");
+    let landed = landed(&samples).expect("block 2 never came to lie on its side (β < 10°)");
     assert!(
         (0.36..=0.48).contains(&landed),
         "block 2 lands at {landed:.3} s; seed 000: ≈ 0.4–0.45 s"
