@@ -43,10 +43,11 @@ if ! wait "$clippy"; then
 fi
 cat "$clippy_log"
 rm -f "$clippy_log"
-# smoke runs of the accuracy, stability, scale and FMI-overhead suites on tiny cases (the
+# smoke runs of the accuracy, soil-model, stability, scale and FMI-overhead suites on tiny cases (the
 # full suites are benchmarks)
 smoke="$(mktemp -d)"
 "${CARGO_TARGET_DIR:-target}"/release/granmix bench --suite accuracy --quick --out "$smoke"
+"${CARGO_TARGET_DIR:-target}"/release/granmix bench --suite models --quick --out "$smoke"
 "${CARGO_TARGET_DIR:-target}"/release/granmix bench --suite stability --quick --out "$smoke"
 "${CARGO_TARGET_DIR:-target}"/release/granmix bench --suite scale --quick --out "$smoke"
 "${CARGO_TARGET_DIR:-target}"/release/granmix bench --suite fmi --quick --out "$smoke"

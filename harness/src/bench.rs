@@ -31,14 +31,16 @@ pub struct BenchArgs {
     /// Run a suite instead of the validation cases: `accuracy` (run time against
     /// error, every scheme, three resolutions), `stability` (where the solver breaks,
     /// and that it breaks loudly), `scale` (throughput and memory from 10 k to 2 M
-    /// particles) or `fmi` (the FMI layer's time per fmi2DoStep against the solver's).
-    #[arg(long, value_parser = ["accuracy", "stability", "scale", "fmi"])]
+    /// particles), `fmi` (the FMI layer's time per fmi2DoStep against the solver's) or
+    /// `models` (every soil case under each soil model: the verdict table).
+    #[arg(long, value_parser = ["accuracy", "stability", "scale", "fmi", "models"])]
     suite: Option<String>,
     /// Also write the suite's Markdown report here (e.g. docs/stability.md).
     #[arg(long)]
     report: Option<PathBuf>,
-    /// With --suite accuracy: reuse the record of each run already made with the same
-    /// overrides under --out, so that an interrupted suite continues where it stopped.
+    /// With --suite accuracy or models: reuse the record of each run already made with
+    /// the same overrides under --out, so that an interrupted suite continues where it
+    /// stopped.
     #[arg(long)]
     resume: bool,
 }
@@ -86,6 +88,17 @@ fn run_suite(suite: &str, a: &BenchArgs) -> Result<ExitCode> {
         }
         "accuracy" => {
             crate::accuracy::accuracy(&crate::accuracy::AccuracyOptions {
+                scenes: &a.scenes,
+                out: &a.out,
+                quick: a.quick,
+                report: a.report.as_deref(),
+                cases: &a.cases,
+                resume: a.resume,
+            })?;
+            ExitCode::SUCCESS
+        }
+        "models" => {
+            crate::models::models(&crate::models::ModelsOptions {
                 scenes: &a.scenes,
                 out: &a.out,
                 quick: a.quick,

@@ -12,6 +12,7 @@ mod metric;
 mod metric_lobovsky;
 mod metric_pores;
 mod metric_wave;
+mod models;
 mod pack;
 mod pattern;
 mod plot;
