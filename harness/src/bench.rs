@@ -227,7 +227,7 @@ fn run_level(a: &BenchArgs, c: &Case, (label, over): &Level, finest: bool) -> Re
     let data = c.metric.data(&a.scenes)?;
     let rep = run(&RunOptions::batch(a.scenes.join(c.scene), dir.clone(), set))?;
     let title = format!("{}, {label}", c.name);
-    let (value, reference, lobovsky) = c.metric.scored(&rep, data.as_ref(), (&dir, &title))?;
+    let (value, reference, detail) = c.metric.scored(&rep, data.as_ref(), (&dir, &title))?;
     let err = c.metric.error(value, reference);
     let mut failed = finest && err.zip(c.tolerance).is_some_and(|(e, tol)| e > tol);
     if let Some(b) = &rep.blowup {
@@ -249,6 +249,17 @@ fn run_level(a: &BenchArgs, c: &Case, (label, over): &Level, finest: bool) -> Re
         err.map(|e| format!("{:.2}%", 100.0 * e))
             .unwrap_or("-".into()),
     );
+    if let Some(f) = detail
+        .as_ref()
+        .filter(|_| matches!(c.metric, Metric::ForceReport(..)))
+    {
+        println!(
+            "  peak force along x {} N at {} s ({})",
+            fmt(f["peak_force_x"].as_f64()),
+            fmt(f["peak_time"].as_f64()),
+            dir.join("force.png").display()
+        );
+    }
     let stages = rep.summary["stages"].clone();
     print_stages(&stages, rep.wall_time);
     let record = json!({
@@ -262,7 +273,8 @@ fn run_level(a: &BenchArgs, c: &Case, (label, over): &Level, finest: bool) -> Re
         "dt_fine": rep.summary["dt_fine"], "dt_coarse": rep.summary["dt_coarse"],
         "blocks": matches!(c.metric, Metric::BlockLanding(_))
             .then(|| block_json(&rep.samples)),
-        "lobovsky": lobovsky,
+        "lobovsky": detail.clone().filter(|_| matches!(c.metric, Metric::Lobovsky)),
+        "force": detail.filter(|_| matches!(c.metric, Metric::ForceReport(..))),
         "wave": match c.metric {
             Metric::StandingWave(w) => Some(w.report(&rep.samples)),
             _ => None,

@@ -73,13 +73,19 @@ pub(crate) enum Metric {
     /// first body (its force less the water's and the soil's) from time `.0` (s) to the
     /// end, against its weight less its buoyancy `.1` (N/m in 2D).
     RestingContact(f64, f64),
+    /// The load along x on the barrier `.0`, averaged over the last `.1` seconds (the
+    /// post-peak force of an impact), reported without a reference.
+    ForceReport(&'static str, f64),
 }
 
 impl Metric {
     /// Whether the metric holds the run against a reference (an analytic solution, an
     /// experiment or a bound); throughput and reported-only run-outs do not.
     pub(crate) fn has_reference(&self) -> bool {
-        !matches!(self, Metric::Speed | Metric::RunoutReport)
+        !matches!(
+            self,
+            Metric::Speed | Metric::RunoutReport | Metric::ForceReport(..)
+        )
     }
 }
 
@@ -351,6 +357,17 @@ impl Metric {
                     .map(|l| l.kinetic_energy + l.potential_energy),
                 Some(r),
             ),
+            Metric::ForceReport(name, window) => {
+                let tail: Vec<f64> = rep
+                    .samples
+                    .iter()
+                    .filter(|s| s.time >= last.time - window - 1e-9)
+                    .filter_map(|s| s.barriers.iter().find(|b| b.name == name))
+                    .map(|b| b.force[0])
+                    .collect();
+                let mean = (!tail.is_empty()).then(|| tail.iter().sum::<f64>() / tail.len() as f64);
+                (mean, None)
+            }
             Metric::RestingContact(from, r) => {
                 let window: Vec<f64> = rep
                     .samples
@@ -422,7 +439,11 @@ impl Metric {
             }
             None => {
                 let (v, r) = self.evaluate(rep);
-                Ok((v, r, None))
+                let detail = match self {
+                    Metric::ForceReport(name, _) => Some(force_history(rep, name, dir, title)?),
+                    _ => None,
+                };
+                Ok((v, r, detail))
             }
         }
     }
@@ -497,4 +518,113 @@ pub(crate) fn collapse_3d(a: f64) -> (Vec<Level>, Vec<String>, Metric) {
         vec![format!("regions.0.shape.height={}", a * r0)],
         Metric::Runout(r0 * (1.0 + 1.24 * a)),
     )
+}
+
+/// The load on barrier `name` against time, drawn into `dir/force.png` (force along x,
+/// and the magnitude), and its peak for the record.
+fn force_history(
+    rep: &crate::run::RunReport,
+    name: &str,
+    dir: &std::path::Path,
+    title: &str,
+) -> anyhow::Result<serde_json::Value> {
+    use crate::plot::{panels, Curve, Panel};
+    let pts: Vec<(f64, [f64; 3])> = rep
+        .samples
+        .iter()
+        .filter_map(|s| {
+            s.barriers
+                .iter()
+                .find(|b| b.name == name)
+                .map(|b| (s.time, b.force))
+        })
+        .collect();
+    let along: Vec<(f64, f64)> = pts.iter().map(|(t, f)| (*t, f[0])).collect();
+    let size: Vec<(f64, f64)> = pts
+        .iter()
+        .map(|(t, f)| (*t, f.iter().map(|x| x * x).sum::<f64>().sqrt()))
+        .collect();
+    let peak = along
+        .iter()
+        .copied()
+        .fold(None::<(f64, f64)>, |m, p| match m {
+            Some(q) if q.1 >= p.1 => Some(q),
+            _ => Some(p),
+        });
+    panels(
+        &dir.join("force.png"),
+        title,
+        "time [s]",
+        &[Panel {
+            title: format!("load on `{name}`"),
+            ylabel: "force [N]".into(),
+            curves: vec![
+                Curve {
+                    label: "along x".into(),
+                    points: along,
+                },
+                Curve {
+                    label: "magnitude".into(),
+                    points: size,
+                },
+            ],
+            include: Some((0.0, 0.0)),
+        }],
+    )?;
+    Ok(serde_json::json!({
+        "barrier": name,
+        "peak_force_x": peak.map(|p| p.1),
+        "peak_time": peak.map(|p| p.0),
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use granmix_core::sample::BarrierSample;
+    use granmix_core::simulation::Sample;
+
+    /// A report whose barrier `wall` carries `loads` (N along x) at t = 0, 0.5, 1, ….
+    fn report(loads: &[f64]) -> crate::run::RunReport {
+        let samples = loads
+            .iter()
+            .enumerate()
+            .map(|(k, &f)| Sample {
+                time: 0.5 * k as f64,
+                barriers: vec![BarrierSample {
+                    name: "wall".into(),
+                    force: [f, 0.0, 0.0],
+                    ..Default::default()
+                }],
+                ..Default::default()
+            })
+            .collect();
+        crate::run::RunReport {
+            summary: serde_json::json!({}),
+            samples,
+            blowup: None,
+            particles: 0,
+            wall_time: 0.0,
+            particle_steps_per_s: 0.0,
+            fine_particle_steps_per_s: 0.0,
+        }
+    }
+
+    /// The post-peak force is the mean over the window; the peak and its time go to the
+    /// record, the history to force.png.
+    #[test]
+    fn force_report_takes_the_tail_mean_and_the_peak() {
+        let rep = report(&[0.0, 250.0, 120.0, 80.0, 100.0]);
+        let m = Metric::ForceReport("wall", 1.0);
+        assert_eq!(m.evaluate(&rep), (Some(100.0), None));
+        assert!(!m.has_reference());
+        let dir = std::env::temp_dir().join(format!("granmix-force-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let (_, _, detail) = m.scored(&rep, None, (&dir, "test")).unwrap();
+        let d = detail.expect("the force record");
+        assert_eq!(d["peak_force_x"], 250.0);
+        assert_eq!(d["peak_time"], 0.5);
+        assert!(dir.join("force.png").is_file());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }
