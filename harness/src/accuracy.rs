@@ -11,6 +11,7 @@ use crate::accuracy_series::{series, Series};
 use crate::metric::Level;
 use crate::plot::{loglog, Curve};
 use crate::run::{run, RunOptions};
+use crate::suite::SuiteOptions;
 use anyhow::Result;
 use serde_json::{json, Value};
 use std::path::Path;
@@ -32,22 +33,8 @@ fn cpu_time() -> Option<f64> {
     Some(ticks / 100.0)
 }
 
-/// How the accuracy suite runs.
-pub struct AccuracyOptions<'a> {
-    pub scenes: &'a Path,
-    pub out: &'a Path,
-    /// Only the coarsest level of each series, for a few steps (smoke run).
-    pub quick: bool,
-    pub report: Option<&'a Path>,
-    /// Only these cases (all when empty).
-    pub cases: &'a [String],
-    /// Reuse a run's `record.json` when it was made with the same overrides, so that
-    /// an interrupted suite continues where it stopped.
-    pub resume: bool,
-}
-
 /// Run the accuracy suite.
-pub fn accuracy(o: &AccuracyOptions) -> Result<()> {
+pub fn accuracy(o: &SuiteOptions) -> Result<()> {
     let all = series();
     if let Some(bad) = o.cases.iter().find(|c| !all.iter().any(|s| &s.case == *c)) {
         let mut names: Vec<&str> = all.iter().map(|s| s.case.as_str()).collect();
@@ -183,7 +170,7 @@ fn merged(earlier: &Value, doc: &Value) -> Value {
 
 /// The record of series `s` at `level`: the one under --out when --resume finds it made
 /// with the same overrides, else that of a new run (written there).
-fn run_level(o: &AccuracyOptions, s: &Series, (label, over): &Level) -> Result<Value> {
+fn run_level(o: &SuiteOptions, s: &Series, (label, over): &Level) -> Result<Value> {
     let mut set = s.common.clone();
     set.extend(over.iter().cloned());
     if o.quick {
@@ -195,13 +182,7 @@ fn run_level(o: &AccuracyOptions, s: &Series, (label, over): &Level) -> Result<V
         .join(s.scheme.replace([',', ' '], "_"))
         .join(label.replace(['/', ' '], "_"));
     let record = dir.join("record.json");
-    let cached = o
-        .resume
-        .then(|| std::fs::read_to_string(&record).ok())
-        .flatten()
-        .and_then(|t| serde_json::from_str::<Value>(&t).ok())
-        .filter(|r| r["overrides"] == json!(set));
-    if let Some(r) = cached {
+    if let Some(r) = o.cached(&record, "overrides", &json!(set)) {
         return Ok(r);
     }
     let data = s.metric.data(o.scenes)?;
@@ -267,7 +248,7 @@ fn print_row(s: &Series, label: &str, r: &Value) {
 /// accuracy.json, accuracy.png and accuracy.md under --out, and the report with its
 /// plot and its JSON beside it where --report names one. A run of some cases only
 /// (`--case`) is merged into the report's JSON, so that the report keeps the others.
-fn write_outputs(o: &AccuracyOptions, doc: &Value, earlier: Option<&Value>) -> Result<()> {
+fn write_outputs(o: &SuiteOptions, doc: &Value, earlier: Option<&Value>) -> Result<()> {
     let path = o.out.join("accuracy.json");
     std::fs::write(&path, serde_json::to_string_pretty(doc)?)?;
     println!("wrote {}", path.display());

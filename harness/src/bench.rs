@@ -77,6 +77,14 @@ fn run_suite(suite: &str, a: &BenchArgs) -> Result<ExitCode> {
             ExitCode::from(1)
         }
     };
+    let suite_options = crate::suite::SuiteOptions {
+        scenes: &a.scenes,
+        out: &a.out,
+        quick: a.quick,
+        report: a.report.as_deref(),
+        cases: &a.cases,
+        resume: a.resume,
+    };
     Ok(match suite {
         "stability" => {
             let loud =
@@ -87,25 +95,11 @@ fn run_suite(suite: &str, a: &BenchArgs) -> Result<ExitCode> {
             )
         }
         "accuracy" => {
-            crate::accuracy::accuracy(&crate::accuracy::AccuracyOptions {
-                scenes: &a.scenes,
-                out: &a.out,
-                quick: a.quick,
-                report: a.report.as_deref(),
-                cases: &a.cases,
-                resume: a.resume,
-            })?;
+            crate::accuracy::accuracy(&suite_options)?;
             ExitCode::SUCCESS
         }
         "models" => {
-            crate::models::models(&crate::models::ModelsOptions {
-                scenes: &a.scenes,
-                out: &a.out,
-                quick: a.quick,
-                report: a.report.as_deref(),
-                cases: &a.cases,
-                resume: a.resume,
-            })?;
+            crate::models::models(&suite_options)?;
             ExitCode::SUCCESS
         }
         "fmi" => {

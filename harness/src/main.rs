@@ -21,6 +21,7 @@ mod run;
 mod scale;
 mod series;
 mod stability;
+mod suite;
 mod vtk;
 mod watch;
 

@@ -15,6 +15,7 @@ use crate::bench_cases::{cases, Case};
 use crate::metric::{Level, Metric};
 use crate::plot::{loglog, Curve};
 use crate::run::{run, RunOptions};
+use crate::suite::SuiteOptions;
 use anyhow::{anyhow, bail, Context, Result};
 use serde_json::{json, Value};
 use std::path::Path;
@@ -134,21 +135,8 @@ pub(crate) fn model_cases() -> Vec<Case> {
         .collect()
 }
 
-/// How the suite runs.
-pub struct ModelsOptions<'a> {
-    pub scenes: &'a Path,
-    pub out: &'a Path,
-    /// Only the coarsest level of each case, for a few steps (smoke run).
-    pub quick: bool,
-    pub report: Option<&'a Path>,
-    /// Only these cases (all when empty).
-    pub cases: &'a [String],
-    /// Reuse each run's record under --out made with the same overrides and model.
-    pub resume: bool,
-}
-
 /// Run the suite: every case under every model.
-pub fn models(o: &ModelsOptions) -> Result<()> {
+pub fn models(o: &SuiteOptions) -> Result<()> {
     let all = model_cases();
     if let Some(bad) = o.cases.iter().find(|c| !all.iter().any(|s| &s.name == *c)) {
         let names: Vec<&str> = all.iter().map(|s| s.name.as_str()).collect();
@@ -178,8 +166,10 @@ pub fn models(o: &ModelsOptions) -> Result<()> {
         } else {
             &c.levels[..]
         };
-        for model in MODELS {
-            for level in levels {
+        // every model at a level before the next, finer one: an interrupted suite
+        // leaves whole columns of the table
+        for level in levels {
+            for model in MODELS {
                 let r = run_one(o, c, model, level)?;
                 println!(
                     "{:<26} {:<17} {:<9} {:>9} {:>9.1} {:>11} {:>11} {:>8}",
@@ -221,7 +211,7 @@ pub fn models(o: &ModelsOptions) -> Result<()> {
 
 /// The record of case `c` under `model` at `level`: the one under --out when --resume
 /// finds it made with the same overrides, else that of a new run.
-fn run_one(o: &ModelsOptions, c: &Case, model: Model, (label, over): &Level) -> Result<Value> {
+fn run_one(o: &SuiteOptions, c: &Case, model: Model, (label, over): &Level) -> Result<Value> {
     let dir = o
         .out
         .join(&c.name)
@@ -233,13 +223,7 @@ fn run_one(o: &ModelsOptions, c: &Case, model: Model, (label, over): &Level) -> 
     }
     let record = dir.join("record.json");
     let key = json!({"common": c.common, "set": set, "model": model.name()});
-    let cached = o
-        .resume
-        .then(|| std::fs::read_to_string(&record).ok())
-        .flatten()
-        .and_then(|t| serde_json::from_str::<Value>(&t).ok())
-        .filter(|r| r["key"] == key);
-    if let Some(r) = cached {
+    if let Some(r) = o.cached(&record, "key", &key) {
         return Ok(r);
     }
     std::fs::create_dir_all(&dir)?;
