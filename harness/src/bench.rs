@@ -215,11 +215,17 @@ struct LevelRun {
 /// Run case `c` at `level` (the `finest` one is held to the tolerance), printed as a
 /// row with its stages.
 fn run_level(a: &BenchArgs, c: &Case, (label, over): &Level, finest: bool) -> Result<LevelRun> {
-    let mut set = c.common.clone();
-    set.extend(over.iter().cloned());
     let dir = a.out.join(&c.name).join(label.replace('/', "_"));
     let data = c.metric.data(&a.scenes)?;
-    let rep = run(&RunOptions::batch(a.scenes.join(c.scene), dir.clone(), set))?;
+    // under a soil model the shared overrides are in the variant scene already
+    let (scene, set) = match c.model {
+        Some(m) => (
+            m.write_variant(&a.scenes.join(c.scene), &c.common, &dir)?,
+            over.clone(),
+        ),
+        None => (a.scenes.join(c.scene), [&c.common[..], over].concat()),
+    };
+    let rep = run(&RunOptions::batch(scene, dir.clone(), set))?;
     let title = format!("{}, {label}", c.name);
     let (value, reference, detail) = c.metric.scored(&rep, data.as_ref(), (&dir, &title))?;
     let err = c.metric.error(value, reference);
@@ -258,6 +264,7 @@ fn run_level(a: &BenchArgs, c: &Case, (label, over): &Level, finest: bool) -> Re
     print_stages(&stages, rep.wall_time);
     let record = json!({
         "case": c.name, "level": label, "scene": c.scene, "note": c.note,
+        "model": c.model.map(|m| m.name()),
         "particles": rep.particles, "steps_fine": rep.summary["steps_fine"],
         "wall_time_s": rep.wall_time, "particle_steps_per_s": rep.particle_steps_per_s,
         "fine_particle_steps_per_s": rep.fine_particle_steps_per_s,
@@ -398,6 +405,25 @@ fn compare(records: &[Value]) -> Vec<Value> {
                 "text": format!(
                     "standing wave at dp = h/50 (issue 42): period {:.2} % off linear theory (tolerance 1 %)",
                     100.0 * e
+                ),
+            }));
+        }
+    }
+    for (dp_case, mu_case, level) in [
+        ("speed_2d", "speed_2d_mu_i", "dp=2mm"),
+        ("speed_3d", "speed_3d_mu_i", "r0/20"),
+    ] {
+        let rate = |case| find(case, level).and_then(|r| r["particle_steps_per_s"].as_f64());
+        if let (Some(dp), Some(mu)) = (rate(dp_case), rate(mu_case)) {
+            let cost = dp / mu - 1.0;
+            out.push(json!({
+                "name": format!("{mu_case}_cost"),
+                "cost": cost, "tolerance": 0.15, "pass": cost <= 0.15,
+                "text": format!(
+                    "{mu_case}: μ(I) costs {:+.1} % over Drucker–Prager ({:.3} against {:.3} \
+                     M particle-steps/s; issue 43 asks at most 15 %; one run each, alternate \
+                     them for a verdict)",
+                    100.0 * cost, mu / 1e6, dp / 1e6
                 ),
             }));
         }

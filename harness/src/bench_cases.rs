@@ -5,6 +5,7 @@
 
 use crate::metric::{collapse_3d, CraterRef, EarthPressureRef, Level, Metric, DISC_IN_TANK_CA};
 use crate::metric_pores::{ConsolidationRef, DarcyRef};
+use crate::soil_model::Model;
 
 pub(crate) struct Case {
     pub(crate) name: String,
@@ -17,6 +18,9 @@ pub(crate) struct Case {
     /// Relative tolerance at the finest level.
     pub(crate) tolerance: Option<f64>,
     pub(crate) note: &'static str,
+    /// A soil model put on every material of the scene (the models suite's way), else
+    /// the scene's own.
+    pub(crate) model: Option<Model>,
 }
 
 impl Case {
@@ -36,12 +40,19 @@ impl Case {
             metric,
             tolerance: None,
             note,
+            model: None,
         }
     }
 
     /// With these overrides at every level.
     fn common(mut self, set: Vec<String>) -> Self {
         self.common = set;
+        self
+    }
+
+    /// Under this soil model instead of the scene's.
+    fn model(mut self, model: Model) -> Self {
+        self.model = Some(model);
         self
     }
 
@@ -526,6 +537,22 @@ fn speeds() -> Vec<Case> {
             &["simulation.end_time=0.05"],
             "3D collapse a = 1, 25 k particles, first 0.05 s",
         ),
+        speed(
+            "speed_2d_mu_i",
+            "column_collapse_2d.toml",
+            dp("dp=2mm", 0.002),
+            &first_015_s,
+            "speed_2d under μ(I) (the models suite's rule): its cost over Drucker–Prager",
+        )
+        .model(Model::MuI),
+        speed(
+            "speed_3d_mu_i",
+            "column_collapse_3d.toml",
+            dp("r0/20", 0.005),
+            &["simulation.end_time=0.05"],
+            "speed_3d under μ(I) (the models suite's rule): its cost over Drucker–Prager",
+        )
+        .model(Model::MuI),
         speed(
             "speed_debris",
             "debris_barrier.toml",

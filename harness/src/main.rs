@@ -20,6 +20,7 @@ mod quicklook;
 mod run;
 mod scale;
 mod series;
+mod soil_model;
 mod stability;
 mod suite;
 mod vtk;
