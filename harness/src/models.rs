@@ -325,6 +325,63 @@ fn criteria(runs: &[Value], model: &str) -> Vec<(&'static str, Verdict)> {
     v
 }
 
+/// The crater grid's μ dependence: for each ball and height run at both frictions, the
+/// depth at μ = 0.3 over the depth at μ = 0.5 under each model, beside Eq. (62)'s
+/// (D ∝ 1/μ, with H_drop = H + D: about 1.7). Empty when no pair has run.
+fn crater_ratios(runs: &[Value]) -> String {
+    let mut rows = String::new();
+    for level in ["dp=4mm", "dp=2mm"] {
+        for r in ["0.0125", "0.02"] {
+            for h in ["0.05", "0.1", "0.2"] {
+                let case = |mu: &str| format!("crater_R{r}_mu{mu}_H{h}");
+                let depth = |mu: &str, model: &str, key: &str| {
+                    find(runs, &case(mu), model, level).and_then(|x| x[key].as_f64())
+                };
+                let cells: Vec<Option<f64>> = MODELS
+                    .iter()
+                    .map(|m| {
+                        depth("0.3", m.name(), "value")
+                            .zip(depth("0.5", m.name(), "value"))
+                            .map(|(a, b)| a / b)
+                    })
+                    .collect();
+                if cells.iter().all(Option::is_none) {
+                    continue;
+                }
+                let eq62 = MODELS.iter().find_map(|m| {
+                    depth("0.3", m.name(), "reference")
+                        .zip(depth("0.5", m.name(), "reference"))
+                        .map(|(a, b)| a / b)
+                });
+                rows += &format!(
+                    "| {} | {r} | {h} | {} |",
+                    level.trim_start_matches("dp="),
+                    eq62.map_or("–".into(), |e| format!("{e:.3}"))
+                );
+                for c in cells {
+                    rows += &c.map_or(" – |".into(), |c| format!(" {c:.3} |"));
+                }
+                rows += "\n";
+            }
+        }
+    }
+    if rows.is_empty() {
+        return rows;
+    }
+    let mut s = String::from(
+        "\n## Crater depth at μ = 0.3 over μ = 0.5\n\n\
+         Eq. (62) makes the depth scale as 1/μ; the ratio shows how much of that each model \
+         gives, apart from the depth itself.\n\n| dp | R [m] | H [m] | Eq. (62) |",
+    );
+    for m in MODELS {
+        s += &format!(" `{}` |", m.name());
+    }
+    s += "\n|---|---|---|---|";
+    s += &"---|".repeat(MODELS.len());
+    s += "\n";
+    s + &rows
+}
+
 /// The report as Markdown, generated from the suite's JSON.
 pub(crate) fn markdown(doc: &Value, plot: &str) -> String {
     let runs = doc["runs"].as_array().cloned().unwrap_or_default();
@@ -368,6 +425,7 @@ pub(crate) fn markdown(doc: &Value, plot: &str) -> String {
         }
         s += "\n";
     }
+    s += &crater_ratios(&runs);
     s += "\n## Error at each case's finest level (wall time)\n\n| case | level |";
     for m in MODELS {
         s += &format!(" `{}` |", m.name());
@@ -459,5 +517,20 @@ mod tests {
         assert_eq!(verdict(&runs[1..4]).0, None, "{}", verdict(&runs[1..4]).1);
         assert_eq!(verdict(&runs[..4]).0, Some(false));
         assert!(verdict(&runs[..4]).1.starts_with("4 of 12 runs"));
+    }
+
+    /// The ratio table divides the μ = 0.3 depth by the μ = 0.5 one, per model.
+    #[test]
+    fn the_crater_ratio_is_the_depth_at_mu_03_over_mu_05() {
+        let run = |mu: &str, value: f64, reference: f64| {
+            json!({"case": format!("crater_R0.02_mu{mu}_H0.1"), "model": "shear",
+                   "level": "dp=4mm", "value": value, "reference": reference})
+        };
+        let t = crater_ratios(&[run("0.3", 0.03, 0.034), run("0.5", 0.02, 0.02)]);
+        assert!(
+            t.contains("| 4mm | 0.02 | 0.1 | 1.700 | – | – | – | 1.500 | – |"),
+            "{t}"
+        );
+        assert!(crater_ratios(&[run("0.3", 0.03, 0.034)]).is_empty());
     }
 }
