@@ -329,41 +329,49 @@ fn criteria(runs: &[Value], model: &str) -> Vec<(&'static str, Verdict)> {
 /// depth at μ = 0.3 over the depth at μ = 0.5 under each model, beside Eq. (62)'s
 /// (D ∝ 1/μ, with H_drop = H + D: about 1.7). Empty when no pair has run.
 fn crater_ratios(runs: &[Value]) -> String {
-    let mut rows = String::new();
-    for level in ["dp=4mm", "dp=2mm"] {
-        for r in ["0.0125", "0.02"] {
-            for h in ["0.05", "0.1", "0.2"] {
-                let case = |mu: &str| format!("crater_R{r}_mu{mu}_H{h}");
-                let depth = |mu: &str, model: &str, key: &str| {
-                    find(runs, &case(mu), model, level).and_then(|x| x[key].as_f64())
-                };
-                let cells: Vec<Option<f64>> = MODELS
-                    .iter()
-                    .map(|m| {
-                        depth("0.3", m.name(), "value")
-                            .zip(depth("0.5", m.name(), "value"))
-                            .map(|(a, b)| a / b)
-                    })
-                    .collect();
-                if cells.iter().all(Option::is_none) {
-                    continue;
-                }
-                let eq62 = MODELS.iter().find_map(|m| {
-                    depth("0.3", m.name(), "reference")
-                        .zip(depth("0.5", m.name(), "reference"))
-                        .map(|(a, b)| a / b)
-                });
-                rows += &format!(
-                    "| {} | {r} | {h} | {} |",
-                    level.trim_start_matches("dp="),
-                    eq62.map_or("–".into(), |e| format!("{e:.3}"))
-                );
-                for c in cells {
-                    rows += &c.map_or(" – |".into(), |c| format!(" {c:.3} |"));
-                }
-                rows += "\n";
-            }
+    // the μ = 0.3 runs of the grid, each with its μ = 0.5 partner (same R, H, level)
+    let mut pairs: Vec<(&str, &str)> = Vec::new();
+    for r in runs {
+        let (case, level) = (
+            r["case"].as_str().unwrap_or(""),
+            r["level"].as_str().unwrap_or(""),
+        );
+        if case.starts_with("crater_R")
+            && case.contains("_mu0.3_")
+            && !pairs.contains(&(case, level))
+        {
+            pairs.push((case, level));
         }
+    }
+    let mut rows = String::new();
+    for (low, level) in pairs {
+        let high = low.replace("_mu0.3_", "_mu0.5_");
+        let depth = |case: &str, model: &str, key: &str| {
+            find(runs, case, model, level).and_then(|x| x[key].as_f64())
+        };
+        let ratio = |model: &str, key: &str| {
+            depth(low, model, key)
+                .zip(depth(&high, model, key))
+                .map(|(a, b)| a / b)
+        };
+        let cells: Vec<Option<f64>> = MODELS.iter().map(|m| ratio(m.name(), "value")).collect();
+        if cells.iter().all(Option::is_none) {
+            continue;
+        }
+        let eq62 = MODELS.iter().find_map(|m| ratio(m.name(), "reference"));
+        let (r, h) = low
+            .trim_start_matches("crater_R")
+            .split_once("_mu0.3_H")
+            .unwrap_or(("?", "?"));
+        rows += &format!(
+            "| {} | {r} | {h} | {} |",
+            level.trim_start_matches("dp="),
+            eq62.map_or("–".into(), |e| format!("{e:.3}"))
+        );
+        for c in cells {
+            rows += &c.map_or(" – |".into(), |c| format!(" {c:.3} |"));
+        }
+        rows += "\n";
     }
     if rows.is_empty() {
         return rows;

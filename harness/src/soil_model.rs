@@ -96,9 +96,7 @@ impl Model {
         }
         Ok(doc.to_string())
     }
-}
 
-impl Model {
     /// `scene` with the overrides `common` and this model on every material, written to
     /// `dir/model_scene.toml` (the directory is made); its path.
     pub(crate) fn write_variant(
