@@ -33,6 +33,26 @@ fn cpu_time() -> Option<f64> {
     Some(ticks / 100.0)
 }
 
+/// `bench --suite accuracy --list`: one line per series, its scheme, scene and levels.
+pub fn list() {
+    let all = series();
+    let width = all
+        .iter()
+        .map(|s| s.case.chars().count())
+        .max()
+        .unwrap_or(0);
+    for s in &all {
+        let lv: Vec<&str> = s.levels.iter().map(|l| l.0.as_str()).collect();
+        println!(
+            "{:<width$} {:<22} {:<26} [{}]",
+            s.case,
+            s.scheme,
+            s.scene,
+            lv.join(", ")
+        );
+    }
+}
+
 /// Run the accuracy suite.
 pub fn accuracy(o: &SuiteOptions) -> Result<()> {
     let all = series();

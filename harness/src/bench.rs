@@ -19,9 +19,17 @@ pub struct BenchArgs {
     /// Only the coarsest resolution of each case.
     #[arg(long)]
     quick: bool,
-    /// List the cases and exit.
+    /// List the cases (with --suite accuracy or models: the suite's) and exit.
     #[arg(long)]
     list: bool,
+    /// With --suite models: only this soil model (repeatable; default all), e.g.
+    /// `--model compression_cone`.
+    #[arg(long = "model")]
+    models: Vec<String>,
+    /// With --suite models: only this level (repeatable; default all), by its label as
+    /// `--list` prints it, e.g. `--level dp=4mm`.
+    #[arg(long = "level")]
+    levels: Vec<String>,
     /// Directory with the bundled scenes.
     #[arg(long, default_value = "models/scenes")]
     scenes: PathBuf,
@@ -69,6 +77,29 @@ pub fn bench(a: &BenchArgs) -> Result<ExitCode> {
 
 /// One of the suites of `--suite`, with its exit code.
 fn run_suite(suite: &str, a: &BenchArgs) -> Result<ExitCode> {
+    if suite != "models" && !(a.models.is_empty() && a.levels.is_empty()) {
+        bail!(
+            "bench: --model and --level select runs of --suite models only, not of --suite {suite}"
+        );
+    }
+    if a.list {
+        return match suite {
+            "models" => {
+                list(&crate::models::model_cases());
+                let names: Vec<&str> = crate::soil_model::MODELS.iter().map(|m| m.name()).collect();
+                println!("each under the models {}", names.join(", "));
+                Ok(ExitCode::SUCCESS)
+            }
+            "accuracy" => {
+                crate::accuracy::list();
+                Ok(ExitCode::SUCCESS)
+            }
+            _ => bail!(
+                "bench --list --suite {suite}: this suite has no named cases to list; --list \
+                 lists the bench cases, or those of --suite accuracy or models"
+            ),
+        };
+    }
     let fail = |ok: bool, why: &str| {
         if ok {
             ExitCode::SUCCESS
@@ -83,6 +114,8 @@ fn run_suite(suite: &str, a: &BenchArgs) -> Result<ExitCode> {
         quick: a.quick,
         report: a.report.as_deref(),
         cases: &a.cases,
+        models: &a.models,
+        levels: &a.levels,
         resume: a.resume,
     };
     Ok(match suite {
@@ -118,7 +151,7 @@ fn run_suite(suite: &str, a: &BenchArgs) -> Result<ExitCode> {
 }
 
 /// `--list`: one line per case, its scene, levels and note.
-fn list(all: &[Case]) {
+pub(crate) fn list(all: &[Case]) {
     let width = all
         .iter()
         .map(|c| c.name.chars().count())

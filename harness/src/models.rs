@@ -43,16 +43,13 @@ pub(crate) fn model_cases() -> Vec<Case> {
         .collect()
 }
 
-/// Run the suite: every case under every model.
+/// Run the suite: every case under every model, or the runs `--case`, `--model` and
+/// `--level` select. With `--resume` the report also holds every run outside the
+/// selection already recorded under `--out` with the same inputs, so that a table
+/// filled by several partial invocations is written whole.
 pub fn models(o: &SuiteOptions) -> Result<()> {
     let all = model_cases();
-    if let Some(bad) = o.cases.iter().find(|c| !all.iter().any(|s| &s.name == *c)) {
-        let names: Vec<&str> = all.iter().map(|s| s.name.as_str()).collect();
-        bail!(
-            "bench --suite models: unknown --case {bad:?}; cases are {}",
-            names.join(", ")
-        );
-    }
+    check_selection(o, &all)?;
     std::fs::create_dir_all(o.out)?;
     println!(
         "{:<26} {:<17} {:<9} {:>9} {:>9} {:>11} {:>11} {:>8}",
@@ -62,11 +59,9 @@ pub fn models(o: &SuiteOptions) -> Result<()> {
     // with --quick, a case whose scene an earlier case ran (the crater grid after its
     // first) is skipped: a smoke run of the same code path
     let mut smoked = std::collections::HashSet::new();
-    for c in all
-        .iter()
-        .filter(|c| o.cases.is_empty() || o.cases.contains(&c.name))
-    {
-        if o.quick && !smoked.insert(c.scene) {
+    for c in &all {
+        let case_chosen = o.cases.is_empty() || o.cases.contains(&c.name);
+        if o.quick && !(case_chosen && smoked.insert(c.scene)) {
             continue;
         }
         let levels = if o.quick {
@@ -78,9 +73,19 @@ pub fn models(o: &SuiteOptions) -> Result<()> {
         // leaves whole columns of the table
         for level in levels {
             for model in MODELS {
-                let r = run_one(o, c, model, level)?;
+                let chosen = case_chosen
+                    && (o.levels.is_empty() || o.levels.contains(&level.0))
+                    && (o.models.is_empty() || o.models.iter().any(|m| m == model.name()));
+                let (r, tag) = if chosen {
+                    (run_one(o, c, model, level)?, "")
+                } else {
+                    match recorded(o, c, model, level) {
+                        Some(r) => (r, " (recorded)"),
+                        None => continue,
+                    }
+                };
                 println!(
-                    "{:<26} {:<17} {:<9} {:>9} {:>9.1} {:>11} {:>11} {:>8}",
+                    "{:<26} {:<17} {:<9} {:>9} {:>9.1} {:>11} {:>11} {:>8}{tag}",
                     c.name,
                     model.name(),
                     level.0,
@@ -117,9 +122,57 @@ pub fn models(o: &SuiteOptions) -> Result<()> {
     Ok(())
 }
 
-/// The record of case `c` under `model` at `level`: the one under --out when --resume
-/// finds it made with the same overrides, else that of a new run.
-fn run_one(o: &SuiteOptions, c: &Case, model: Model, (label, over): &Level) -> Result<Value> {
+/// That every `--case`, `--model` and `--level` names something of the suite.
+fn check_selection(o: &SuiteOptions, all: &[Case]) -> Result<()> {
+    if let Some(bad) = o.cases.iter().find(|c| !all.iter().any(|s| &s.name == *c)) {
+        let names: Vec<&str> = all.iter().map(|s| s.name.as_str()).collect();
+        bail!(
+            "bench --suite models: unknown --case {bad:?}; cases are {}",
+            names.join(", ")
+        );
+    }
+    if let Some(bad) = o
+        .models
+        .iter()
+        .find(|m| !MODELS.iter().any(|x| x.name() == m.as_str()))
+    {
+        let names: Vec<&str> = MODELS.iter().map(|m| m.name()).collect();
+        bail!(
+            "bench --suite models: unknown --model {bad:?}; models are {}",
+            names.join(", ")
+        );
+    }
+    let chosen: Vec<&Case> = all
+        .iter()
+        .filter(|c| o.cases.is_empty() || o.cases.contains(&c.name))
+        .collect();
+    if let Some(bad) = o
+        .levels
+        .iter()
+        .find(|l| !chosen.iter().any(|c| c.levels.iter().any(|x| &x.0 == *l)))
+    {
+        let mut names: Vec<&str> = chosen
+            .iter()
+            .flat_map(|c| c.levels.iter().map(|l| l.0.as_str()))
+            .collect();
+        names.sort_unstable();
+        names.dedup();
+        bail!(
+            "bench --suite models: no chosen case has the --level {bad:?}; their levels are {}",
+            names.join(", ")
+        );
+    }
+    Ok(())
+}
+
+/// Where the run of case `c` under `model` at `level` keeps its record, and the key
+/// the record must carry to be reused: the case's overrides, the level's and the model.
+fn record_of(
+    o: &SuiteOptions,
+    c: &Case,
+    model: Model,
+    (label, over): &Level,
+) -> (std::path::PathBuf, Vec<String>, Value) {
     let dir = o
         .out
         .join(&c.name)
@@ -129,8 +182,22 @@ fn run_one(o: &SuiteOptions, c: &Case, model: Model, (label, over): &Level) -> R
     if o.quick {
         set.push("simulation.end_time=0.002".into());
     }
-    let record = dir.join("record.json");
     let key = json!({"common": c.common, "set": set, "model": model.name()});
+    (dir, set, key)
+}
+
+/// The record of a run outside the selection, when `--resume` finds it under `--out`.
+fn recorded(o: &SuiteOptions, c: &Case, model: Model, level: &Level) -> Option<Value> {
+    let (dir, _, key) = record_of(o, c, model, level);
+    o.cached(&dir.join("record.json"), "key", &key)
+}
+
+/// The record of case `c` under `model` at `level`: the one under --out when --resume
+/// finds it made with the same overrides, else that of a new run.
+fn run_one(o: &SuiteOptions, c: &Case, model: Model, level: &Level) -> Result<Value> {
+    let (dir, set, key) = record_of(o, c, model, level);
+    let label = &level.0;
+    let record = dir.join("record.json");
     if let Some(r) = o.cached(&record, "key", &key) {
         return Ok(r);
     }
@@ -497,6 +564,34 @@ pub(crate) fn markdown(doc: &Value, plot: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `--model` and `--level` must name a model and a level of the chosen cases: the
+    /// 2 mm level belongs to the crater corners only.
+    #[test]
+    fn the_selection_names_what_the_suite_has() {
+        let all = model_cases();
+        let dir = Path::new(".");
+        let pick = |cases: &[String], models: &[String], levels: &[String]| {
+            let o = SuiteOptions {
+                scenes: dir,
+                out: dir,
+                quick: false,
+                report: None,
+                cases,
+                models,
+                levels,
+                resume: false,
+            };
+            check_selection(&o, &all).map_err(|e| e.to_string())
+        };
+        let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+        assert!(pick(&[], &s(&["compression_cone"]), &s(&["dp=2mm"])).is_ok());
+        assert!(pick(&s(&["crater_R0.02_mu0.5_H0.2"]), &[], &s(&["dp=2mm"])).is_ok());
+        let e = pick(&s(&["crater_R0.02_mu0.5_H0.1"]), &[], &s(&["dp=2mm"])).unwrap_err();
+        assert!(e.contains("dp=4mm"), "{e}");
+        let e = pick(&[], &s(&["cone"]), &[]).unwrap_err();
+        assert!(e.contains("compression_cone"), "{e}");
+    }
 
     /// The criteria read the grid's runs: a run 16 % off fails the grid.
     #[test]

@@ -13,6 +13,10 @@ pub struct SuiteOptions<'a> {
     pub report: Option<&'a Path>,
     /// Only these cases (all when empty).
     pub cases: &'a [String],
+    /// `--suite models`: only these soil models and levels (all when empty). With
+    /// `--resume` the report still holds the recorded runs outside the selection.
+    pub models: &'a [String],
+    pub levels: &'a [String],
     /// Reuse a run's `record.json` under `out` when it was made with the same overrides
     /// (and model), so that an interrupted suite continues where it stopped.
     pub resume: bool,
@@ -50,6 +54,8 @@ mod tests {
             quick: false,
             report: None,
             cases: &[],
+            models: &[],
+            levels: &[],
             resume: false,
         };
         assert!(o.cached(&path, "key", &json!(["a=1"])).is_none());
