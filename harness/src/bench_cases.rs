@@ -318,9 +318,9 @@ fn resting_tank(name: &'static str, note: &'static str, extra: &[&str]) -> Case 
     .tolerance(0.0)
 }
 
-/// A disc of 2 ρ_w (R = 0.05 m) resting on the floor of `boulder_in_water.toml` made
-/// smaller (0.3 m wide, 0.25 m of water, released 0.1 dp above the floor, the water
-/// settling over its first 0.2 s): the mean contact force over 0.25–0.35 s against
+/// A disc of 2 ρ_w (R = 0.05 m) resting on the floor under water,
+/// `disc_resting_in_water.toml` (released 0.1 dp above the floor at every level, the
+/// water settling over its first 0.2 s): the mean contact force over 0.25–0.35 s against
 /// W − ρ_w g V (issue 42's 2 %).
 fn resting_disc() -> Case {
     let r: f64 = 0.05;
@@ -336,7 +336,7 @@ fn resting_disc() -> Case {
     };
     Case::new(
         "resting_disc",
-        "boulder_in_water.toml",
+        "disc_resting_in_water.toml",
         vec![
             level("R/10", 10.0),
             level("R/20", 20.0),
@@ -349,14 +349,6 @@ fn resting_disc() -> Case {
         "disc of 2 ρ_w resting on the floor under water: mean contact force over 0.25–0.35 s \
          against W − ρ_w g V (asked 2 %)",
     )
-    .common(strings(&[
-        "solids.0.density=2000",
-        "water.regions.0.shape.max=[0.3,0.25]",
-        "containers.0.max=[0.3,0.35]",
-        "water.settle_time=0.2",
-        "simulation.end_time=0.35",
-        "simulation.output_interval=0.025",
-    ]))
     .tolerance(0.02)
 }
 

@@ -44,9 +44,9 @@ fn rising_disc_starts_with_the_added_mass() {
     );
 }
 
-/// A disc of 2 ρ_w resting on the floor of `boulder_in_water.toml` made smaller (a
-/// 0.3 m wide tank under 0.25 m of water; released 0.1 dp above the floor, the water's
-/// settling phase over its first 0.2 s): its contact force is its weight less its
+/// A disc of 2 ρ_w resting on the floor of `disc_resting_in_water.toml` (a 0.3 m wide
+/// tank under 0.25 m of water; released 0.1 dp above the floor, the water's settling
+/// phase over its first 0.2 s): its contact force is its weight less its
 /// buoyancy, W − ρ_w g V, within issue 42's 2 % as the mean over 0.25–0.35 s, at R/dp = 10
 /// (R/dp = 20, eight times the cost, is the bench's `resting_disc`). Measured: −0.14 % and
 /// −0.11 % at R/dp = 10 and 20 (in the scene's own 0.6 m tank, over 1.0–1.2 s:
@@ -63,21 +63,9 @@ fn resting_disc_keeps_its_buoyancy() {
     let (r, rho_b) = (0.05_f64, 2000.0);
     let vol = std::f64::consts::PI * r * r;
     let want = (rho_b - RHO) * G * vol;
+    // the scene as it stands: R/dp = 10, the centre 0.1 dp above y = R
     let n = 10.0;
-    let dp = r / n;
-    let centre = format!("bodies.0.shape.center=[0.15,{}]", r + 0.1 * dp);
-    let dp = format!("simulation.dp={dp}");
-    let set = [
-        "solids.0.density=2000",
-        "water.regions.0.shape.max=[0.3,0.25]",
-        "containers.0.max=[0.3,0.35]",
-        "water.settle_time=0.2",
-        "simulation.end_time=0.35",
-        "simulation.output_interval=0.025",
-        &dp,
-        &centre,
-    ];
-    let (samples, _, _) = run("boulder_in_water.toml", &set);
+    let (samples, _, _) = run("disc_resting_in_water.toml", &[]);
     let (mean, err) = mean_contact(&samples, 0.25, 1, want);
     assert!(
         err.abs() < 0.02,
