@@ -1,5 +1,6 @@
 //! Pore pressures for the outputs (VTK, recordings, the particle channel): at every
-//! fine particle the water's pressure interpolated there
+//! fine particle below its column's water surface the water's pressure interpolated
+//! there (zero above it, where the grain is dry)
 //! ([`soil_water::pore_pressure`](crate::interactions::soil_water::pore_pressure)),
 //! and for fine and water particles the excess over the hydrostatic pressure below
 //! the water surface of their vertical column, ρ_w g (z_s − z).
@@ -49,9 +50,13 @@ impl PoreField {
                 .pore_pressures(world, &mat, kernel)
                 .iter()
                 .zip(&world.fine.pos)
-                .map(|(p, x)| match p {
-                    Some(p) => [*p as f32, (p - hydro(x)) as f32],
-                    None => [0.0, 0.0],
+                .map(|(p, x)| match (p, surfaces.above(x)) {
+                    // a grain below its column's water surface: the water's pressure
+                    // there; above it (or with no water in its column) the grain is
+                    // dry and reports none (issue 44: grains above the water table
+                    // took 50–100 Pa from the water within their kernel's reach)
+                    (Some(p), Some(zs)) if x.dot(&up) < zs => [*p as f32, (p - hydro(x)) as f32],
+                    _ => [0.0, 0.0],
                 })
                 .collect(),
             None => vec![[0.0; 2]; world.fine.len()],

@@ -122,6 +122,7 @@ pub(super) fn fill<const D: usize>(
         g: gnorm,
         up,
         vol,
+        solids: &solids,
     };
     let (particles, counts) = at_rest.particles(regions, !pores.is_empty(), dp);
     Ok(Some(Water {
@@ -222,19 +223,21 @@ struct Region<const D: usize> {
 }
 
 /// How the water starts: its material, whether at the hydrostatic pressure (under
-/// gravity `g` along `up`) or at ρ_w, and the particle volume `vol`.
+/// gravity `g` along `up`) or at ρ_w, the particle volume `vol`, and the solids whose
+/// bodies the water's columns run through.
 struct Rest<'a, const D: usize> {
     mat: &'a WaterMaterial,
     hydrostatic: bool,
     g: Real,
     up: &'a Vect<D>,
     vol: Real,
+    solids: &'a Solids<D>,
 }
 
 impl<const D: usize> Rest<'_, D> {
     /// The water particles of `regions`, in order, and each region's name and count.
     /// With pores, the water stands at each column's surface, pores and free water
-    /// together; without, at each region's top.
+    /// together, through the bodies that sit in it; without, at each region's top.
     fn particles(
         &self,
         regions: Vec<Region<D>>,
@@ -246,7 +249,8 @@ impl<const D: usize> Rest<'_, D> {
         let mut counts = Vec::new();
         let surface = with_pores.then(|| {
             let pts: Vec<&Vect<D>> = regions.iter().flat_map(|r| r.pts.iter()).collect();
-            column_surfaces(&pts, up, dp)
+            let through_body = |x: &Vect<D>| self.solids.body_distance(x) < dp;
+            column_surfaces(&pts, up, dp, through_body)
         });
         let mut at = 0;
         for r in regions {
@@ -298,9 +302,19 @@ pub(crate) fn column_key<const D: usize>(x: &Vect<D>, up: &Vect<D>, dp: Real) ->
 }
 
 /// The water surface above each of `pts` (along `up`): the top of the run of water
-/// particles, spaced at most 1.5 dp apart, that holds it in its vertical column of
-/// width dp, plus dp/2.
-fn column_surfaces<const D: usize>(pts: &[&Vect<D>], up: &Vect<D>, dp: Real) -> Vec<Real> {
+/// particles that holds it in its vertical column of width dp, plus dp/2. A run is
+/// broken where the column has no water for more than 1.5 dp, unless every point of
+/// the gap (on the lower particle's vertical, every dp/2) is `solid`: a body sitting in
+/// the water (a boulder in saturated soil) leaves a gap of its chord plus about dp in
+/// the column, and the water under it stands at the surface above it (issue 44: it
+/// started at the body's underside, about 100 Pa instead of 2.5 kPa, under the debris
+/// flow's boulders).
+fn column_surfaces<const D: usize>(
+    pts: &[&Vect<D>],
+    up: &Vect<D>,
+    dp: Real,
+    solid: impl Fn(&Vect<D>) -> bool,
+) -> Vec<Real> {
     use std::collections::HashMap;
     let mut cols: HashMap<[i64; 3], Vec<(Real, usize)>> = HashMap::new();
     for (i, p) in pts.iter().enumerate() {
@@ -308,13 +322,17 @@ fn column_surfaces<const D: usize>(pts: &[&Vect<D>], up: &Vect<D>, dp: Real) -> 
             .or_default()
             .push((p.dot(up), i));
     }
+    let bridged = |p: &Vect<D>, (low, high): (Real, Real)| {
+        let n = ((high - low) / (0.5 * dp)).floor() as usize;
+        (1..n).all(|k| solid(&(p + up * (0.5 * dp * k as Real))))
+    };
     let mut out = vec![0.0; pts.len()];
     for col in cols.values_mut() {
         col.sort_by(|a, b| b.0.total_cmp(&a.0));
         let mut top = col[0].0;
         let mut last = col[0].0;
         for &(z, i) in col.iter() {
-            if last - z > 1.5 * dp {
+            if last - z > 1.5 * dp && !bridged(pts[i], (z, last)) {
                 top = z;
             }
             last = z;
