@@ -296,6 +296,17 @@ fn criteria(runs: &[Value], model: &str) -> Vec<(&'static str, Verdict)> {
             err(&c, "r0/20").zip(err(&c, "r0/25"))
         })
         .collect();
+    // a run-out's signed error (value against reference) at `level`, for a = 0.5, 1, 1.5
+    let signed = |level: &str| -> Vec<String> {
+        ["0.5", "1", "1.5"]
+            .iter()
+            .filter_map(|a| {
+                let r = find(runs, &format!("collapse_3d_a{a}"), model, level)?;
+                let e = r["value"].as_f64()? / r["reference"].as_f64()? - 1.0;
+                Some(format!("a = {a}: {:+.1} %", 100.0 * e))
+            })
+            .collect()
+    };
     v.push((
         "3D collapse (Lube): within 5 % at r0/25 for a = 0.5, 1, 1.5, the error falling from r0/20",
         match collapse.iter().copied().collect::<Option<Vec<_>>>() {
@@ -306,7 +317,11 @@ fn criteria(runs: &[Value], model: &str) -> Vec<(&'static str, Verdict)> {
                     .collect::<Vec<_>>()
                     .join("; "),
             ),
-            None => (None, "not run".into()),
+            // r0/20 alone: no verdict, but the run-outs so far
+            None => match signed("r0/20") {
+                at20 if at20.is_empty() => (None, "not run".into()),
+                at20 => (None, format!("r0/25 not run; at r0/20 {}", at20.join(", "))),
+            },
         },
     ));
     // the crater grid at 4 mm, its corners at 2 mm
@@ -591,6 +606,25 @@ mod tests {
         assert!(e.contains("dp=4mm"), "{e}");
         let e = pick(&[], &s(&["cone"]), &[]).unwrap_err();
         assert!(e.contains("compression_cone"), "{e}");
+    }
+
+    /// The 3D collapse at r0/20 alone gives no verdict but states each run-out's signed
+    /// error.
+    #[test]
+    fn the_collapse_at_r0_20_alone_is_reported_without_a_verdict() {
+        let runs: Vec<Value> = [("0.5", 0.14), ("1", 0.175), ("1.5", 0.29)]
+            .iter()
+            .map(|(a, v)| {
+                json!({"case": format!("collapse_3d_a{a}"), "model": "shear", "level": "r0/20",
+                       "value": v, "reference": 0.175, "rel_error": 0.0})
+            })
+            .collect();
+        let (verdict, text) = &criteria(&runs, "shear")[0].1;
+        assert_eq!(*verdict, None);
+        assert!(
+            text.contains("a = 0.5: -20.0 %") && text.contains("a = 1.5: +65.7 %"),
+            "{text}"
+        );
     }
 
     /// The criteria read the grid's runs: a run 16 % off fails the grid.

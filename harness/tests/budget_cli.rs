@@ -89,3 +89,26 @@ fn check_estimates_and_the_flag_sets_the_budget() {
     assert_eq!(code, 2);
     assert!(stderr.contains("not a size"), "{stderr}");
 }
+
+/// `check` names the bound that sets the step: the acoustic one of a dry soil, the
+/// seepage limit ρ_d k / (2 μ) of a soil of low permeability (issue 44: a bound other
+/// than the acoustic one must be stated), with and without `--exact`.
+#[test]
+fn check_names_the_bound_that_sets_the_step() {
+    let s = scene("seepage_column.toml");
+    let s = s.to_str().unwrap();
+    let (code, stdout, stderr, _) = granmix(&["check", s]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("set by CFL · h / c0"), "{stdout}");
+    for exact in [&[][..], &["--exact"][..]] {
+        let mut args = vec!["check", s, "--set", "materials.0.permeability=1e-11"];
+        args.extend_from_slice(exact);
+        let (code, stdout, stderr, _) = granmix(&args);
+        assert_eq!(code, 0, "{stderr}");
+        assert!(
+            stdout.contains("set by the seepage limit ρ_d k / (2 μ)")
+                && stdout.contains("(`materials[0].permeability`)"),
+            "{stdout}"
+        );
+    }
+}
