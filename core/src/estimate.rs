@@ -634,7 +634,8 @@ pub fn rest_dt_bound(scene: &Scene, res: &Resolution, water: Option<&WaterSpeed>
                 cfl * h / c0,
                 format!("materials[{i}].youngs_modulus"),
                 format!(
-                    "CFL · h / c0 with the sound speed c0 = {c0:?} m/s of material `{}`",
+                    "CFL · h / c0 with the sound speed c0 = {} m/s of material `{}`",
+                    sig(c0),
                     m.name
                 ),
                 true,
@@ -647,8 +648,8 @@ pub fn rest_dt_bound(scene: &Scene, res: &Resolution, water: Option<&WaterSpeed>
             cfl * h / w.c0,
             w.key.to_string(),
             format!(
-                "CFL · h / c0 with the water's sound speed c0 = {:?} m/s",
-                w.c0
+                "CFL · h / c0 with the water's sound speed c0 = {} m/s",
+                sig(w.c0)
             ),
             true,
         );
@@ -695,6 +696,20 @@ pub fn rest_dt_bound(scene: &Scene, res: &Resolution, water: Option<&WaterSpeed>
         })
 }
 
+/// `x` to four significant digits, without trailing zeros (55.81, 1e-11, 0.001).
+fn sig(x: Real) -> String {
+    let s = format!("{x:.3e}");
+    let (m, e) = s.split_once('e').unwrap_or((&s, "0"));
+    let m = m.trim_end_matches('0').trim_end_matches('.');
+    let e: i32 = e.parse().unwrap_or(0);
+    if (-3..4).contains(&e) {
+        let v: Real = format!("{m}e{e}").parse().unwrap_or(x);
+        format!("{v}")
+    } else {
+        format!("{m}e{e}")
+    }
+}
+
 /// The seepage limit of each soil with pores in water of viscosity `mu`, as the build
 /// takes it ([`Pores::seepage_dt`]): its index, the key that sets its permeability
 /// (`permeability` or `grain_size`), the permeability k and ½ ρ_d k / μ.
@@ -720,6 +735,16 @@ mod tests {
     use super::*;
     use crate::input::bundled_scenes;
     use crate::kernel::WendlandC2;
+
+    #[test]
+    fn bound_values_read_to_four_digits() {
+        assert_eq!(sig(55.80845216751073), "55.81");
+        assert_eq!(sig(14.975199497836416), "14.98");
+        assert_eq!(sig(0.001), "0.001");
+        assert_eq!(sig(1e-11), "1e-11");
+        assert_eq!(sig(2.5e6), "2.5e6");
+        assert_eq!(sig(10.0), "10");
+    }
     use crate::step::SoilWater;
     use crate::world::World;
 

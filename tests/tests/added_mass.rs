@@ -48,7 +48,7 @@ fn rising_disc_starts_with_the_added_mass() {
 /// tank under 0.25 m of water; released 0.1 dp above the floor, the water's settling
 /// phase over its first 0.2 s): its contact force is its weight less its
 /// buoyancy, W − ρ_w g V, within issue 42's 2 % as the mean over 0.25–0.35 s, at R/dp = 10
-/// (R/dp = 20, eight times the cost, is the bench's `resting_disc`). Measured: −0.14 % and
+/// (R/dp = 20, eight times the cost, is the bench's `resting_disc`). Measured: −0.15 % and
 /// −0.11 % at R/dp = 10 and 20 (in the scene's own 0.6 m tank, over 1.0–1.2 s:
 /// −0.8 % at both). Without the water in the contact's gap ([`water_buoyancy`],
 /// [`gap_water`]) it read 260–290 N/m against 77 N/m: no water particle fits under the

@@ -153,6 +153,16 @@ fn region_points<const D: usize>(
     let mut lattice = shape.fill(dp);
     if !solids.is_empty() {
         lattice.retain(|p| !solids.holds(p, dp));
+    }
+    if lattice.is_empty() {
+        return Err(empty());
+    }
+    // the extent the sound speed is chosen from: the lattice less the solids, as
+    // `flow_speed` measures it before the build; conforming the water to a body
+    // (below) moves points near it by up to half a spacing, which can take the gap's
+    // water under a body resting on the floor below the lattice's lowest row
+    let reach = extent(&lattice, up, dp);
+    if !solids.is_empty() {
         let kept = conform(&mut lattice, solids, dp);
         let mut k = kept.iter();
         lattice.retain(|_| *k.next().expect("one flag per point"));
@@ -160,7 +170,6 @@ fn region_points<const D: usize>(
     if lattice.is_empty() {
         return Err(empty());
     }
-    let reach = extent(&lattice, up, dp);
     let (pts, columns) = match r.fill {
         WaterFill::Lattice => (lattice, None),
         WaterFill::Columns => {
