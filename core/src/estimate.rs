@@ -592,10 +592,10 @@ fn overlaps<const D: usize>(a0: &Vect<D>, a1: &Vect<D>, b0: &Vect<D>, b1: &Vect<
 
 /// Δt of Eq. (51) at rest, CFL · h / c0 over the fastest fine material and the water
 /// (no particle moves yet, so |v|max = 0), and the water's viscous limit; infinite
-/// without fine grains or water.
-pub fn rest_dt(scene: &Scene, res: &Resolution) -> Real {
+/// without fine grains or water; with the bound that sets it.
+pub fn rest_dt(scene: &Scene, res: &Resolution) -> RestDt {
     let water = water_speed(scene, res).ok().flatten();
-    rest_dt_bound(scene, res, water.as_ref()).dt
+    rest_dt_bound(scene, res, water.as_ref())
 }
 
 /// The time step at rest ([`rest_dt`]) and the bound that sets it.
@@ -735,6 +735,8 @@ mod tests {
     use super::*;
     use crate::input::bundled_scenes;
     use crate::kernel::WendlandC2;
+    use crate::step::SoilWater;
+    use crate::world::World;
 
     #[test]
     fn bound_values_read_to_four_digits() {
@@ -745,8 +747,6 @@ mod tests {
         assert_eq!(sig(2.5e6), "2.5e6");
         assert_eq!(sig(10.0), "10");
     }
-    use crate::step::SoilWater;
-    use crate::world::World;
 
     fn built_seepage<const D: usize>(scene: &Scene) -> Option<Real> {
         let res = Resolution::of::<D>(scene);

@@ -5,7 +5,7 @@
 use crate::run::load;
 use anyhow::{bail, Result};
 use granmix_core::budget::{budget, human_bytes, over_budget, passes};
-use granmix_core::estimate::{estimate, rest_dt_bound};
+use granmix_core::estimate::{estimate, rest_dt, RestDt};
 use granmix_core::input::LoadedScene;
 use granmix_core::resolution::Resolution;
 use granmix_core::scene::KeyError;
@@ -77,7 +77,7 @@ pub fn check(scene: &Path, set: &[String], exact: bool) -> Result<()> {
             loaded.locate(KeyError::new("simulation.dp", over_budget(&e, &b)))
         );
     }
-    let dt = bound_of(&loaded.scene).dt;
+    let bound = rest_dt(&loaded.scene, &res);
     if e.coarse() > 0.0 {
         println!(
             "  Δt_c (Eq. 52 and contacts): run `granmix check --exact` to build and measure it"
@@ -85,11 +85,11 @@ pub fn check(scene: &Path, set: &[String], exact: bool) -> Result<()> {
     }
     let grains_or_water = e.fine() + e.water() > 0.0;
     let (n, step) = if grains_or_water {
-        (e.fine() + e.water(), dt)
+        (e.fine() + e.water(), bound.dt)
     } else {
         (e.coarse(), s.output_interval)
     };
-    cost(&loaded, n, step, grains_or_water);
+    cost(&loaded, n, step, grains_or_water, &bound);
     Ok(())
 }
 
@@ -140,7 +140,8 @@ fn check_exact(loaded: &LoadedScene) -> Result<()> {
             dt_c.min(loaded.scene.simulation.output_interval),
         )
     };
-    cost(loaded, n, step, fine);
+    let res = Resolution::of_scene(&loaded.scene);
+    cost(loaded, n, step, fine, &rest_dt(&loaded.scene, &res));
     Ok(())
 }
 
@@ -182,18 +183,9 @@ fn rock_reports(loaded: &LoadedScene) {
     }
 }
 
-/// The time step at rest and the bound that sets it, as the estimate takes them.
-fn bound_of(scene: &granmix_core::scene::Scene) -> granmix_core::estimate::RestDt {
-    let res = Resolution::of_scene(scene);
-    let water = granmix_core::flow_speed::water_speed(scene, &res)
-        .ok()
-        .flatten();
-    rest_dt_bound(scene, &res, water.as_ref())
-}
-
-/// Print the step count and the cost of `n` particles stepped at `step`, and the bound
-/// that sets the fine and water step.
-fn cost(loaded: &LoadedScene, n: f64, step: f64, fine: bool) {
+/// Print the step count and the cost of `n` particles stepped at `step`, and the
+/// `bound` that sets the fine and water step (the estimate's, at rest).
+fn cost(loaded: &LoadedScene, n: f64, step: f64, fine: bool, bound: &RestDt) {
     let s = &loaded.scene.simulation;
     let steps = (s.end_time / step).ceil();
     if fine {
@@ -202,9 +194,8 @@ fn cost(loaded: &LoadedScene, n: f64, step: f64, fine: bool) {
             short(steps),
             s.end_time
         );
-        let b = bound_of(&loaded.scene);
-        if b.dt.is_finite() {
-            println!("    set by {} (`{}`)", b.what, b.key);
+        if bound.dt.is_finite() {
+            println!("    set by {} (`{}`)", bound.what, bound.key);
         }
     } else {
         // coarse grains only: one coarse step per solver step (the output interval
