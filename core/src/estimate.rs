@@ -613,8 +613,8 @@ pub struct RestDt {
 
 /// [`rest_dt`] with the bound that sets it, for the water of speeds `water`
 /// ([`water_speed`]): the acoustic step of each fine material and of the water, the
-/// water's viscous limit ⅛ h² ρ/μ and the soils' explicit side of the seepage force
-/// ([`seepage_dt`]).
+/// water's viscous limit ⅛ h² ρ/μ. The seepage drag sets none: it is implicit on both
+/// sides ([`seepage_implicit`](crate::interactions::seepage_implicit)).
 pub fn rest_dt_bound(scene: &Scene, res: &Resolution, water: Option<&WaterSpeed>) -> RestDt {
     let (h, cfl) = (res.h, scene.simulation.cfl);
     let mut bounds: Vec<RestDt> = Vec::new();
@@ -655,7 +655,7 @@ pub fn rest_dt_bound(scene: &Scene, res: &Resolution, water: Option<&WaterSpeed>
         );
     }
     // without a sound speed nothing moves: no step bound at all; without water, no
-    // viscous or seepage limit
+    // viscous limit
     let spec = water.and(water_spec(scene));
     if let Some(w) = spec.filter(|_| !bounds.is_empty()) {
         if w.viscosity > 0.0 {
@@ -666,19 +666,6 @@ pub fn rest_dt_bound(scene: &Scene, res: &Resolution, water: Option<&WaterSpeed>
                 format!(
                     "the viscous limit h² ρ / (8 μ) with μ = {:?} Pa·s",
                     w.viscosity
-                ),
-                false,
-            );
-        }
-        for (i, key, k, dt) in seepage_dt(scene, w.viscosity) {
-            take(
-                &mut bounds,
-                dt,
-                format!("materials[{i}].{key}"),
-                format!(
-                    "the seepage limit ρ_d k / (2 μ) with the permeability k = {k:?} m² of \
-                     material `{}`",
-                    scene.materials[i].name
                 ),
                 false,
             );
@@ -710,33 +697,10 @@ fn sig(x: Real) -> String {
     }
 }
 
-/// The seepage limit of each soil with pores in water of viscosity `mu`, as the build
-/// takes it ([`Pores::seepage_dt`]): its index, the key that sets its permeability
-/// (`permeability` or `grain_size`), the permeability k and ½ ρ_d k / μ.
-pub fn seepage_dt(scene: &Scene, mu: Real) -> Vec<(usize, &'static str, Real, Real)> {
-    scene
-        .materials
-        .iter()
-        .enumerate()
-        .filter_map(|(i, m)| {
-            let p = Pores::of(m)?;
-            let key = if m.permeability.is_some() {
-                "permeability"
-            } else {
-                "grain_size"
-            };
-            Some((i, key, p.permeability, p.seepage_dt(m.density, mu)))
-        })
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::input::bundled_scenes;
-    use crate::kernel::WendlandC2;
-    use crate::step::SoilWater;
-    use crate::world::World;
 
     #[test]
     fn bound_values_read_to_four_digits() {
@@ -746,42 +710,6 @@ mod tests {
         assert_eq!(sig(1e-11), "1e-11");
         assert_eq!(sig(2.5e6), "2.5e6");
         assert_eq!(sig(10.0), "10");
-    }
-
-    fn built_seepage<const D: usize>(scene: &Scene) -> Option<Real> {
-        let res = Resolution::of::<D>(scene);
-        let world = World::<D>::build(scene, res).expect("builds");
-        let kernel = WendlandC2::new(res.h, D);
-        SoilWater::new(&world, &kernel, res.skin).map(|s| s.dt_max)
-    }
-
-    /// The seepage limit of the time step at rest is the build's, bit for bit, in every
-    /// bundled scene with water and a soil with pores, at the water's own viscosity.
-    #[test]
-    fn the_estimate_takes_the_built_seepage_limit() {
-        let mut checked = Vec::new();
-        for (name, loaded) in bundled_scenes() {
-            let scene = &loaded.scene;
-            if !scene.materials.iter().any(|m| Pores::of(m).is_some()) {
-                continue;
-            }
-            let res = Resolution::of_scene(scene);
-            let water = water_speed(scene, &res).expect("loaded");
-            let mu = water_spec(scene).map_or(Real::NAN, |w| w.viscosity);
-            let estimated = water.and_then(|_| {
-                seepage_dt(scene, mu)
-                    .into_iter()
-                    .map(|b| b.3)
-                    .reduce(Real::min)
-            });
-            let built = match scene.simulation.dimension {
-                2 => built_seepage::<2>(scene),
-                _ => built_seepage::<3>(scene),
-            };
-            assert_eq!(estimated, built, "{name}");
-            checked.push(name);
-        }
-        assert!(checked.len() >= 5, "{checked:?}");
     }
 
     /// The estimate and the build see the scene at one resolution: the one the load

@@ -101,13 +101,19 @@ fn check_names_the_bound_that_sets_the_step() {
     assert_eq!(code, 0, "{stderr}");
     assert!(stdout.contains("set by CFL · h / c0"), "{stdout}");
     for exact in [&[][..], &["--exact"][..]] {
-        let mut args = vec!["check", s, "--set", "materials.0.permeability=1e-11"];
+        // the seepage drag is implicit on both sides: no permeability bounds the step
+        let mut args = vec!["check", s, "--set", "materials.0.permeability=1e-12"];
+        args.extend_from_slice(exact);
+        let (code, stdout, stderr, _) = granmix(&args);
+        assert_eq!(code, 0, "{stderr}");
+        assert!(stdout.contains("set by CFL · h / c0"), "{stdout}");
+        let mut args = vec!["check", s, "--set", "water.viscosity=300"];
         args.extend_from_slice(exact);
         let (code, stdout, stderr, _) = granmix(&args);
         assert_eq!(code, 0, "{stderr}");
         assert!(
-            stdout.contains("set by the seepage limit ρ_d k / (2 μ)")
-                && stdout.contains("(`materials[0].permeability`)"),
+            stdout.contains("set by the viscous limit h² ρ / (8 μ)")
+                && stdout.contains("(`water.viscosity`)"),
             "{stdout}"
         );
     }

@@ -187,7 +187,7 @@ fn cases() -> Vec<Case> {
         ),
         case("probes_250k", probes, &[], &["MiB"]),
         // steps and outputs
-        case("permeability_1e-30", sat.clone(), &["materials[0].permeability=1e-30"], &["materials[0].permeability", "steps"]),
+        case("permeability_1e-30", sat.clone(), &["materials[0].permeability=1e-30"], &["materials[0].permeability", "impermeable"]),
         case("cfl_1e-308", col2.clone(), &["simulation.cfl=1e-308"], &["simulation.cfl"]),
         case("output_interval_1e-308", col2.clone(), &["simulation.output_interval=1e-308"], &["simulation.output_interval"]),
         case("end_time_1e308", col2.clone(), &["simulation.end_time=1e308"], &["simulation.end_time"]),

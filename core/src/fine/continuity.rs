@@ -137,7 +137,7 @@ impl<const D: usize> Rates<D> {
             }
         }
         let d = self.diff.scale(2.0 * prm.zeta * prm.kernel.h * mi.c0);
-        let u = constitutive_step(mi, &l, out.stress, *out.plastic_strain, &d, prm.dt);
+        let u = constitutive_step(mi, &l, out.stress, *out.plastic_strain, &d, prm.dt, rho);
         *out.stress = u.stress;
         *out.plastic_strain += u.plastic_strain;
         *out.vel_grad = grad.cast::<f32>();

@@ -1,6 +1,7 @@
 //! Derived constants of the Drucker–Prager soil (Eqs. 4–8, 22 of seed 000), on the cone
 //! of its `yield_surface`, with friction hardening (seed 004 Eq. 43) or μ(I).
 
+use super::dilatancy::Dilatancy;
 use super::hardening::Hardening;
 use super::mu_i::MuI;
 use super::pores::Pores;
@@ -46,16 +47,24 @@ pub struct FineMaterial {
     /// The μ(I) rheology, on the `shear` cone.
     #[serde(default)]
     pub mu_i: Option<MuI>,
+    /// State-dependent dilatancy (a soil with pores; the fluid's viscosity is set at
+    /// the world's build, [`FineMaterial::immersed`]).
+    #[serde(default)]
+    pub dilatancy: Option<Dilatancy>,
 }
 
 impl FineMaterial {
     /// The yield constants of a particle with accumulated plastic strain `eps_p`,
-    /// velocity gradient `l` and stress `sigma` (Pa, tension positive) for this step:
-    /// the material's own, φ(ε_p) of seed 004 Eq. (43) refitted on its cone, or
-    /// α_φ = μ(I)/3 from the deviatoric strain rate and the pressure at the start of the
-    /// step (`mu_i`).
+    /// velocity gradient `l`, stress `sigma` (Pa, tension positive) and density `rho`
+    /// for this step: the material's own, φ(ε_p) of seed 004 Eq. (43) refitted on its
+    /// cone, or α_φ = μ(I)/3 from the deviatoric strain rate and the pressure at the
+    /// start of the step (`mu_i`); with `dilatancy`, tan ψ/3 joins α_φ and sets α_ψ
+    /// ([`Dilatancy`]).
     #[inline(always)]
-    pub fn yield_at(&self, eps_p: Real, l: &Matrix3<Real>, sigma: &Sym) -> Yield {
+    pub fn yield_at(&self, eps_p: Real, l: &Matrix3<Real>, sigma: &Sym, rho: Real) -> Yield {
+        if let Some(d) = &self.dilatancy {
+            return self.dilatant_yield(d, l, sigma, rho);
+        }
         match (&self.hardening, &self.mu_i) {
             (None, None) => Yield {
                 alpha_phi: self.alpha_phi,
@@ -81,6 +90,36 @@ impl FineMaterial {
             }
         }
     }
+
+    /// [`FineMaterial::yield_at`] with dilatancy: I_m from the deviatoric strain rate
+    /// and the effective pressure at the start of the step, φ from the density;
+    /// α_φ = μ(I)/3 + tan ψ/3 (the material's own α_φ without `mu_i`), not below 0,
+    /// and α_ψ = tan ψ/3.
+    #[inline]
+    fn dilatant_yield(&self, d: &Dilatancy, l: &Matrix3<Real>, sigma: &Sym, rho: Real) -> Yield {
+        let e = Sym::from_matrix_sym(l).dev();
+        let rate = (2.0 * e.ddot(&e)).sqrt();
+        let i_m = d.number(rate, -sigma.trace() / 3.0);
+        let base = match &self.mu_i {
+            Some(m) => m.mu_of_i(Dilatancy::inertial_equivalent(i_m)) / 3.0,
+            None => self.alpha_phi,
+        };
+        let tan_psi = d.tan_psi(d.fraction(rho, self.rho0), i_m);
+        Yield {
+            alpha_phi: (base + tan_psi / 3.0).max(0.0),
+            k_c: self.k_c,
+            alpha_psi: tan_psi / 3.0,
+        }
+    }
+
+    /// The material immersed in a fluid of viscosity `eta_f` (Pa·s): its dilatancy's
+    /// viscous number takes it.
+    pub fn immersed(mut self, eta_f: Real) -> Self {
+        if let Some(d) = self.dilatancy.as_mut() {
+            d.eta_f = eta_f;
+        }
+        self
+    }
 }
 
 impl FineMaterial {
@@ -91,14 +130,19 @@ impl FineMaterial {
     /// μ_s/μ(I) of its shear, and a layer on a slope tan θ between μ_s and μ_2 slid on
     /// its bed instead of shearing.
     pub fn strongest_cone(&self) -> (Real, Real) {
-        match (&self.hardening, &self.mu_i) {
+        // with dilatancy: and the quasi-static dilatancy of the initial packing
+        let dilated = |(a, k): (Real, Real)| match &self.dilatancy {
+            Some(d) => (a + (d.k * (d.phi_0 - d.phi_c)).max(0.0) / 3.0, k),
+            None => (a, k),
+        };
+        dilated(match (&self.hardening, &self.mu_i) {
             (None, None) => (self.alpha_phi, self.k_c),
             (Some(h), _) => {
                 let phi = h.initial.max(h.peak).max(h.residual);
                 fit(self.surface, phi, self.cohesion)
             }
             (None, Some(m)) => (m.mu_2 / 3.0, self.k_c),
-        }
+        })
     }
 }
 
@@ -174,6 +218,14 @@ impl FineMaterial {
                 .as_ref()
                 .map(|h| Hardening::from_spec(h, m.static_friction_angle())),
             mu_i: m.mu_i.as_ref().map(MuI::from_spec),
+            dilatancy: m.dilatancy.as_ref().map(|d| Dilatancy {
+                k: d.k,
+                phi_c: d.phi_c,
+                b: d.b,
+                phi_0: 1.0 - m.porosity.unwrap_or(0.0),
+                eta_f: 0.0,
+                grains: m.mu_i.as_ref().map(|g| (g.grain_diameter, g.grain_density)),
+            }),
         }
     }
 }

@@ -1,8 +1,10 @@
 //! Fine grains: updated-Lagrangian SPH with the Drucker–Prager soil model (seed 000 §2),
-//! its cone fits, friction hardening (seed 004 Eq. 43) and μ(I).
+//! its cone fits, friction hardening (seed 004 Eq. 43), μ(I) and the dilatancy of a
+//! soil in a fluid.
 
 pub mod artificial_stress;
 pub mod continuity;
+pub mod dilatancy;
 pub mod element;
 pub mod hardening;
 pub mod hourglass;

@@ -48,6 +48,20 @@ impl MuI {
     }
 }
 
+impl MuI {
+    /// μ at the inertial number `i` (≥ 0; infinite gives μ_2): the law as Jop et al.
+    /// write it, for a number taken elsewhere ([`Dilatancy`]'s blend).
+    ///
+    /// [`Dilatancy`]: super::dilatancy::Dilatancy
+    #[inline]
+    pub fn mu_of_i(&self, i: Real) -> Real {
+        if i.is_infinite() {
+            return self.mu_2;
+        }
+        self.mu_s + (self.mu_2 - self.mu_s) * i / (self.i_0 + i)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -21,7 +21,7 @@ pub struct StressUpdate {
 
 /// One particle's constitutive step: its yield constants for the step
 /// ([`FineMaterial::yield_at`]: fixed, hardened by its accumulated plastic strain
-/// `eps_p`, or μ(I)) and [`update_stress`]. The solver and the element tests
+/// `eps_p`, μ(I), or dilatant at its density `rho`) and [`update_stress`]. The solver and the element tests
 /// ([`element`](super::element)) both step the stress through here.
 #[inline(always)]
 pub fn constitutive_step(
@@ -31,8 +31,9 @@ pub fn constitutive_step(
     eps_p: Real,
     diffusion: &Sym,
     dt: Real,
+    rho: Real,
 ) -> StressUpdate {
-    let y = m.yield_at(eps_p, l, sigma);
+    let y = m.yield_at(eps_p, l, sigma, rho);
     update_stress(m, &y, l, sigma, diffusion, dt)
 }
 
@@ -163,6 +164,7 @@ mod tests {
             yield_surface: None,
             hardening: None,
             mu_i: None,
+            dilatancy: None,
             cohesion: c,
             dilation_angle: 0.0,
             porosity: None,
@@ -174,7 +176,7 @@ mod tests {
 
     /// The material's own yield constants (no hardening, no μ(I)).
     fn fixed(m: &FineMaterial) -> Yield {
-        m.yield_at(0.0, &Matrix3::zeros(), &Sym::ZERO)
+        m.yield_at(0.0, &Matrix3::zeros(), &Sym::ZERO, m.rho0)
     }
 
     /// The written-out Jaumann terms equal σ Ωᵀ + Ω σ by matrix products.
@@ -211,7 +213,7 @@ mod tests {
         let mut l = Matrix3::zeros();
         l[(0, 0)] = -1e-3; // compression rate
         let p0 = Sym::iso(-1e4); // confinement keeps it elastic
-        let u = constitutive_step(&m, &l, &p0, 0.0, &Sym::ZERO, 1.0e-3);
+        let u = constitutive_step(&m, &l, &p0, 0.0, &Sym::ZERO, 1.0e-3, m.rho0);
         let eps = -1e-6;
         assert!((u.stress.0[0] - (-1e4 + (m.bulk + 4.0 * m.shear / 3.0) * eps)).abs() < 1e-9);
         assert!((u.stress.0[1] - (-1e4 + (m.bulk - 2.0 * m.shear / 3.0) * eps)).abs() < 1e-9);
@@ -246,7 +248,7 @@ mod tests {
         let mut acc = 0.0;
         // elastic until γ = τ_y / G ≈ 0.025; shear to γ = 0.06
         for _ in 0..6000 {
-            let u = constitutive_step(&m, &l, &s, 0.0, &Sym::ZERO, 1e-5);
+            let u = constitutive_step(&m, &l, &s, 0.0, &Sym::ZERO, 1e-5, m.rho0);
             s = u.stress;
             acc += u.plastic_strain;
         }
@@ -279,7 +281,7 @@ mod tests {
                 let mut l = Matrix3::zeros();
                 l[(0, 0)] = rate;
                 l[(1, 1)] = eyy;
-                constitutive_step(m, &l, &s, 0.0, &Sym::ZERO, dt)
+                constitutive_step(m, &l, &s, 0.0, &Sym::ZERO, dt, m.rho0)
             };
             let (f0, f1) = (probe(0.0).stress.0[1] - sv, probe(1e-6).stress.0[1] - sv);
             let eyy = -f0 * 1e-6 / (f1 - f0);

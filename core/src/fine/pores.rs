@@ -44,9 +44,10 @@ impl Pores {
         self.permeability * rho_w * g / mu
     }
 
-    /// The largest Δt of the soil's explicit side of the seepage drag, ½ ρ_d k / μ, for
-    /// a soil of dry density `rho_d` in water of viscosity `mu`: the build's step bound
-    /// and the estimate's alike.
+    /// The largest Δt at which the soil's side of the seepage drag may stay explicit,
+    /// ½ ρ_d k / μ, for a soil of dry density `rho_d` in water of viscosity `mu`: a
+    /// longer step closes the drag implicitly on both sides
+    /// ([`seepage_implicit`](crate::interactions::seepage_implicit)).
     pub fn seepage_dt(&self, rho_d: Real, mu: Real) -> Real {
         0.5 * rho_d * self.permeability / mu
     }

@@ -1,7 +1,8 @@
 //! How long a run is, vetted at load: a scene whose time step at rest is not a normal
 //! positive number, whose output interval is shorter than that step, or whose output
 //! or step count is not finite or beyond a stated bound is refused, as is gravity that
-//! would carry a particle past the speed bound within one step. Each of these would
+//! would carry a particle past the speed bound within one step, and a permeability
+//! too small for the implicit seepage drag to resolve. Each of these would
 //! otherwise pass `check` and then never finish, or stop the run at its first step.
 
 use crate::estimate::{rest_dt_bound, RestDt};
@@ -17,6 +18,11 @@ use crate::scene::{KeyError, Scene};
 pub const MAX_STEPS: Real = 1e12;
 /// Most outputs (series rows, snapshots) a run may write.
 pub const MAX_OUTPUTS: Real = 1e6;
+/// The strongest seepage coupling the implicit close of the drag resolves: Δt μ /
+/// (k ρ_d) at the step at rest. Its Schur complement subtracts terms that large from
+/// the particle's mass, so about log10 of it of the 16 digits are lost; at 1e6 the
+/// close still meets its 1e-10 tolerance.
+pub const MAX_SEEPAGE_COUPLING: Real = 1e6;
 /// The CFL number a scene takes by default: a bound that the default CFL would meet
 /// is blamed on `simulation.cfl`.
 const DEFAULT_CFL: Real = 0.4;
@@ -75,6 +81,36 @@ pub fn check_run_length(
                 bound.what, sim.end_time
             ),
         );
+    }
+    if let (true, Some(w)) = (
+        dt.is_finite(),
+        water.and(crate::flow_speed::water_spec(scene)),
+    ) {
+        for (i, m) in scene.materials.iter().enumerate() {
+            let Some(p) = crate::fine::pores::Pores::of(m) else {
+                continue;
+            };
+            let coupling = dt * w.viscosity / (p.permeability * m.density);
+            if coupling.is_nan() || coupling > MAX_SEEPAGE_COUPLING {
+                let key = if m.permeability.is_some() {
+                    "permeability"
+                } else {
+                    "grain_size"
+                };
+                let k_min = dt * w.viscosity / (MAX_SEEPAGE_COUPLING * m.density);
+                return fail(
+                    &format!("materials[{i}].{key}"),
+                    format!(
+                        "the permeability k = {:?} m² of material `{}` locks the soil to its \
+                         pore water {coupling:.3e} times within the time step at rest (Δt μ / \
+                         (k ρ_d) with Δt = {dt:.3e} s, μ = {:?} Pa·s): the implicit seepage \
+                         drag resolves up to {MAX_SEEPAGE_COUPLING:.0e}. Over the run this soil \
+                         is impermeable; give k ≥ {k_min:.1e} m²",
+                        p.permeability, m.name, w.viscosity
+                    ),
+                );
+            }
+        }
     }
     // |g| without squaring (1e308² would overflow)
     let g = sim.gravity.iter().fold(0.0, |a: Real, x| a.hypot(*x));

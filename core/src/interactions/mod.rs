@@ -11,6 +11,7 @@
 //! - [`water_pass`]: the water sweeps' particle passes;
 //! - [`soil_water`]: soil and water, the seepage and pore-pressure forces of seed 001
 //!   Eqs. (8)–(10);
+//! - [`seepage_implicit`]: the seepage drag closed implicitly on both sides;
 //! - [`wall_pressure`]: the pressure the wall particles carry, from the fine grains'
 //!   and the water's wall laws, for output.
 
@@ -21,6 +22,7 @@ pub mod fine_coarse;
 pub mod fine_wall;
 pub mod gap_water;
 pub mod momentum_pass;
+pub mod seepage_implicit;
 pub mod soil_water;
 #[cfg(test)]
 mod symmetric_tests;

@@ -250,26 +250,32 @@ pub struct WaterAround<'a, const D: usize> {
 
 /// The water's force on soil particle `q` over the step (seepage and buoyancy, N),
 /// from the water particles `near`. `full` is the kernel sum the water would give
-/// there in full ([`full_sum`] of the soil's own sum).
+/// there in full ([`full_sum`] of the soil's own sum). Each pair that exchanges drag
+/// is handed to `pair` with its coefficient c_ij = V_j (μ/k_j) W_ij ⟨V_i/s_i⟩ (N·s/m),
+/// for the implicit close of the step ([`seepage_implicit`](super::seepage_implicit)).
 pub fn soil_force<const D: usize>(
     q: &SoilPoint<D>,
     w: &WaterAround<'_, D>,
     near: &[u32],
     k: &WendlandC2,
     full: Real,
+    mut pair: impl FnMut(u32, Real),
 ) -> Vect<D> {
     let cut2 = k.cutoff * k.cutoff;
     let mut seep = Vect::<D>::zeros();
     let mut s0 = 0.0;
     for &i in near {
-        let i = i as usize;
-        let r2 = (q.pos - w.frozen[i]).norm_squared();
+        let iu = i as usize;
+        let r2 = (q.pos - w.frozen[iu]).norm_squared();
         if r2 < cut2 {
             let wk = k.w(r2.sqrt());
-            s0 += wk * w.vol[i];
+            s0 += wk * w.vol[iu];
             if q.drag > 0.0 {
-                let d = &w.drag[i];
+                let d = &w.drag[iu];
                 seep += (d.vol_vel - q.vel * d.vol) * (q.drag * wk);
+                if d.vol > 0.0 {
+                    pair(i, q.drag * wk * q.vol * d.vol);
+                }
             }
         }
     }
@@ -373,7 +379,7 @@ mod tests {
                 solid: 0.6,
             };
             let near: Vec<u32> = (0..n as u32).collect();
-            let f = soil_force(&q, &w, &near, &k, lattice_sum::<2>(&k, dp).0);
+            let f = soil_force(&q, &w, &near, &k, lattice_sum::<2>(&k, dp).0, |_, _| {});
             let ph = pore_pressure(&q.pos, (&pos, &vol, &p), &near, &k).unwrap();
             // no seepage: the grains' buoyancy, in full where the water surrounds them,
             // in part on the floor
@@ -434,7 +440,7 @@ mod tests {
         for q in &soil {
             let q = SoilPoint { solid: 0.0, ..*q };
             let near: Vec<u32> = (0..water.len() as u32).collect();
-            reaction += soil_force(&q, &w, &near, &k, 1.0) * (3.0 * dt);
+            reaction += soil_force(&q, &w, &near, &k, 1.0, |_, _| {}) * (3.0 * dt);
         }
         assert!(impulse.norm() > 1e-6);
         assert!(

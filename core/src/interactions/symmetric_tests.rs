@@ -57,6 +57,7 @@ fn material(name: &str, rho0: Real, e: Real) -> FineMaterial {
         surface: Default::default(),
         hardening: None,
         mu_i: None,
+        dilatancy: None,
     }
 }
 
@@ -424,7 +425,7 @@ fn continuity_matches<const D: usize>(two_soils: bool, jump: ContinuityJump) {
             }
         }
         let diffusion = psi.scale(2.0 * zeta * h * mi.c0);
-        let u = constitutive_step(mi, &l, &p.stress[i], 0.0, &diffusion, dt);
+        let u = constitutive_step(mi, &l, &p.stress[i], 0.0, &diffusion, dt, p.rho[i]);
         for c in 0..6 {
             close(stress[i].0[c], u.stress.0[c], 2e4, "stress", i);
         }

@@ -59,6 +59,7 @@ mod tests {
             yield_surface: None,
             hardening: None,
             mu_i: None,
+            dilatancy: None,
             cohesion: c,
             dilation_angle: 0.0,
             porosity: None,

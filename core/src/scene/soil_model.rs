@@ -1,8 +1,9 @@
 //! The soil-model keys of a `[[materials]]` entry: which Drucker–Prager cone a friction
 //! angle means (`yield_surface`), friction hardening and softening (`hardening`, seed 004
-//! Eq. 43) and the μ(I) rheology (`mu_i`, Jop, Forterre & Pouliquen 2006). The formulas
-//! are in `fine::yield_surface`, `fine::hardening` and `fine::mu_i`, and in
-//! docs/method.md §Soil models.
+//! Eq. 43), the μ(I) rheology (`mu_i`, Jop, Forterre & Pouliquen 2006) and the
+//! dilatancy of a soil in a fluid (`dilatancy`, Pailha & Pouliquen 2009). The formulas
+//! are in `fine::yield_surface`, `fine::hardening`, `fine::mu_i` and `fine::dilatancy`,
+//! and in docs/method.md §Soil models and §Pore-pressure feedback.
 
 use serde::Deserialize;
 
@@ -73,4 +74,24 @@ pub struct MuISpec {
     pub grain_diameter: f64,
     /// Grain density ρ_s (kg/m³, > 0): the solid's, not the bulk density.
     pub grain_density: f64,
+}
+
+/// `[materials.dilatancy]`: tan ψ = K (φ − φ_eq), φ_eq = φ_c / (1 + b √I_m) (Pailha &
+/// Pouliquen 2009; Boyer et al. 2011), φ the solid fraction 1 − n, following the
+/// particle's density; the friction is μ + tan ψ (`fine::dilatancy`). Needs the soil's
+/// `porosity`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DilatancySpec {
+    /// K (≥ 0).
+    pub k: f64,
+    /// The critical solid fraction φ_c, in (0, 0.7405).
+    pub phi_c: f64,
+    /// b of φ_eq (≥ 0). Default 1 (Boyer et al. 2011).
+    #[serde(default = "one")]
+    pub b: f64,
+}
+
+fn one() -> f64 {
+    1.0
 }

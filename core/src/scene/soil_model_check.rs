@@ -1,10 +1,11 @@
 //! Checks on the `[[materials]]` entries' soil-model keys (`yield_surface`, `hardening`,
-//! `mu_i`), before the rest of the grains (`scene::validate`): a μ(I) block's μ_s sets
+//! `mu_i`, `dilatancy`), before the rest of the grains (`scene::validate`): a μ(I) block's μ_s sets
 //! the friction angle the dilation angle is checked against.
 
-use super::soil_model::{HardeningSpec, MuISpec, YieldSurface};
+use super::soil_model::{DilatancySpec, HardeningSpec, MuISpec, YieldSurface};
 use super::validate::{fail, positive, Check};
 use super::{MaterialSpec, Scene};
+use crate::fine::dilatancy::PHI_MAX;
 
 /// The soil-model keys of every `[[materials]]` entry.
 pub(super) fn validate_soil_models(s: &Scene) -> Check {
@@ -45,6 +46,70 @@ fn check_soil_model(p: &str, m: &MaterialSpec) -> Check {
     }
     if let Some(h) = &m.hardening {
         check_hardening(&format!("{p}.hardening"), h, m.dilation_angle)?;
+    }
+    if let Some(d) = &m.dilatancy {
+        check_dilatancy(p, m, d)?;
+    }
+    Ok(())
+}
+
+/// A dilatancy block needs the soil's pores (its solid fraction 1 − n), no fixed
+/// dilation angle and no hardening; K ≥ 0, φ_c and 1 − n in (0, φ_max), b ≥ 0.
+fn check_dilatancy(p: &str, m: &MaterialSpec, d: &DilatancySpec) -> Check {
+    let Some(n) = m.porosity else {
+        return fail(
+            format!("{p}.dilatancy"),
+            "needs the soil's pores: give `porosity` (the solid fraction φ = 1 − n follows \
+             the particle's density), with `permeability` or `grain_size` for the water",
+        );
+    };
+    if m.dilation_angle != 0.0 {
+        return fail(
+            format!("{p}.dilation_angle"),
+            "leave it out with [materials.dilatancy]: ψ follows from tan ψ = K (φ − φ_eq)",
+        );
+    }
+    if m.hardening.is_some() {
+        return fail(
+            format!("{p}.hardening"),
+            "give either [materials.hardening] or [materials.dilatancy], not both",
+        );
+    }
+    let q = format!("{p}.dilatancy");
+    if !(d.k >= 0.0 && d.k.is_finite()) {
+        return fail(
+            format!("{q}.k"),
+            format!("must be ≥ 0 (K of tan ψ = K (φ − φ_eq)), found {:?}", d.k),
+        );
+    }
+    if !(d.phi_c > 0.0 && d.phi_c < PHI_MAX) {
+        return fail(
+            format!("{q}.phi_c"),
+            format!(
+                "the critical solid fraction must lie in (0, {PHI_MAX:.4}) (the densest \
+                 packing of spheres), found {:?}",
+                d.phi_c
+            ),
+        );
+    }
+    if 1.0 - n >= PHI_MAX {
+        return fail(
+            format!("{p}.porosity"),
+            format!(
+                "with [materials.dilatancy] the solid fraction 1 − n must lie below \
+                 {PHI_MAX:.4} (the densest packing of spheres): n = {n:?} gives {:?}",
+                1.0 - n
+            ),
+        );
+    }
+    if !(d.b >= 0.0 && d.b.is_finite()) {
+        return fail(
+            format!("{q}.b"),
+            format!(
+                "must be ≥ 0 (b of φ_eq = φ_c / (1 + b √I)), found {:?}",
+                d.b
+            ),
+        );
     }
     Ok(())
 }

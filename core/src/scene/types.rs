@@ -1,7 +1,7 @@
 //! The scene file schema (TOML). Units are SI, angles in degrees.
 //! Documented for users in `docs/scenes.md`; keep the two in step.
 
-use super::soil_model::{HardeningSpec, MuISpec, YieldSurface};
+use super::soil_model::{DilatancySpec, HardeningSpec, MuISpec, YieldSurface};
 use crate::math::Real;
 use nalgebra::{Rotation3, Vector3};
 use serde::Deserialize;
@@ -314,6 +314,10 @@ pub struct MaterialSpec {
     /// The μ(I) rheology (Jop et al. 2006) in place of a fixed friction angle.
     #[serde(default)]
     pub mu_i: Option<MuISpec>,
+    /// State-dependent dilatancy (Pailha & Pouliquen 2009). Default none: ψ is
+    /// `dilation_angle`.
+    #[serde(default)]
+    pub dilatancy: Option<DilatancySpec>,
     /// Cohesion c (Pa). Default 0.
     #[serde(default)]
     pub cohesion: f64,

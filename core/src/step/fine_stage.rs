@@ -234,9 +234,9 @@ impl<const D: usize> FineStepper<D> {
         );
     }
 
-    /// The two fine sweeps of a step of `dt`: v_{n+1} (Eqs. 16, 55), then density,
-    /// velocity gradient and stress with v_{n+1} (Eqs. 15, 24–26, 7–12).
-    pub(super) fn sweeps(
+    /// The first fine sweep of a step of `dt`: v_{n+1} (Eqs. 16, 55), with the walls'
+    /// and the coarse grains' reactions and the barrier loads.
+    pub(super) fn momentum(
         &mut self,
         world: &mut World<D>,
         dt: Real,
@@ -245,20 +245,12 @@ impl<const D: usize> FineStepper<D> {
         timers: &mut StageTimers,
     ) {
         self.prepare_sweeps(world, dt, cx);
-        let cprm = ContinuityParams {
-            kernel: cx.kernel,
-            gravity: world.gravity,
+        let cprm = continuity_params(
+            (&self.geostatic, &self.geostatic_pressure, self.uniform),
+            world,
             dt,
-            zeta: cx.params.zeta,
-            geostatic: &self.geostatic,
-            geostatic_pressure: &self.geostatic_pressure,
-            geostatic_scale: cx.g_scale,
-            weight: cx.soil_water.map_or(&[], |s| &s.weight[..]),
-            up: cx.up,
-            jump: cx.params.continuity_jump,
-            uniform: self.uniform,
-            wrap: world.periodic,
-        };
+            cx,
+        );
         let mprm = MomentumParams {
             kernel: cx.kernel,
             riemann: Riemann { eta: cx.params.eta },
@@ -326,6 +318,23 @@ impl<const D: usize> FineStepper<D> {
         }
         std::mem::swap(&mut world.fine.vel, &mut self.vel_new);
         self.family.sum_loads(&world.walls);
+    }
+
+    /// The second fine sweep of a step of `dt`: density, velocity gradient and stress
+    /// with v_{n+1} (Eqs. 15, 24–26, 7–12).
+    pub(super) fn continuity(
+        &mut self,
+        world: &mut World<D>,
+        dt: Real,
+        cx: &FineContext<'_, D>,
+        timers: &mut StageTimers,
+    ) {
+        let cprm = continuity_params(
+            (&self.geostatic, &self.geostatic_pressure, self.uniform),
+            world,
+            dt,
+            cx,
+        );
         let sweep = ContinuitySweep {
             src: &self.src,
             lists: &self.family.lists,
@@ -335,6 +344,31 @@ impl<const D: usize> FineStepper<D> {
         timers.time(Stage::ContinuityStress, || {
             sweep.run(world, &mut self.pair_sums)
         });
+    }
+}
+
+/// The continuity sweep's parameters of a step of `dt` (its terms without velocity
+/// are taken in the momentum sweep's pair pass), from the stepper's per-material
+/// geostatic gradients and pressures and its uniform-acoustics flag.
+fn continuity_params<'a, const D: usize>(
+    (geostatic, geostatic_pressure, uniform): (&'a [Sym], &'a [Real], bool),
+    world: &World<D>,
+    dt: Real,
+    cx: &FineContext<'a, D>,
+) -> ContinuityParams<'a, D> {
+    ContinuityParams {
+        kernel: cx.kernel,
+        gravity: world.gravity,
+        dt,
+        zeta: cx.params.zeta,
+        geostatic,
+        geostatic_pressure,
+        geostatic_scale: cx.g_scale,
+        weight: cx.soil_water.map_or(&[], |s| &s.weight[..]),
+        up: cx.up,
+        jump: cx.params.continuity_jump,
+        uniform,
+        wrap: world.periodic,
     }
 }
 

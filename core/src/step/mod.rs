@@ -134,21 +134,16 @@ impl<const D: usize> Stepper<D> {
         // step is the largest whole multiple of it and the water sub-steps
         // ([`water_substeps`])
         let multi = self.params.scheme == crate::scene::TimeStepping::MultiRate;
-        // the soil's side of the seepage drag is explicit
-        let seep = self
-            .soil_water
-            .as_ref()
-            .map_or(Real::INFINITY, |s| s.dt_max);
         // a moving wall or barrier (prescribed or driven) moves at most CFL·h per step,
         // so that it cannot pass through a layer of particles within one step
         let wall = self.params.cfl * self.params.h / world.walls.max_speed_at(world.time);
         if multi && fine.is_finite() && water.is_finite() {
-            let k = (fine.min(seep).min(wall) / water).floor();
+            let k = (fine.min(wall) / water).floor();
             if k >= 2.0 {
                 return k * water;
             }
         }
-        fine.min(water).min(seep).min(wall)
+        fine.min(water).min(wall)
     }
 
     /// Bytes of scratch memory held by the stepper (lists, buffers, grids).
@@ -216,7 +211,7 @@ impl<const D: usize> Stepper<D> {
         let water_vmax = self.water_substeps(world, dt)?;
         // after the last, the soil gathers the opposite of the water's drag and its
         // buoyancy, which the fine sweeps add
-        self.soil_gathers(world);
+        self.soil_gathers(world, dt);
         // Eq. (27), cohesive soils only
         let artificial = self.params.artificial.and_then(|_| {
             self.timed(Stage::ArtificialStress, |s| {
@@ -243,8 +238,10 @@ impl<const D: usize> Stepper<D> {
         })
     }
 
-    /// The fine sweeps of a step of `dt` ([`FineStepper::sweeps`]), with what they
-    /// read of the step.
+    /// The fine sweeps of a step of `dt` ([`FineStepper::momentum`] and
+    /// [`FineStepper::continuity`]), with what they read of the step; between them the
+    /// seepage drag is closed implicitly on both sides ([`SoilWater::close`]), so that
+    /// the stress sees the soil's velocity of the step's end.
     fn fine_sweeps(
         &mut self,
         world: &mut World<D>,
@@ -261,7 +258,18 @@ impl<const D: usize> Stepper<D> {
             soil_water: self.soil_water.as_ref(),
         };
         self.fine
-            .sweeps(world, dt, artificial, &cx, &mut self.timers);
+            .momentum(world, dt, artificial, &cx, &mut self.timers);
+        self.close_seepage(world, dt);
+        let cx = FineContext {
+            params: &self.params,
+            kernel: self.kernel,
+            g_scale: self.g_scale,
+            up: self.up,
+            csrc: &self.csrc,
+            coarse: self.coarse.is_some(),
+            soil_water: self.soil_water.as_ref(),
+        };
+        self.fine.continuity(world, dt, &cx, &mut self.timers);
     }
 
     /// The step's barrier loads: the fine grains' and the water's (the coarse grains'

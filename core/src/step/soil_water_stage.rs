@@ -3,13 +3,17 @@
 //! particle's drag coefficients are taken; the sub-steps apply the drag implicitly
 //! and keep each particle's share; after them every soil particle gathers the exact
 //! opposite of the water's drag impulse and its buoyancy (Eq. 9's pressure term),
-//! which its momentum sweep adds.
+//! which its momentum sweep adds; after that sweep the drag is closed implicitly on
+//! both sides ([`interactions::seepage_implicit`]), so that no permeability bounds
+//! the step.
 //!
 //! [`interactions::soil_water`]: crate::interactions::soil_water
+//! [`interactions::seepage_implicit`]: crate::interactions::seepage_implicit
 
 use super::relations::SoilWaterRelation;
 use crate::fine::material::FineMaterial;
 use crate::fine::source::Source;
+use crate::interactions::seepage_implicit::{Families, ImplicitDrag, SolveStats};
 use crate::interactions::soil_water::{
     full_sum, kernel_sum, lattice_sum, pore_pressure, soil_force, Seepage, SoilPoint, WaterAround,
     WaterDrag,
@@ -25,9 +29,13 @@ use rayon::prelude::*;
 /// Scratch of the soil–water coupling; the water's force on the soil of the last step.
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub struct SoilWater<const D: usize> {
-    /// Largest Δt of the explicit soil side of the drag: the least of
-    /// [`Pores::seepage_dt`](crate::fine::pores::Pores::seepage_dt), ½ ρ_d k / μ.
-    pub dt_max: Real,
+    /// The largest Δt at which the soil's side of the drag stays explicit: the least
+    /// of [`Pores::seepage_dt`](crate::fine::pores::Pores::seepage_dt), ½ ρ_d k / μ.
+    /// A longer step closes the drag implicitly on both sides ([`SoilWater::close`]).
+    pub dt_explicit: Real,
+    /// Whether this step closes the drag implicitly.
+    #[serde(skip)]
+    implicit_now: bool,
     /// The kernel's least lattice sum and its value at a lattice point
     /// ([`lattice_sum`]).
     #[serde(default = "ones")]
@@ -60,6 +68,9 @@ pub struct SoilWater<const D: usize> {
     /// [`ContinuityParams::weight`]: crate::fine::continuity::ContinuityParams::weight
     #[serde(skip)]
     pub weight: Vec<Real>,
+    /// The implicit close of the drag: its pair rows and scratch.
+    #[serde(skip)]
+    implicit: ImplicitDrag<D>,
 }
 
 fn ones() -> (Real, Real) {
@@ -112,13 +123,14 @@ impl<const D: usize> SoilWater<D> {
     /// The coupling of a world with water and a soil with pores (None otherwise).
     pub fn new(world: &World<D>, kernel: &WendlandC2, skin: Real) -> Option<Self> {
         let w = world.water.material?;
-        let dt_max = world
+        let dt_explicit = world
             .materials
             .iter()
             .filter_map(|m| m.pores.map(|p| p.seepage_dt(m.rho0, w.mu)))
             .reduce(Real::min)?;
         Some(SoilWater {
-            dt_max,
+            dt_explicit,
+            implicit_now: false,
             norm: lattice_sum::<D>(kernel, world.resolution.dp),
             own: Vec::new(),
             own_water: Vec::new(),
@@ -133,6 +145,7 @@ impl<const D: usize> SoilWater<D> {
             vol: Vec::new(),
             force: Vec::new(),
             weight: Vec::new(),
+            implicit: ImplicitDrag::default(),
         })
     }
 
@@ -216,9 +229,12 @@ impl<const D: usize> SoilWater<D> {
         }
     }
 
-    /// After the water's sub-steps: every soil particle's force from the water (the
-    /// opposite of the drag, and its buoyancy) and its pore pressure.
-    pub fn gather(&mut self, world: &World<D>, mat: &WaterMaterial, kernel: &WendlandC2) {
+    /// After the water's sub-steps of a step of `dt`: every soil particle's force from
+    /// the water (the opposite of the drag, and its buoyancy) and its pore pressure;
+    /// with a step longer than [`SoilWater::dt_explicit`], each pair's drag coefficient
+    /// for the implicit close.
+    pub fn gather(&mut self, world: &World<D>, mat: &WaterMaterial, kernel: &WendlandC2, dt: Real) {
+        self.implicit_now = dt > self.dt_explicit;
         let w = &world.water.particles;
         self.vol.clear();
         self.vol
@@ -232,17 +248,37 @@ impl<const D: usize> SoilWater<D> {
         let (norm, own, rel) = (self.norm, &self.own, &self.relation);
         let n = self.soil.len();
         self.force.resize(n, Vect::<D>::zeros());
-        self.soil
-            .par_chunks(CHUNK)
-            .zip(self.force.par_chunks_mut(CHUNK))
-            .enumerate()
-            .for_each(|(c, (q, f))| {
-                for k in 0..q.len() {
-                    let j = c * CHUNK + k;
-                    let full = full_sum(norm, own[j]);
-                    f[k] = soil_force(&q[k], &around, rel.water_near(j), kernel, full);
-                }
-            });
+        if self.implicit_now {
+            // the force pass also keeps each soil particle's pairs for the implicit close
+            self.soil
+                .par_chunks(CHUNK)
+                .zip(self.force.par_chunks_mut(CHUNK))
+                .zip(self.implicit.chunks(n).par_iter_mut())
+                .enumerate()
+                .for_each(|(c, ((q, f), rows))| {
+                    rows.clear();
+                    for k in 0..q.len() {
+                        let j = c * CHUNK + k;
+                        let full = full_sum(norm, own[j]);
+                        f[k] = rows.row(|pair| {
+                            soil_force(&q[k], &around, rel.water_near(j), kernel, full, pair)
+                        });
+                    }
+                });
+        } else {
+            self.soil
+                .par_chunks(CHUNK)
+                .zip(self.force.par_chunks_mut(CHUNK))
+                .enumerate()
+                .for_each(|(c, (q, f))| {
+                    for k in 0..q.len() {
+                        let j = c * CHUNK + k;
+                        let full = full_sum(norm, own[j]);
+                        let near = rel.water_near(j);
+                        f[k] = soil_force(&q[k], &around, near, kernel, full, |_, _| {});
+                    }
+                });
+        }
         // the vertical gradient a soil rests at: its weight less the water's lift
         let g = world.gravity.norm();
         let up = up(&world.gravity);
@@ -257,6 +293,30 @@ impl<const D: usize> SoilWater<D> {
             }
             (m.rho0 * g - self.force[i].dot(&up) / self.soil[i].vol) / held
         }));
+    }
+
+    /// After the soil's momentum sweep of a step of `dt`: where the step is longer than
+    /// the explicit soil side allows ([`SoilWater::dt_explicit`]), the drag closed
+    /// implicitly on both sides ([`ImplicitDrag::close`]), the soil's and the water's
+    /// velocities receiving the increments; a shorter step keeps the explicit soil
+    /// side, bit for bit as before.
+    pub fn close(&mut self, world: &mut World<D>, dt: Real) -> SolveStats {
+        if !self.implicit_now {
+            return SolveStats::default();
+        }
+        let f = &mut world.fine;
+        let w = &mut world.water.particles;
+        let fam = Families {
+            soil: &self.soil,
+            soil_mass: &f.mass,
+            water_mass: &w.mass,
+        };
+        self.implicit.close(&fam, dt, &mut f.vel, &mut w.vel)
+    }
+
+    /// The last implicit solve ([`SoilWater::close`]).
+    pub fn last_solve(&self) -> SolveStats {
+        self.implicit.last
     }
 
     /// The pore pressure at every fine particle now (Pa; None where no water is

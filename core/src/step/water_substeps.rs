@@ -110,24 +110,43 @@ impl<const D: usize> Stepper<D> {
     /// The soil side of the soil–water coupling after the water's sub-steps (nothing
     /// without it): every soil particle gathers the exact opposite of the water's drag
     /// impulse over the sub-steps and its buoyancy (seed 001 Eqs. 8–10), which its
-    /// momentum sweep adds; then the water leaves through the outflows, which with a
-    /// soil it does once per step.
-    pub(super) fn soil_gathers(&mut self, world: &mut World<D>) {
+    /// momentum sweep adds.
+    pub(super) fn soil_gathers(&mut self, world: &mut World<D>, dt: Real) {
         let Stepper {
-            water,
             timers,
             kernel,
             soil_water,
             ..
         } = self;
-        let Some(((w, m), sw)) = water
-            .as_mut()
-            .zip(world.water.material)
+        let Some((m, sw)) = world
+            .water
+            .material
             .zip(soil_water.as_mut().filter(|_| !world.fine.is_empty()))
         else {
             return;
         };
-        timers.time(Stage::SoilWater, || sw.gather(world, &m, kernel));
+        timers.time(Stage::SoilWater, || sw.gather(world, &m, kernel, dt));
+    }
+
+    /// After the soil's momentum sweep (nothing without a soil–water coupling): the
+    /// seepage drag closed implicitly on both sides ([`SoilWater::close`]); then the
+    /// water leaves through the outflows, which with a soil it does once per step.
+    ///
+    /// [`SoilWater::close`]: super::SoilWater::close
+    pub(super) fn close_seepage(&mut self, world: &mut World<D>, dt: Real) {
+        let Stepper {
+            water,
+            timers,
+            soil_water,
+            ..
+        } = self;
+        let Some((w, sw)) = water
+            .as_mut()
+            .zip(soil_water.as_mut().filter(|_| !world.fine.is_empty()))
+        else {
+            return;
+        };
+        timers.time(Stage::SoilWater, || sw.close(world, dt));
         if !world.water.outflows.is_empty() {
             w.let_out(world, timers);
         }

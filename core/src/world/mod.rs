@@ -119,10 +119,12 @@ impl<const D: usize> World<D> {
         let g_hyd = hydrostatic(gravity, periodic.map(|p| p.axis));
         // along a periodic slope, normal to the bed
         let up = up(&g_hyd);
+        // a dilatant soil's viscous number takes the water's viscosity (dry: none)
+        let eta_f = crate::flow_speed::water_spec(scene).map_or(0.0, |w| w.viscosity);
         let materials: Vec<FineMaterial> = scene
             .materials
             .iter()
-            .map(FineMaterial::from_spec)
+            .map(|m| FineMaterial::from_spec(m).immersed(eta_f))
             .collect();
         let (mut fine, region_counts) = regions::fill(scene, &materials, &g_hyd, dp, vol)?;
         let walls = boundaries::build(scene, dp, vol, periodic)?;
