@@ -23,10 +23,6 @@ use crate::math::Real;
 /// Trulsson et al.'s (2012) weight of I² against I_v in I_m = I_v + α I².
 pub const TRULSSON_ALPHA: Real = 0.635;
 
-/// The densest packing of equal spheres, π/(3√2) (Kepler, Hales 2005): no solid
-/// fraction or critical fraction lies above it.
-pub const PHI_MAX: Real = 0.740_480_489_693_061;
-
 /// A material's dilatancy constants, with the fluid it is immersed in.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Dilatancy {

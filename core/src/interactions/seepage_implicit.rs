@@ -188,8 +188,6 @@ pub struct ImplicitDrag<const D: usize> {
     /// (the water's increment δu), summed along with it.
     t: Vec<Vect<D>>,
     tx: Vec<Vect<D>>,
-    /// The last step's solve.
-    pub last: SolveStats,
 }
 
 /// Σ a_k ∘ b_k per component, summed in chunks of fixed size and then in order: the
@@ -266,8 +264,7 @@ impl<const D: usize> ImplicitDrag<D> {
     /// Close a step of `dt`: the soil's velocities `soil_vel` (v^e on entry, the
     /// soil's explicit result) and the water's `water_vel` (u^W, the sub-steps'
     /// result) receive the increments of the coupled backward Euler (module docs).
-    /// Returns the soil's velocity change per particle (m/s), from which its force
-    /// follows.
+    /// Returns what the solve did.
     pub fn close(
         &mut self,
         f: &Families<'_, D>,
@@ -309,7 +306,6 @@ impl<const D: usize> ImplicitDrag<D> {
             }
         });
         water_vel.par_iter_mut().zip(t).for_each(|(u, du)| *u += du);
-        self.last = stats;
         stats
     }
 

@@ -76,6 +76,10 @@ pub struct MuISpec {
     pub grain_density: f64,
 }
 
+/// The densest packing of equal spheres, π/(3√2) (Kepler, Hales 2005): no solid
+/// fraction or critical fraction of `[materials.dilatancy]` lies above it.
+pub const PHI_MAX: f64 = 0.740_480_489_693_061;
+
 /// `[materials.dilatancy]`: tan ψ = K (φ − φ_eq), φ_eq = φ_c / (1 + b √I_m) (Pailha &
 /// Pouliquen 2009; Boyer et al. 2011), φ the solid fraction 1 − n, following the
 /// particle's density; the friction is μ + tan ψ (`fine::dilatancy`). Needs the soil's

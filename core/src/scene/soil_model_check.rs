@@ -2,10 +2,9 @@
 //! `mu_i`, `dilatancy`), before the rest of the grains (`scene::validate`): a μ(I) block's μ_s sets
 //! the friction angle the dilation angle is checked against.
 
-use super::soil_model::{DilatancySpec, HardeningSpec, MuISpec, YieldSurface};
+use super::soil_model::{DilatancySpec, HardeningSpec, MuISpec, YieldSurface, PHI_MAX};
 use super::validate::{fail, positive, Check};
 use super::{MaterialSpec, Scene};
-use crate::fine::dilatancy::PHI_MAX;
 
 /// The soil-model keys of every `[[materials]]` entry.
 pub(super) fn validate_soil_models(s: &Scene) -> Check {

@@ -248,37 +248,26 @@ impl<const D: usize> SoilWater<D> {
         let (norm, own, rel) = (self.norm, &self.own, &self.relation);
         let n = self.soil.len();
         self.force.resize(n, Vect::<D>::zeros());
-        if self.implicit_now {
-            // the force pass also keeps each soil particle's pairs for the implicit close
-            self.soil
-                .par_chunks(CHUNK)
-                .zip(self.force.par_chunks_mut(CHUNK))
-                .zip(self.implicit.chunks(n).par_iter_mut())
-                .enumerate()
-                .for_each(|(c, ((q, f), rows))| {
-                    rows.clear();
-                    for k in 0..q.len() {
-                        let j = c * CHUNK + k;
-                        let full = full_sum(norm, own[j]);
-                        f[k] = rows.row(|pair| {
-                            soil_force(&q[k], &around, rel.water_near(j), kernel, full, pair)
-                        });
-                    }
-                });
-        } else {
-            self.soil
-                .par_chunks(CHUNK)
-                .zip(self.force.par_chunks_mut(CHUNK))
-                .enumerate()
-                .for_each(|(c, (q, f))| {
-                    for k in 0..q.len() {
-                        let j = c * CHUNK + k;
-                        let full = full_sum(norm, own[j]);
-                        let near = rel.water_near(j);
-                        f[k] = soil_force(&q[k], &around, near, kernel, full, |_, _| {});
-                    }
-                });
-        }
+        // the force pass also keeps each soil particle's pairs for the implicit close
+        let record = self.implicit_now;
+        self.soil
+            .par_chunks(CHUNK)
+            .zip(self.force.par_chunks_mut(CHUNK))
+            .zip(self.implicit.chunks(n).par_iter_mut())
+            .enumerate()
+            .for_each(|(c, ((q, f), rows))| {
+                rows.clear();
+                for k in 0..q.len() {
+                    let j = c * CHUNK + k;
+                    let full = full_sum(norm, own[j]);
+                    let near = rel.water_near(j);
+                    f[k] = if record {
+                        rows.row(|pair| soil_force(&q[k], &around, near, kernel, full, pair))
+                    } else {
+                        soil_force(&q[k], &around, near, kernel, full, |_, _| {})
+                    };
+                }
+            });
         // the vertical gradient a soil rests at: its weight less the water's lift
         let g = world.gravity.norm();
         let up = up(&world.gravity);
@@ -312,11 +301,6 @@ impl<const D: usize> SoilWater<D> {
             water_mass: &w.mass,
         };
         self.implicit.close(&fam, dt, &mut f.vel, &mut w.vel)
-    }
-
-    /// The last implicit solve ([`SoilWater::close`]).
-    pub fn last_solve(&self) -> SolveStats {
-        self.implicit.last
     }
 
     /// The pore pressure at every fine particle now (Pa; None where no water is
