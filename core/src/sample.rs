@@ -66,6 +66,12 @@ pub struct WaterSample {
     /// scheme's (acoustic ringing), not the flow's.
     #[serde(default)]
     pub min_pressure: Real,
+    /// The impulse the grains of a saturated soil took over from the pore water's
+    /// surplus mass since the start (N·s, or N·s/m in 2D; docs/method.md §Pore-pressure
+    /// feedback): the grains' and the water's momentum less it is what the seepage
+    /// exchanges conserve. Zero without a soil with pores.
+    #[serde(default)]
+    pub carried: [Real; 3],
 }
 
 /// The fine grains' density relative to their material's: ρ/ρ0 per particle,
@@ -172,8 +178,9 @@ pub struct Frame {
     /// Force from the water on each coarse particle (pressure, with buoyancy, and
     /// viscous drag); zero without water.
     pub coarse_water_force: Vec<[f32; 3]>,
-    /// Porosity n of each fine particle: its material's (`materials[].porosity`), 0
-    /// for a soil without pores.
+    /// Porosity n of each fine particle, following its density: 1 − n = (1 − n0) ρ/ρ0
+    /// with n0 its material's `materials[].porosity` (issue 44); 0 for a soil without
+    /// pores.
     pub porosity: Vec<f32>,
     pub wall_pos: Vec<[f32; 3]>,
     pub wall_object: Vec<u16>,

@@ -240,6 +240,11 @@ impl<const D: usize> Simulation<D> {
                         .material
                         .as_ref()
                         .map_or(0.0, |m| wp.min_pressure(m)),
+                    carried: self
+                        .stepper
+                        .soil_water
+                        .as_ref()
+                        .map_or([0.0; 3], |sw| to3(&sw.carried).into()),
                 }
             }),
         };
@@ -611,7 +616,11 @@ impl<const D: usize> Simulation<D> {
             porosity: f
                 .material
                 .iter()
-                .map(|&m| w.materials[m as usize].pores.map_or(0.0, |p| p.porosity) as f32)
+                .zip(&f.rho)
+                .map(|(&m, &rho)| {
+                    let m = &w.materials[m as usize];
+                    m.pores.map_or(0.0, |p| p.porosity_at(rho, m.rho0)) as f32
+                })
                 .collect(),
             wall_pos: w.walls.pos.iter().map(arr).collect(),
             wall_object: w.walls.object.clone(),

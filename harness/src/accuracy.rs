@@ -245,7 +245,8 @@ fn run_level(o: &SuiteOptions, s: &Series, (label, over): &Level) -> Result<Valu
         "particle_steps_per_s": rep.particle_steps_per_s, "peak_rss_bytes": rss,
         "value": value, "reference": reference, "rel_error": err,
         "blowup": rep.blowup.as_ref().map(|b| b.to_string()),
-        "lobovsky": detail,
+        "lobovsky": detail.clone().filter(|_| matches!(s.metric, crate::metric::Metric::Lobovsky)),
+        "rondon": detail.filter(|_| matches!(s.metric, crate::metric::Metric::Rondon(_))),
     });
     std::fs::write(&record, serde_json::to_string_pretty(&r)?)?;
     Ok(r)

@@ -308,6 +308,7 @@ fn run_level(a: &BenchArgs, c: &Case, (label, over): &Level, finest: bool) -> Re
         "blocks": matches!(c.metric, Metric::BlockLanding(_))
             .then(|| block_json(&rep.samples)),
         "lobovsky": detail.clone().filter(|_| matches!(c.metric, Metric::Lobovsky)),
+        "rondon": detail.clone().filter(|_| matches!(c.metric, Metric::Rondon(_))),
         "force": detail.filter(|_| matches!(c.metric, Metric::ForceReport(..))),
         "wave": match c.metric {
             Metric::StandingWave(w) => Some(w.report(&rep.samples)),

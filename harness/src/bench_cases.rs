@@ -5,6 +5,7 @@
 
 use crate::metric::{collapse_3d, CraterRef, EarthPressureRef, Level, Metric, DISC_IN_TANK_CA};
 use crate::metric_pores::{ConsolidationRef, DarcyRef};
+use crate::metric_rondon::Column;
 use crate::soil_model::Model;
 
 pub(crate) struct Case {
@@ -477,6 +478,26 @@ fn pores() -> Vec<Case> {
             Metric::RunoutReport,
             "2D collapse a = 0.5, 5000 grains (+ 5000 pore water): run-out, saturated beside dry",
         ),
+        Case::new(
+            "rondon_dense",
+            "submerged_collapse_dense.toml",
+            vec![dp("dp=4mm", 0.004)],
+            Metric::Rondon(Column::Dense),
+            "Rondon et al. (2011), dense column (φ0 = 0.60) in a viscous fluid: front against \
+             the data at 2, 5, 10 s and at the end (asked 15 %); basal excess pressure's \
+             sign, extreme (−126 Pa) and relaxation by 30 s beside it (rondon.png)",
+        )
+        .tolerance(0.15),
+        Case::new(
+            "rondon_loose",
+            "submerged_collapse_loose.toml",
+            vec![dp("dp=4mm", 0.004)],
+            Metric::Rondon(Column::Loose),
+            "Rondon et al. (2011), loose column (φ0 = 0.55) in a viscous fluid: front against \
+             the data at 1, 2 s and at the end (asked 15 %); basal excess pressure's sign, \
+             extreme (+144 Pa) and relaxation by 20 s beside it (rondon.png)",
+        )
+        .tolerance(0.15),
     ]
 }
 

@@ -161,12 +161,21 @@ fn materials(loaded: &LoadedScene) {
             ),
             (None, None) => String::new(),
         };
+        let psi = match (&m.dilatancy, m.porosity) {
+            (Some(d), Some(n)) => format!(
+                "tan ψ = {} (φ − {}/(1 + {} √I_m)) from φ0 = {:.3}",
+                d.k,
+                d.phi_c,
+                d.b,
+                1.0 - n
+            ),
+            _ => format!("ψ = {}°", m.dilation_angle),
+        };
         println!(
-            "  material {:<18} φ = {:.2}°, c = {} Pa, ψ = {}° on the `{}` cone{model}",
+            "  material {:<18} φ = {:.2}°, c = {} Pa, {psi} on the `{}` cone{model}",
             m.name,
             m.static_friction_angle(),
             m.cohesion,
-            m.dilation_angle,
             surface.name()
         );
     }

@@ -11,6 +11,7 @@ mod element;
 mod metric;
 mod metric_lobovsky;
 mod metric_pores;
+mod metric_rondon;
 mod metric_wave;
 mod models;
 mod pack;

@@ -63,6 +63,12 @@ pub(crate) enum Metric {
     /// ([`metric_lobovsky`](crate::metric_lobovsky)), which reports the sensors'
     /// arrival, mean pressure and peaks beside it.
     Lobovsky,
+    /// Rondon et al. (2011)'s submerged collapse of a dense or a loose column: the
+    /// largest relative error of the front at the column's checkpoints and at the end
+    /// of the data; reference 0. Scored with the experiment's series by the bench
+    /// ([`metric_rondon`](crate::metric_rondon)), which reports the basal excess
+    /// pressure's sign, extreme and relaxation beside it.
+    Rondon(crate::metric_rondon::Column),
     /// A μ(I) layer flowing down an incline, periodic along it: its depth-averaged
     /// velocity (momentum over mass) averaged over the last second, against Bagnold's.
     Bagnold(BagnoldRef),
@@ -76,6 +82,12 @@ pub(crate) enum Metric {
     /// The load along x on the barrier `.0`, averaged over the last `.1` seconds (the
     /// post-peak force of an impact), reported without a reference.
     ForceReport(&'static str, f64),
+}
+
+/// An experiment's series a metric is scored against, read from the reference folder.
+pub(crate) enum Experiment {
+    Lobovsky(crate::metric_lobovsky::Lobovsky),
+    Rondon(crate::metric_rondon::Rondon),
 }
 
 impl Metric {
@@ -349,7 +361,7 @@ impl Metric {
             Metric::Consolidation(r) => (r.error(&rep.samples), Some(0.0)),
             Metric::RunoutReport => (Some(last.runout), None),
             // scored by the bench, which holds the experiment's series
-            Metric::Lobovsky => (None, Some(0.0)),
+            Metric::Lobovsky | Metric::Rondon(_) => (None, Some(0.0)),
             Metric::Bagnold(r) => (r.measured(&rep.samples), Some(r.mean_velocity())),
             Metric::SoilEnergy(r) => (
                 rep.samples
@@ -407,17 +419,21 @@ impl Metric {
         }
     }
 
-    /// The experiment's data a metric reads from files (Lobovský's series), loaded
-    /// before a run so that a missing file stops the bench at once; None for the
-    /// others.
-    pub(crate) fn data(
-        &self,
-        scenes: &std::path::Path,
-    ) -> anyhow::Result<Option<crate::metric_lobovsky::Lobovsky>> {
+    /// The experiment's data a metric reads from files (Lobovský's and Rondon's
+    /// series), loaded before a run so that a missing file stops the bench at once;
+    /// None for the others.
+    pub(crate) fn data(&self, scenes: &std::path::Path) -> anyhow::Result<Option<Experiment>> {
+        use crate::metric_lobovsky::{reference_dir, Lobovsky};
         match self {
             Metric::Lobovsky => {
-                let dir = crate::metric_lobovsky::reference_dir(scenes)?;
-                Ok(Some(crate::metric_lobovsky::Lobovsky::load(&dir)?))
+                let dir = reference_dir(scenes, "lobovsky2014")?;
+                Ok(Some(Experiment::Lobovsky(Lobovsky::load(&dir)?)))
+            }
+            Metric::Rondon(c) => {
+                let dir = reference_dir(scenes, "rondon2011")?;
+                Ok(Some(Experiment::Rondon(
+                    crate::metric_rondon::Rondon::load(&dir, *c)?,
+                )))
             }
             _ => Ok(None),
         }
@@ -428,13 +444,18 @@ impl Metric {
     pub(crate) fn scored(
         &self,
         rep: &crate::run::RunReport,
-        data: Option<&crate::metric_lobovsky::Lobovsky>,
+        data: Option<&Experiment>,
         (dir, title): (&std::path::Path, &str),
     ) -> anyhow::Result<(Option<f64>, Option<f64>, Option<serde_json::Value>)> {
         match data {
-            Some(l) => {
+            Some(Experiment::Lobovsky(l)) => {
                 l.plot(&rep.samples, &dir.join("lobovsky.png"), title)?;
                 let r = l.report(&rep.samples);
+                Ok((r["score"].as_f64(), Some(0.0), Some(r)))
+            }
+            Some(Experiment::Rondon(d)) => {
+                d.plot(&rep.samples, &dir.join("rondon.png"), title)?;
+                let r = d.report(&rep.samples);
                 Ok((r["score"].as_f64(), Some(0.0), Some(r)))
             }
             None => {

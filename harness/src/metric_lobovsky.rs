@@ -64,8 +64,9 @@ pub(crate) struct Series {
 }
 
 impl Series {
-    /// Two whitespace-separated columns; lines starting with `#` are comments.
-    fn read(path: &Path) -> Result<Series> {
+    /// Two whitespace-separated columns; lines starting with `#` are comments, and a
+    /// first line of column names (`time\tlength`) is a header.
+    pub(crate) fn read(path: &Path) -> Result<Series> {
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("reading the reference series {}", path.display()))?;
         let mut s = Series::default();
@@ -80,6 +81,7 @@ impl Series {
                     s.t.push(t);
                     s.v.push(v);
                 }
+                _ if n == 0 && !line.starts_with(|c: char| c.is_ascii_digit() || c == '-') => {}
                 _ => {
                     return Err(anyhow!(
                         "{}:{}: expected two numbers, found {line:?}",
@@ -143,8 +145,9 @@ pub(crate) struct Lobovsky {
 }
 
 /// Where the reference data lie: `GRANMIX_REFERENCE`, else `shared/reference` beside
-/// the working directory's project or beside the project of `scenes`.
-pub(crate) fn reference_dir(scenes: &Path) -> Result<PathBuf> {
+/// the working directory's project or beside the project of `scenes`; the first of
+/// these that holds the experiment's folder `set` (e.g. `lobovsky2014`).
+pub(crate) fn reference_dir(scenes: &Path, set: &str) -> Result<PathBuf> {
     let mut tried = Vec::new();
     let mut candidates: Vec<PathBuf> = Vec::new();
     if let Some(d) = std::env::var_os("GRANMIX_REFERENCE") {
@@ -158,13 +161,13 @@ pub(crate) fn reference_dir(scenes: &Path) -> Result<PathBuf> {
         }
     }
     for c in candidates {
-        if c.join("lobovsky2014").is_dir() {
+        if c.join(set).is_dir() {
             return Ok(c);
         }
         tried.push(c.display().to_string());
     }
     Err(anyhow!(
-        "the experiments' reference data (lobovsky2014/) are not in {}: set \
+        "the experiments' reference data ({set}/) are not in {}: set \
          GRANMIX_REFERENCE to the directory that holds them",
         tried.join(", ")
     ))

@@ -479,9 +479,11 @@ fn saturated_debris_flow_runs_to_rest() {
 }
 
 /// Water streaming through a free block of permeable sand without gravity (no
-/// buoyancy): the seepage force moves momentum from the water to the sand and the sum
-/// stays constant to single-precision round-off (the frames' velocities); also with
-/// the water taking sub-steps, and with the drag closed implicitly (k = 1e-12 m²).
+/// buoyancy): the seepage force moves momentum from the water to the sand, and the sum
+/// less the impulse the grains took over from the pore water's surplus mass (the
+/// water sample's `carried`) stays constant to single-precision round-off (the frames'
+/// velocities); also with the water taking sub-steps, and with the drag closed
+/// implicitly (k = 1e-12 m²).
 #[test]
 fn seepage_exchanges_momentum_exactly() {
     // c0 = 5 m/s: one water step per fine step; 80 m/s: several; k = 1e-12 m² closes
@@ -498,8 +500,8 @@ fn seepage_exchanges_momentum_exactly() {
             let f = sim.frame();
             let m = 1600.0 * 1e-4;
             let fine: f64 = f.fine.iter().map(|p| m * p.velocity[0] as f64).sum();
-            let water = sim.sample().water.unwrap().momentum[0];
-            (fine, water)
+            let w = sim.sample().water.unwrap();
+            (fine - w.carried[0], w.momentum[0])
         };
         let (f0, w0) = total(&mut sim);
         for _ in 0..200 {
@@ -507,7 +509,7 @@ fn seepage_exchanges_momentum_exactly() {
         }
         let (f1, w1) = total(&mut sim);
         assert!(
-            f0 == 0.0 && f1 > 0.1 * w0,
+            f0 == 0.0 && f1 > 0.05 * w0,
             "c0 {sound}, k {k}: sand gained {f1:.4e} of {w0:.4e}"
         );
         assert!(
@@ -575,14 +577,18 @@ fn stream_state(sim: &mut granmix_core::AnySimulation) -> (f64, f64) {
 
 /// The seepage drag is implicit on both sides (issue 44, item 3). In the block of sand
 /// with water streaming through it (no gravity, every particle in the same drag), the
-/// relative velocity decays as exp(−λ t), λ = (μ/k)(1/ρ_w + 1/ρ_d) (the two-phase
-/// exchange of seed 001 Eqs. 8, 10 with the pore water over the whole volume): within
-/// 3 % at λ t = 0.5, 1 and 2 for k = 1e-8 m² in steps of λ Δt ≤ 0.01, with one water
-/// step per fine step (c0 = 5 m/s) and with several (80 m/s). At k = 1e-12 m² (λ = 1.6e6 /s) the step is the
-/// acoustic one, within 5 % of the step at 1e-8 (the explicit soil side needed Δt ≤ ½
-/// ρ_d k / μ = 8e-7 s, a hundredth of it), and the families move together at the
-/// mixture's velocity ρ_w u0 / (ρ_w + ρ_d) = 0.03846 m/s: each family's mean within
-/// 0.01 %, each particle within 0.5 % (the block rings elastically about it).
+/// relative velocity decays as exp(−λ t), λ = (μ/k)(1/ρ_w + n/ρ_d): the two-phase
+/// exchange of seed 001 Eqs. 8, 10 with the pore water over the whole volume, the
+/// grains taking the pore water's surplus inertia (1 − n) ρ_w a_w (Eq. 9's pressure
+/// term with the water's acceleration, issue 44 item 1), so that ρ_d dv/dt = (μ/k)(u −
+/// v) + (1 − n) ρ_w du/dt. Within 3 % at λ t = 0.5, 1 and 2 for k = 1e-8 m² in steps
+/// of λ Δt ≤ 0.01, with one water step per fine step (c0 = 5 m/s) and with several
+/// (80 m/s). At k = 1e-12 m² (λ = 1.25e6 /s) the step is the acoustic one, within 5 % of
+/// the step at 1e-8 (the explicit soil side needed Δt ≤ ½ ρ_d k / μ = 8e-7 s, a
+/// hundredth of it), and the families move together at the velocity that keeps the
+/// mixture's momentum ρ_d v + n ρ_w u, n ρ_w u0 / (ρ_d + n ρ_w) = 0.02 m/s: each
+/// family's mean within 0.01 %, each particle within 0.5 % (the block rings
+/// elastically about it).
 #[test]
 fn low_permeability_runs_at_the_acoustic_step() {
     let (mu, rho_w, rho_d, u0) = (MU, RHO_W, RHO_D, 0.1);
@@ -592,7 +598,7 @@ fn low_permeability_runs_at_the_acoustic_step() {
             let text = stream_through_block(k, sound);
             let (_, mut sim) = granmix_tests::build_text(&text, "seepage_lock.toml");
             let perm: f64 = k.parse().unwrap();
-            let lambda = mu / perm * (1.0 / rho_w + 1.0 / rho_d);
+            let lambda = mu / perm * (1.0 / rho_w + N / rho_d);
             let t0 = sim.time();
             sim.step(f64::INFINITY).unwrap();
             dts.push(sim.time() - t0);
@@ -616,7 +622,7 @@ fn low_permeability_runs_at_the_acoustic_step() {
                 for _ in 0..50 {
                     sim.step(f64::INFINITY).unwrap();
                 }
-                let mix = rho_w * u0 / (rho_w + rho_d);
+                let mix = N * rho_w * u0 / (rho_d + N * rho_w);
                 let f = sim.frame();
                 let (v, u) = stream_state(&mut sim);
                 for (who, m) in [("sand", v), ("water", u)] {
@@ -717,4 +723,88 @@ fn dry_grains_report_no_pore_pressure() {
         wet_with * 10 >= wet * 9,
         "{wet_with} of {wet} wet grains have pore pressure"
     );
+}
+
+/// A soil moving with the water in its pores carries the mixture's momentum
+/// (ρ_d + n ρ_w) V v, not (ρ_d + ρ_w) V v (issue 44 item 1): the pore water over the
+/// whole volume carries (1 − n) ρ_w more mass per unit volume than the real one, and
+/// the grains take that surplus's inertia (Eq. 9's pressure term with the water's
+/// acceleration, `soil_water::pore_water_inertia`). A free block of sand of
+/// porosity n = 0.3 and 0.45 (grains of 2650 kg/m³), locked to its pore water
+/// (k = 1e-12 m²), slides at 0.1 m/s without gravity into a barrier: the barrier's
+/// impulse until the grains stop equals (ρ_d + n ρ_w) V v within 1 %. Without the
+/// surplus's inertia it was (ρ_d + ρ_w) V v: 33 % and 41 % more.
+#[test]
+fn saturated_block_carries_the_mixture_momentum() {
+    let (rho_s, v0, vol) = (2650.0, 0.1, 0.1 * 0.1);
+    for n in [0.3, 0.45] {
+        let rho_d = (1.0 - n) * rho_s;
+        let text = format!(
+            r#"
+[simulation]
+name = "saturated_block"
+dimension = 2
+gravity = [0.0, 0.0]
+end_time = 1.0
+dp = 0.01
+output_interval = 0.1
+
+[numerics]
+hourglass = 0.0            # the penalty's own momentum is not exchanged in pairs
+
+[water]
+sound_speed = 5.0
+
+[[water.regions]]
+name = "pores"
+shape = {{ type = "box", min = [0.0, 0.0], max = [0.1, 0.1] }}
+velocity = [{v0}, 0.0]
+
+[[materials]]
+name = "sand"
+density = {rho_d}
+youngs_modulus = 1.0e6
+poisson_ratio = 0.3
+friction_angle = 30.0
+porosity = {n}
+permeability = 1.0e-12
+
+[[regions]]
+name = "block"
+material = "sand"
+shape = {{ type = "box", min = [0.0, 0.0], max = [0.1, 0.1] }}
+velocity = [{v0}, 0.0]
+
+[[barriers]]
+name = "barrier"
+shape = {{ type = "box", min = [0.15, -0.05], max = [0.18, 0.15] }}
+"#
+        );
+        let (_, mut sim) = granmix_tests::build_text(&text, "saturated_block.toml");
+        let mut t = sim.time();
+        sim.sample();
+        let mut impulse = 0.0;
+        let stopped = loop {
+            sim.step(f64::INFINITY).unwrap();
+            let s = sim.sample();
+            impulse += s.barriers[0].force[0] * (s.time - t);
+            t = s.time;
+            let (v, _) = stream_state(&mut sim);
+            if v <= 0.0 {
+                break true;
+            }
+            if t > 1.0 {
+                break false;
+            }
+        };
+        assert!(stopped, "n = {n}: the block had not stopped by 1 s");
+        let want = (rho_d + n * RHO_W) * vol * v0;
+        eprintln!("n = {n}: impulse {impulse:.5} N·s/m, (ρ_d + n ρ_w) V v = {want:.5}");
+        assert!(
+            (impulse - want).abs() < 0.01 * want,
+            "n = {n}: the barrier took {impulse:.5} N·s/m until the grains stopped, the \
+             mixture's momentum (ρ_d + n ρ_w) V v is {want:.5} ((ρ_d + ρ_w) V v: {:.5})",
+            (rho_d + RHO_W) * vol * v0
+        );
+    }
 }

@@ -162,7 +162,16 @@ impl FineMaterial {
     /// apex of the Drucker–Prager cone, P = −k_c/(3α_φ), where the tension cut-off of
     /// seed 000 Eq. (11) holds the stress. ρ0 for a cohesionless soil, which carries no
     /// tension and, with ψ = 0, cannot dilate; 0 without friction (no apex).
+    ///
+    /// A dilatant soil ([`Dilatancy`]) dilates below ρ0 by design: its floor is the
+    /// density of the loosest packing its law drives it to in a dense flow,
+    /// φ_eq(I_m = 1) = φ_c / (1 + b), ρ0 φ_eq / φ0 (the end of the dense regime; a
+    /// looser particle contracts as it shears, so the law itself holds the density
+    /// above).
     pub fn density_floor(&self) -> Real {
+        if let Some(d) = &self.dilatancy {
+            return self.rho0 * (d.phi_eq(1.0) / d.phi_0).min(1.0);
+        }
         if self.alpha_phi <= 0.0 {
             return 0.0;
         }

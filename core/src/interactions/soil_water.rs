@@ -52,7 +52,13 @@ pub struct SoilPoint<const D: usize> {
     pub drag: Real,
     /// 1 − n, the grains' share of the volume (0 without pores).
     pub solid: Real,
+    /// The velocity gradient L_j of the soil's last step (∂v_a/∂x_b), by which each
+    /// pair takes the soil's velocity at its midpoint ([`Seepage`]).
+    pub grad: Mat<D>,
 }
+
+/// A D × D matrix of the velocity gradients.
+pub type Mat<const D: usize> = SMatrix<Real, D, D>;
 
 /// Σ V W over the lattice of spacing `dp`: its least value at any point of the unit
 /// cell (sampled at quarter spacings), and its value at a lattice point. The least is
@@ -126,18 +132,36 @@ pub fn full_sum((least, at_point): (Real, Real), own: Real) -> Real {
 }
 
 impl<const D: usize> SoilPoint<D> {
-    /// Soil particle of material `m` under water of viscosity `mu`.
-    pub fn of(m: &FineMaterial, mu: Real, pos: Vect<D>, vel: Vect<D>, vol: Real) -> Self {
-        let (drag, solid) = m
-            .pores
-            .map_or((0.0, 0.0), |p| (mu / p.permeability, 1.0 - p.porosity));
+    /// Soil particle of material `m` at density `rho` under water of viscosity `mu`:
+    /// its porosity follows its density and its permeability Kozeny–Carman
+    /// ([`Pores::porosity_at`], [`Pores::permeability_at`]; issue 44 item 1).
+    ///
+    /// [`Pores::porosity_at`]: crate::fine::pores::Pores::porosity_at
+    /// [`Pores::permeability_at`]: crate::fine::pores::Pores::permeability_at
+    pub fn of(
+        m: &FineMaterial,
+        mu: Real,
+        (pos, vel): (Vect<D>, Vect<D>),
+        vol: Real,
+        rho: Real,
+    ) -> Self {
+        let (drag, solid) = m.pores.map_or((0.0, 0.0), |p| {
+            let n = p.porosity_at(rho, m.rho0);
+            (mu / p.permeability_at(n), 1.0 - n)
+        });
         SoilPoint {
             pos,
             vel,
             vol,
             drag,
             solid,
+            grad: Mat::<D>::zeros(),
         }
+    }
+
+    /// The same point with the soil's velocity gradient `l`.
+    pub fn with_gradient(self, l: Mat<D>) -> Self {
+        SoilPoint { grad: l, ..self }
     }
 }
 
@@ -149,12 +173,24 @@ impl<const D: usize> SoilPoint<D> {
 /// μ/k exactly wherever it sits on the soil's lattice (the plain sum swings by 4 %
 /// with the offset); where the water leaves the soil the drag tapers with the soil's
 /// presence.
+///
+/// Each pair compares u_i with the soil's velocity at the pair's midpoint,
+/// v_j + ½ (Ḡ_i + L_j)(x_i − x_j), L_j the soil particle's velocity gradient and Ḡ_i
+/// the Shepard mean of the soil's gradients around i (issue 44): the plain v_j made
+/// the drag compare u_i with the kernel mean of the soil's velocity, which differs
+/// from the soil's velocity at x_i by about 0.07 R² ∇²v inside a soil and by the
+/// kernel's first moment times ∇v at its edges, a viscosity of about (μ/k) 0.07 R² on
+/// a soil locked to its water (docs/method.md §Pore-pressure feedback). The midpoint
+/// velocity is exact for a linear field and cancels the curvature to second order;
+/// the pair's force stays equal and opposite.
 #[derive(Clone, Copy, Debug)]
 pub struct Seepage<const D: usize> {
     pub a: Real,
     pub b: Vect<D>,
     /// 1/s_i, by which the soil's reaction is weighted too.
     pub inv: Real,
+    /// Ḡ_i, the Shepard mean of the soil's velocity gradients around i.
+    pub grad: Mat<D>,
 }
 
 impl<const D: usize> Seepage<D> {
@@ -167,20 +203,31 @@ impl<const D: usize> Seepage<D> {
             a: 0.0,
             b: Vect::<D>::zeros(),
             inv: 1.0,
+            grad: Mat::<D>::zeros(),
         };
         let mut sum = 0.0;
+        // Σ c r_ij, for the ½ Ḡ_i r_ij of each pair once Ḡ_i is known
+        let mut moment = Vect::<D>::zeros();
         for &j in near {
             let q = &soil[j as usize];
             if q.drag == 0.0 {
                 continue;
             }
-            let r2 = (x - q.pos).norm_squared();
+            let rij = x - q.pos;
+            let r2 = rij.norm_squared();
             if r2 < cut2 {
                 let vw = q.vol * k.w(r2.sqrt());
+                let c = q.drag * vw;
                 sum += vw;
-                s.a += q.drag * vw;
-                s.b += q.vel * (q.drag * vw);
+                s.a += c;
+                s.b += (q.vel + q.grad * rij * 0.5) * c;
+                s.grad += q.grad * vw;
+                moment += rij * c;
             }
+        }
+        if sum > 0.0 {
+            s.grad /= sum;
+            s.b += s.grad * moment * 0.5;
         }
         (s, sum)
     }
@@ -193,6 +240,7 @@ impl<const D: usize> Seepage<D> {
             a: self.a * inv,
             b: self.b * inv,
             inv,
+            grad: self.grad,
         }
     }
 
@@ -244,6 +292,8 @@ pub struct WaterAround<'a, const D: usize> {
     pub drag: &'a [WaterDrag<D>],
     /// Volumes now.
     pub vol: &'a [Real],
+    /// Each particle's Ḡ ([`Seepage::grad`]).
+    pub grad: &'a [Mat<D>],
     /// −ρ_w g: the buoyancy of water per unit volume (N/m³, upward).
     pub buoyancy: Vect<D>,
 }
@@ -272,7 +322,10 @@ pub fn soil_force<const D: usize>(
             s0 += wk * w.vol[iu];
             if q.drag > 0.0 {
                 let d = &w.drag[iu];
-                seep += (d.vol_vel - q.vel * d.vol) * (q.drag * wk);
+                // the soil's velocity at the pair's midpoint, as the water took it
+                let rij = w.frozen[iu] - q.pos;
+                let mid = q.vel + (w.grad[iu] + q.grad) * rij * 0.5;
+                seep += (d.vol_vel - mid * d.vol) * (q.drag * wk);
                 if d.vol > 0.0 {
                     pair(i, q.drag * wk * q.vol * d.vol);
                 }
@@ -282,6 +335,45 @@ pub fn soil_force<const D: usize>(
     // the grains' buoyancy, as far as the water surrounds them
     let wet = (s0 / full).min(1.0);
     (seep + w.buoyancy * (q.solid * wet)) * q.vol
+}
+
+/// The impulse (N·s) the water's velocity change over a step, `du`, hands soil
+/// particle `q` through the inertial part of its pore pressure: Eq. (9)'s pressure
+/// term −(1 − n)∇p with the water's momentum ∇p = ρ_w (g − a_w) − f gives the grains
+/// their buoyancy −(1 − n) ρ_w g, the seepage force f, and (1 − n) ρ_w a_w, taken here
+/// as (1 − n) ρ_w V ⟨Δu⟩ with ⟨Δu⟩ the water's Shepard mean around the particle, as
+/// far as the water surrounds it (`full`, as the buoyancy). The pore water over the
+/// whole volume carries (1 − n) ρ_w per unit volume more mass than the real one; this
+/// term hands that surplus's inertia to the grains, so that a soil moving with its
+/// water carries the mixture's momentum (ρ_d + n ρ_w) V v (issue 44 item 1), and a
+/// saturated soil falls freely at g. It has no reaction on the water: the surplus it
+/// removes is not the real water's.
+pub fn pore_water_inertia<const D: usize>(
+    q: &SoilPoint<D>,
+    w: &WaterAround<'_, D>,
+    du: &[Vect<D>],
+    near: &[u32],
+    k: &WendlandC2,
+    (full, rho_w): (Real, Real),
+) -> Vect<D> {
+    if q.solid == 0.0 {
+        return Vect::<D>::zeros();
+    }
+    let cut2 = k.cutoff * k.cutoff;
+    let (mut s0, mut m) = (0.0, Vect::<D>::zeros());
+    for &i in near {
+        let iu = i as usize;
+        let r2 = (q.pos - w.frozen[iu]).norm_squared();
+        if r2 < cut2 {
+            let vw = k.w(r2.sqrt()) * w.vol[iu];
+            s0 += vw;
+            m += du[iu] * vw;
+        }
+    }
+    if s0 == 0.0 {
+        return Vect::<D>::zeros();
+    }
+    m * (q.solid * rho_w * q.vol / s0.max(full))
 }
 
 /// The pore pressure at `x` from the water particles `near` (positions `pos`,
@@ -365,10 +457,12 @@ mod tests {
             let p: Vec<Real> = pos.iter().map(|x| 5000.0 + grad.dot(x)).collect();
             let vol = vec![dp * dp; n];
             let drag = vec![WaterDrag::default(); n];
+            let grads = vec![Mat::<2>::zeros(); n];
             let w = WaterAround {
                 frozen: &pos,
                 drag: &drag,
                 vol: &vol,
+                grad: &grads,
                 buoyancy: Vector2::new(0.0, 9810.0),
             };
             let q = SoilPoint {
@@ -377,6 +471,7 @@ mod tests {
                 vol: dp * dp,
                 drag: 0.0,
                 solid: 0.6,
+                grad: Mat::<2>::zeros(),
             };
             let near: Vec<u32> = (0..n as u32).collect();
             let f = soil_force(&q, &w, &near, &k, lattice_sum::<2>(&k, dp).0, |_, _| {});
@@ -412,17 +507,20 @@ mod tests {
                 vol: dp * dp,
                 drag: 1e5,
                 solid: 0.6,
+                grad: Mat::<2>::new(3.0, -1.0, 0.5, 2.0),
             })
             .collect();
         let (rho, dt, vol) = (1000.0, 1e-3, dp * dp);
         let mut impulse = Vector2::<Real>::zeros();
         let mut drag = vec![WaterDrag::default(); water.len()];
+        let mut grads = vec![Mat::<2>::zeros(); water.len()];
         // three sub-steps, each water particle starting from its own velocity
         for s in 0..3 {
             for (i, x) in water.iter().enumerate() {
                 let near: Vec<u32> = (0..soil.len() as u32).collect();
                 let (c, sum) = Seepage::raw(x, &soil, &near, &k);
                 let c = c.normalised(sum, lattice_sum::<2>(&k, dp).0);
+                grads[i] = c.grad;
                 let u0 = Vector2::new(0.1 * s as Real, 0.05 * i as Real);
                 let u = c.drag(u0, rho, dt);
                 impulse += (u - u0) * (rho * vol);
@@ -434,6 +532,7 @@ mod tests {
             frozen: &water,
             drag: &drag,
             vol: &vols,
+            grad: &grads,
             buoyancy: Vector2::zeros(),
         };
         let mut reaction = Vector2::<Real>::zeros();
@@ -447,5 +546,74 @@ mod tests {
             (impulse + reaction).norm() < 1e-12 * impulse.norm().max(1.0),
             "{impulse} {reaction}"
         );
+    }
+
+    /// A soil and its water moving together in a linear velocity field (a simple
+    /// shear, the soil's gradient L) exchange no drag, at the soil's free surface as
+    /// inside it: each pair compares the water with the soil's velocity at the pair's
+    /// midpoint. Before (the plain v_j) the water met the kernel mean of the soil's
+    /// velocity, off by the kernel's first moment times L at the edges: measured here
+    /// without the gradient, the worst surface particle feels 22 % of the drag a
+    /// relative velocity of L dp would give.
+    #[test]
+    fn a_locked_linear_field_exchanges_no_drag() {
+        let dp = 0.01;
+        let k = WendlandC2::new(1.3 * dp, 2);
+        let l = Mat::<2>::new(0.0, 2.0, 0.0, 0.0);
+        let field = |x: &Vect<2>| l * x + Vector2::new(0.1, 0.0);
+        let pts = lattice(dp, 4, 0);
+        let (mu_k, vol) = (1e5, dp * dp);
+        let near: Vec<u32> = (0..pts.len() as u32).collect();
+        for with_gradient in [true, false] {
+            let g = if with_gradient { l } else { Mat::<2>::zeros() };
+            let soil: Vec<SoilPoint<2>> = pts
+                .iter()
+                .map(|x| SoilPoint {
+                    pos: *x,
+                    vel: field(x),
+                    vol,
+                    drag: mu_k,
+                    solid: 0.6,
+                    grad: g,
+                })
+                .collect();
+            let mut drag = vec![WaterDrag::default(); pts.len()];
+            let mut grads = vec![Mat::<2>::zeros(); pts.len()];
+            for (i, x) in pts.iter().enumerate() {
+                let (c, sum) = Seepage::raw(x, &soil, &near, &k);
+                let c = c.normalised(sum, lattice_sum::<2>(&k, dp).0);
+                grads[i] = c.grad;
+                drag[i].add(vol * c.inv, &field(x), 1.0);
+            }
+            let vols = vec![vol; pts.len()];
+            let w = WaterAround {
+                frozen: &pts,
+                drag: &drag,
+                vol: &vols,
+                grad: &grads,
+                buoyancy: Vector2::zeros(),
+            };
+            // the drag of a relative velocity L dp on a particle in full support
+            let unit = mu_k * vol * (l * Vector2::new(0.0, dp)).norm();
+            let worst = soil
+                .iter()
+                .map(|q| {
+                    let q = SoilPoint { solid: 0.0, ..*q };
+                    soil_force(&q, &w, &near, &k, 1.0, |_, _| {}).norm() / unit
+                })
+                .fold(0.0, Real::max);
+            eprintln!("gradient {with_gradient}: worst drag {worst:.3e} of L dp's");
+            if with_gradient {
+                assert!(
+                    worst < 1e-9,
+                    "the drag of a locked shear: {worst:e} of L dp's"
+                );
+            } else {
+                assert!(
+                    worst > 0.05,
+                    "without the gradient the edges feel {worst:e}"
+                );
+            }
+        }
     }
 }

@@ -16,7 +16,7 @@ mod water_check;
 
 pub use error::{KeyError, SceneError};
 pub use names_check::{unsafe_name, MAX_NAME_CHARS};
-pub use soil_model::{DilatancySpec, HardeningSpec, MuISpec, YieldSurface};
+pub use soil_model::{DilatancySpec, HardeningSpec, MuISpec, YieldSurface, PHI_MAX};
 pub use text::{apply_overrides, at, attribute, locate, parse, reattribute};
 pub use types::*;
 pub use validate::{unknown_solid, validate_shape};

@@ -206,6 +206,11 @@ pub struct NumericsSpec {
     /// integrates the continuity equation alone.
     #[serde(default = "default_density_floor")]
     pub density_floor: bool,
+    /// The seepage drag of each soil–water pair against the soil's velocity at the
+    /// pair's midpoint (its velocity gradients), instead of the soil particle's own.
+    /// Default false.
+    #[serde(default)]
+    pub seepage_midpoint: bool,
 }
 
 /// The deviatoric stress a dummy wall particle carries against a fine particle; its
@@ -253,6 +258,7 @@ impl Default for NumericsSpec {
             continuity_jump: ContinuityJump::default(),
             wall_stress: WallStress::default(),
             density_floor: default_density_floor(),
+            seepage_midpoint: false,
         }
     }
 }

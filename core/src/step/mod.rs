@@ -80,7 +80,7 @@ impl<const D: usize> Stepper<D> {
         let water = world
             .has_water()
             .then(|| WaterStepper::new(world, cell, params.skin));
-        let soil_water = SoilWater::new(world, &kernel, params.skin);
+        let soil_water = SoilWater::new(world, &kernel, (params.skin, params.seepage_midpoint));
         let nb = world.walls.barriers.len();
         Stepper {
             fine: FineStepper::new(world, &params, cell, &up),

@@ -45,6 +45,8 @@ pub struct StepParams {
     /// Soil densities held at or above their floor
     /// ([`FineMaterial::density_floor`](crate::fine::material::FineMaterial::density_floor)).
     pub density_floor: bool,
+    /// The seepage drag at each pair's midpoint (`numerics.seepage_midpoint`).
+    pub seepage_midpoint: bool,
     /// The contact law of coarse grains (seeds 001, 004).
     pub contact: ContactLaw,
     /// CFL^c of Eq. (52).
@@ -76,6 +78,7 @@ impl StepParams {
             continuity_jump: n.continuity_jump,
             wall_stress: n.wall_stress,
             density_floor: n.density_floor,
+            seepage_midpoint: n.seepage_midpoint,
             contact: ContactLaw::from_spec(&s.contact, res.dp, s.simulation.dimension),
             cfl_coarse: s.simulation.cfl_coarse,
         }

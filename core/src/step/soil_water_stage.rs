@@ -15,8 +15,8 @@ use crate::fine::material::FineMaterial;
 use crate::fine::source::Source;
 use crate::interactions::seepage_implicit::{Families, ImplicitDrag, SolveStats};
 use crate::interactions::soil_water::{
-    full_sum, kernel_sum, lattice_sum, pore_pressure, soil_force, Seepage, SoilPoint, WaterAround,
-    WaterDrag,
+    full_sum, kernel_sum, lattice_sum, pore_pressure, pore_water_inertia, soil_force, Mat, Seepage,
+    SoilPoint, WaterAround, WaterDrag,
 };
 use crate::kernel::WendlandC2;
 use crate::math::{up, Real, Vect};
@@ -30,9 +30,15 @@ use rayon::prelude::*;
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub struct SoilWater<const D: usize> {
     /// The largest Δt at which the soil's side of the drag stays explicit: the least
-    /// of [`Pores::seepage_dt`](crate::fine::pores::Pores::seepage_dt), ½ ρ_d k / μ.
-    /// A longer step closes the drag implicitly on both sides ([`SoilWater::close`]).
+    /// over the soil particles of ½ ρ_d k / μ
+    /// ([`Pores::seepage_dt`](crate::fine::pores::Pores::seepage_dt)) at each one's
+    /// density and permeability, taken at [`SoilWater::freeze`]. A longer step closes
+    /// the drag implicitly on both sides ([`SoilWater::close`]).
     pub dt_explicit: Real,
+    /// Each pair's drag against the soil's velocity at its midpoint
+    /// (`numerics.seepage_midpoint`, [`Seepage`]).
+    #[serde(default)]
+    midpoint: bool,
     /// Whether this step closes the drag implicitly.
     #[serde(skip)]
     implicit_now: bool,
@@ -71,6 +77,18 @@ pub struct SoilWater<const D: usize> {
     /// The implicit close of the drag: its pair rows and scratch.
     #[serde(skip)]
     implicit: ImplicitDrag<D>,
+    /// The water's velocities at the start of the step.
+    #[serde(skip)]
+    start_vel: Vec<Vect<D>>,
+    /// Each water particle's Shepard mean of the soil's velocity gradients
+    /// ([`Seepage::grad`]).
+    #[serde(skip)]
+    grads: Vec<Mat<D>>,
+    /// The impulse the grains took over from the pore water's surplus mass since the
+    /// start ([`pore_water_inertia`], N·s, or N·s/m in 2D): the grains' and the water's
+    /// momentum less it is what the seepage exchanges conserve.
+    #[serde(default = "Vect::zeros")]
+    pub carried: Vect<D>,
 }
 
 fn ones() -> (Real, Real) {
@@ -121,7 +139,11 @@ impl<'a, const D: usize> SeepStep<'a, D> {
 
 impl<const D: usize> SoilWater<D> {
     /// The coupling of a world with water and a soil with pores (None otherwise).
-    pub fn new(world: &World<D>, kernel: &WendlandC2, skin: Real) -> Option<Self> {
+    pub fn new(
+        world: &World<D>,
+        kernel: &WendlandC2,
+        (skin, midpoint): (Real, bool),
+    ) -> Option<Self> {
         let w = world.water.material?;
         let dt_explicit = world
             .materials
@@ -130,6 +152,7 @@ impl<const D: usize> SoilWater<D> {
             .reduce(Real::min)?;
         Some(SoilWater {
             dt_explicit,
+            midpoint,
             implicit_now: false,
             norm: lattice_sum::<D>(kernel, world.resolution.dp),
             own: Vec::new(),
@@ -146,6 +169,9 @@ impl<const D: usize> SoilWater<D> {
             force: Vec::new(),
             weight: Vec::new(),
             implicit: ImplicitDrag::default(),
+            start_vel: Vec::new(),
+            grads: Vec::new(),
+            carried: Vect::<D>::zeros(),
         })
     }
 
@@ -165,10 +191,24 @@ impl<const D: usize> SoilWater<D> {
     ) {
         let (f, mats) = (&world.fine, &world.materials);
         self.soil.clear();
+        let midpoint = self.midpoint;
         self.soil.par_extend((0..f.len()).into_par_iter().map(|i| {
             let m: &FineMaterial = &mats[f.material[i] as usize];
-            SoilPoint::of(m, mu, f.pos[i], f.vel[i], src[i].vol)
+            let vol = src[i].vol;
+            let q = SoilPoint::of(m, mu, (f.pos[i], f.vel[i]), vol, f.mass[i] / vol);
+            if midpoint {
+                q.with_gradient(f.vel_grad[i].cast::<Real>())
+            } else {
+                q
+            }
         }));
+        self.dt_explicit = self
+            .soil
+            .iter()
+            .zip(&f.mass)
+            .filter(|(q, _)| q.drag > 0.0)
+            .map(|(q, m)| 0.5 * m / q.vol / q.drag)
+            .fold(Real::INFINITY, Real::min);
         let w = &world.water.particles;
         let now = [builds[0], builds[1], f.len(), w.len()];
         if self.relation.expired(now) {
@@ -182,8 +222,12 @@ impl<const D: usize> SoilWater<D> {
                 // amid soil: the Shepard mean against the soil's sum in full
                 s.normalised(sum, full_sum(norm, own[i]))
             }));
+        self.grads.clear();
+        self.grads.extend(self.coef.iter().map(|c| c.grad));
         self.frozen.clear();
         self.frozen.extend_from_slice(&w.pos);
+        self.start_vel.clear();
+        self.start_vel.extend_from_slice(&w.vel);
         self.drag.clear();
         self.drag.resize(w.len(), WaterDrag::default());
     }
@@ -243,6 +287,7 @@ impl<const D: usize> SoilWater<D> {
             frozen: &self.frozen,
             drag: &self.drag,
             vol: &self.vol,
+            grad: &self.grads,
             buoyancy: world.hydrostatic_gravity() * (-mat.rho0),
         };
         let (norm, own, rel) = (self.norm, &self.own, &self.relation);
@@ -287,20 +332,71 @@ impl<const D: usize> SoilWater<D> {
     /// After the soil's momentum sweep of a step of `dt`: where the step is longer than
     /// the explicit soil side allows ([`SoilWater::dt_explicit`]), the drag closed
     /// implicitly on both sides ([`ImplicitDrag::close`]), the soil's and the water's
-    /// velocities receiving the increments; a shorter step keeps the explicit soil
-    /// side, bit for bit as before.
-    pub fn close(&mut self, world: &mut World<D>, dt: Real) -> SolveStats {
-        if !self.implicit_now {
-            return SolveStats::default();
-        }
-        let f = &mut world.fine;
-        let w = &mut world.water.particles;
-        let fam = Families {
-            soil: &self.soil,
-            soil_mass: &f.mass,
-            water_mass: &w.mass,
+    /// velocities receiving the increments (a shorter step keeps the explicit soil
+    /// side); then the grains take the inertia of the pore water's surplus mass
+    /// ([`pore_water_inertia`]) from the water's velocity change over the whole step.
+    /// Returns the close's iterations (none on an explicit step).
+    pub fn close(
+        &mut self,
+        world: &mut World<D>,
+        mat: &WaterMaterial,
+        kernel: &WendlandC2,
+        dt: Real,
+    ) -> SolveStats {
+        let stats = if self.implicit_now {
+            let f = &mut world.fine;
+            let w = &mut world.water.particles;
+            let fam = Families {
+                soil: &self.soil,
+                soil_mass: &f.mass,
+                water_mass: &w.mass,
+            };
+            self.implicit.close(&fam, dt, &mut f.vel, &mut w.vel)
+        } else {
+            SolveStats::default()
         };
-        self.implicit.close(&fam, dt, &mut f.vel, &mut w.vel)
+        self.carry_pore_water(world, mat.rho0, kernel);
+        stats
+    }
+
+    /// [`pore_water_inertia`] on every soil particle, from the water's velocity change
+    /// since [`SoilWater::freeze`]; its sum joins [`SoilWater::carried`].
+    fn carry_pore_water(&mut self, world: &mut World<D>, rho_w: Real, kernel: &WendlandC2) {
+        let w = &world.water.particles;
+        let n = w.len().min(self.start_vel.len());
+        let du: Vec<Vect<D>> = (0..w.len())
+            .map(|i| {
+                if i < n {
+                    w.vel[i] - self.start_vel[i]
+                } else {
+                    Vect::<D>::zeros()
+                }
+            })
+            .collect();
+        let around = WaterAround {
+            frozen: &self.frozen,
+            drag: &self.drag,
+            vol: &self.vol,
+            grad: &self.grads,
+            buoyancy: Vect::<D>::zeros(),
+        };
+        let (norm, own, rel) = (self.norm, &self.own, &self.relation);
+        let impulse: Vec<Vect<D>> = self
+            .soil
+            .par_iter()
+            .enumerate()
+            .map(|(j, q)| {
+                let full = full_sum(norm, own[j]);
+                pore_water_inertia(q, &around, &du, rel.water_near(j), kernel, (full, rho_w))
+            })
+            .collect();
+        let f = &mut world.fine;
+        for (j, p) in impulse.iter().enumerate() {
+            if *p != Vect::<D>::zeros() {
+                f.vel[j] += p / f.mass[j];
+                self.carried += p;
+            }
+        }
     }
 
     /// The pore pressure at every fine particle now (Pa; None where no water is

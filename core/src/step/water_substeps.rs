@@ -129,7 +129,8 @@ impl<const D: usize> Stepper<D> {
     }
 
     /// After the soil's momentum sweep (nothing without a soil–water coupling): the
-    /// seepage drag closed implicitly on both sides ([`SoilWater::close`]); then the
+    /// seepage drag closed implicitly on both sides and the pore water's surplus
+    /// inertia handed to the grains ([`SoilWater::close`]); then the
     /// water leaves through the outflows, which with a soil it does once per step.
     ///
     /// [`SoilWater::close`]: super::SoilWater::close
@@ -137,16 +138,18 @@ impl<const D: usize> Stepper<D> {
         let Stepper {
             water,
             timers,
+            kernel,
             soil_water,
             ..
         } = self;
-        let Some((w, sw)) = water
+        let Some(((w, sw), m)) = water
             .as_mut()
             .zip(soil_water.as_mut().filter(|_| !world.fine.is_empty()))
+            .zip(world.water.material)
         else {
             return;
         };
-        timers.time(Stage::SoilWater, || sw.close(world, dt));
+        timers.time(Stage::SoilWater, || sw.close(world, &m, kernel, dt));
         if !world.water.outflows.is_empty() {
             w.let_out(world, timers);
         }
