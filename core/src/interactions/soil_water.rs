@@ -196,8 +196,15 @@ pub struct Seepage<const D: usize> {
 impl<const D: usize> Seepage<D> {
     /// The coefficients of a water particle at `x` from the soil particles `near`
     /// (indices into `soil`), not yet normalised, and the soil's sum Σ_j V_j W_ij there
-    /// (over soils with pores).
-    pub fn raw(x: &Vect<D>, soil: &[SoilPoint<D>], near: &[u32], k: &WendlandC2) -> (Self, Real) {
+    /// (over soils with pores); with `midpoint`, each pair against the soil's velocity
+    /// at its midpoint (else v_j, and Ḡ_i stays zero).
+    pub fn raw(
+        x: &Vect<D>,
+        soil: &[SoilPoint<D>],
+        near: &[u32],
+        k: &WendlandC2,
+        midpoint: bool,
+    ) -> (Self, Real) {
         let cut2 = k.cutoff * k.cutoff;
         let mut s = Seepage {
             a: 0.0,
@@ -220,12 +227,16 @@ impl<const D: usize> Seepage<D> {
                 let c = q.drag * vw;
                 sum += vw;
                 s.a += c;
-                s.b += (q.vel + q.grad * rij * 0.5) * c;
-                s.grad += q.grad * vw;
-                moment += rij * c;
+                if midpoint {
+                    s.b += (q.vel + q.grad * rij * 0.5) * c;
+                    s.grad += q.grad * vw;
+                    moment += rij * c;
+                } else {
+                    s.b += q.vel * c;
+                }
             }
         }
-        if sum > 0.0 {
+        if midpoint && sum > 0.0 {
             s.grad /= sum;
             s.b += s.grad * moment * 0.5;
         }
@@ -292,7 +303,7 @@ pub struct WaterAround<'a, const D: usize> {
     pub drag: &'a [WaterDrag<D>],
     /// Volumes now.
     pub vol: &'a [Real],
-    /// Each particle's Ḡ ([`Seepage::grad`]).
+    /// Each particle's Ḡ ([`Seepage::grad`]); empty without the midpoint drag.
     pub grad: &'a [Mat<D>],
     /// −ρ_w g: the buoyancy of water per unit volume (N/m³, upward).
     pub buoyancy: Vect<D>,
@@ -323,8 +334,10 @@ pub fn soil_force<const D: usize>(
             if q.drag > 0.0 {
                 let d = &w.drag[iu];
                 // the soil's velocity at the pair's midpoint, as the water took it
-                let rij = w.frozen[iu] - q.pos;
-                let mid = q.vel + (w.grad[iu] + q.grad) * rij * 0.5;
+                let mid = match w.grad.get(iu) {
+                    Some(g) => q.vel + (g + q.grad) * (w.frozen[iu] - q.pos) * 0.5,
+                    None => q.vel,
+                };
                 seep += (d.vol_vel - mid * d.vol) * (q.drag * wk);
                 if d.vol > 0.0 {
                     pair(i, q.drag * wk * q.vol * d.vol);
@@ -518,7 +531,7 @@ mod tests {
         for s in 0..3 {
             for (i, x) in water.iter().enumerate() {
                 let near: Vec<u32> = (0..soil.len() as u32).collect();
-                let (c, sum) = Seepage::raw(x, &soil, &near, &k);
+                let (c, sum) = Seepage::raw(x, &soil, &near, &k, true);
                 let c = c.normalised(sum, lattice_sum::<2>(&k, dp).0);
                 grads[i] = c.grad;
                 let u0 = Vector2::new(0.1 * s as Real, 0.05 * i as Real);
@@ -580,7 +593,7 @@ mod tests {
             let mut drag = vec![WaterDrag::default(); pts.len()];
             let mut grads = vec![Mat::<2>::zeros(); pts.len()];
             for (i, x) in pts.iter().enumerate() {
-                let (c, sum) = Seepage::raw(x, &soil, &near, &k);
+                let (c, sum) = Seepage::raw(x, &soil, &near, &k, true);
                 let c = c.normalised(sum, lattice_sum::<2>(&k, dp).0);
                 grads[i] = c.grad;
                 drag[i].add(vol * c.inv, &field(x), 1.0);

@@ -77,11 +77,12 @@ pub struct SoilWater<const D: usize> {
     /// The implicit close of the drag: its pair rows and scratch.
     #[serde(skip)]
     implicit: ImplicitDrag<D>,
-    /// The water's velocities at the start of the step.
+    /// The water's velocities at the start of the step; at the close, their change
+    /// over the step.
     #[serde(skip)]
     start_vel: Vec<Vect<D>>,
     /// Each water particle's Shepard mean of the soil's velocity gradients
-    /// ([`Seepage::grad`]).
+    /// ([`Seepage::grad`]); empty without the midpoint drag.
     #[serde(skip)]
     grads: Vec<Mat<D>>,
     /// The impulse the grains took over from the pore water's surplus mass since the
@@ -218,12 +219,14 @@ impl<const D: usize> SoilWater<D> {
         self.coef.clear();
         self.coef
             .par_extend(w.pos.par_iter().enumerate().map(|(i, x)| {
-                let (s, sum) = Seepage::raw(x, soil, rel.soil_near(i), kernel);
+                let (s, sum) = Seepage::raw(x, soil, rel.soil_near(i), kernel, midpoint);
                 // amid soil: the Shepard mean against the soil's sum in full
                 s.normalised(sum, full_sum(norm, own[i]))
             }));
         self.grads.clear();
-        self.grads.extend(self.coef.iter().map(|c| c.grad));
+        if self.midpoint {
+            self.grads.extend(self.coef.iter().map(|c| c.grad));
+        }
         self.frozen.clear();
         self.frozen.extend_from_slice(&w.pos);
         self.start_vel.clear();
@@ -363,16 +366,14 @@ impl<const D: usize> SoilWater<D> {
     /// since [`SoilWater::freeze`]; its sum joins [`SoilWater::carried`].
     fn carry_pore_water(&mut self, world: &mut World<D>, rho_w: Real, kernel: &WendlandC2) {
         let w = &world.water.particles;
-        let n = w.len().min(self.start_vel.len());
-        let du: Vec<Vect<D>> = (0..w.len())
-            .map(|i| {
-                if i < n {
-                    w.vel[i] - self.start_vel[i]
-                } else {
-                    Vect::<D>::zeros()
-                }
-            })
-            .collect();
+        // the change in place; a particle that joined during the step has none
+        let du = &mut self.start_vel;
+        du.truncate(w.len());
+        for (d, v) in du.iter_mut().zip(&w.vel) {
+            *d = v - *d;
+        }
+        du.resize(w.len(), Vect::<D>::zeros());
+        let du = &self.start_vel;
         let around = WaterAround {
             frozen: &self.frozen,
             drag: &self.drag,
@@ -387,7 +388,7 @@ impl<const D: usize> SoilWater<D> {
             .enumerate()
             .map(|(j, q)| {
                 let full = full_sum(norm, own[j]);
-                pore_water_inertia(q, &around, &du, rel.water_near(j), kernel, (full, rho_w))
+                pore_water_inertia(q, &around, du, rel.water_near(j), kernel, (full, rho_w))
             })
             .collect();
         let f = &mut world.fine;
