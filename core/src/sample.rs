@@ -178,10 +178,6 @@ pub struct Frame {
     /// Force from the water on each coarse particle (pressure, with buoyancy, and
     /// viscous drag); zero without water.
     pub coarse_water_force: Vec<[f32; 3]>,
-    /// Porosity n of each fine particle, following its density: 1 − n = (1 − n0) ρ/ρ0
-    /// with n0 its material's `materials[].porosity` (issue 44); 0 for a soil without
-    /// pores.
-    pub porosity: Vec<f32>,
     pub wall_pos: Vec<[f32; 3]>,
     pub wall_object: Vec<u16>,
     /// Water particles (pressure from the equation of state; `group` 0).
@@ -227,6 +223,10 @@ pub struct ParticleRecord {
     /// particle's vertical column, ρ_w g (z_s − z) (Pa); 0 for coarse grains and where
     /// no water is near.
     pub excess_pore_pressure: f32,
+    /// Porosity n of a fine particle, following its density: 1 − n = (1 − n0) ρ/ρ0
+    /// with n0 its material's `materials[].porosity` (issue 44); 0 for a soil without
+    /// pores, for coarse grains and for water.
+    pub porosity: f32,
 }
 
 /// [`ParticleRecord::family`] of a fine-grain particle.

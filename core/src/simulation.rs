@@ -482,6 +482,7 @@ impl<const D: usize> Simulation<D> {
     fn fine_record(&self, i: usize, pores: &PoreField) -> ParticleRecord {
         let f = &self.world.fine;
         let [pore, excess] = pores.fine.get(i).copied().unwrap_or_default();
+        let m = &self.world.materials[f.material[i] as usize];
         ParticleRecord {
             position: arr(&f.pos[i]),
             velocity: arr(&f.vel[i]),
@@ -492,6 +493,7 @@ impl<const D: usize> Simulation<D> {
             family: crate::sample::FAMILY_FINE,
             pore_pressure: pore,
             excess_pore_pressure: excess,
+            porosity: m.pores.map_or(0.0, |p| p.porosity_at(f.rho[i], m.rho0)) as f32,
         }
     }
 
@@ -508,6 +510,7 @@ impl<const D: usize> Simulation<D> {
             family: crate::sample::FAMILY_COARSE,
             pore_pressure: 0.0,
             excess_pore_pressure: 0.0,
+            porosity: 0.0,
         }
     }
 
@@ -529,6 +532,7 @@ impl<const D: usize> Simulation<D> {
             family: crate::sample::FAMILY_WATER,
             pore_pressure: p as f32,
             excess_pore_pressure: pores.water.get(i).copied().unwrap_or_default(),
+            porosity: 0.0,
         }
     }
 
@@ -613,15 +617,6 @@ impl<const D: usize> Simulation<D> {
             coarse: (0..nc).map(|i| self.coarse_record(i)).collect(),
             coarse_fine_force: w.coarse.particles.f_fine.iter().map(arr).collect(),
             coarse_water_force: w.coarse.particles.f_water.iter().map(arr).collect(),
-            porosity: f
-                .material
-                .iter()
-                .zip(&f.rho)
-                .map(|(&m, &rho)| {
-                    let m = &w.materials[m as usize];
-                    m.pores.map_or(0.0, |p| p.porosity_at(rho, m.rho0)) as f32
-                })
-                .collect(),
             wall_pos: w.walls.pos.iter().map(arr).collect(),
             wall_object: w.walls.object.clone(),
             water: (0..w.water.particles.len())

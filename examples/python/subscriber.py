@@ -8,7 +8,7 @@ Needs `pip install iceoryx2==0.10.0 numpy`. Run it in its own process: a subscri
 in the same process as a granmix FMU receives nothing.
 
 The layouts below mirror `granmix_ipc::payload` (docs/ipc.md): a 56-byte header and
-52-byte records, fine particles first, then coarse-grain particles, then water.
+56-byte records, fine particles first, then coarse-grain particles, then water.
 """
 
 import argparse
@@ -20,7 +20,7 @@ import time
 import iceoryx2 as iox2
 import numpy as np
 
-SCHEMA_VERSION = 3
+SCHEMA_VERSION = 4
 
 
 class ParticleRecord(ctypes.Structure):
@@ -36,6 +36,7 @@ class ParticleRecord(ctypes.Structure):
         ("family", ctypes.c_uint32),
         ("pore_pressure", ctypes.c_float),
         ("excess_pore_pressure", ctypes.c_float),
+        ("porosity", ctypes.c_float),
     ]
 
     @staticmethod
@@ -77,10 +78,13 @@ RECORD_DTYPE = np.dtype(
         ("family", "<u4"),
         ("pore_pressure", "<f4"),
         ("excess_pore_pressure", "<f4"),
+        ("porosity", "<f4"),
     ]
 )
-assert RECORD_DTYPE.itemsize == ctypes.sizeof(ParticleRecord) == 52
+assert RECORD_DTYPE.itemsize == ctypes.sizeof(ParticleRecord) == 56
 assert ctypes.sizeof(FrameHeader) == 56
+#: 32-bit words in a record
+WORDS = RECORD_DTYPE.itemsize // 4
 
 
 def service_name(spec: str) -> str:
@@ -147,10 +151,10 @@ class Subscriber:
 
 
 def pattern_words(k: int, n: int) -> np.ndarray:
-    """The test pattern of `granmix ipc-pattern` (granmix_ipc::pattern), as (n, 13) u32."""
+    """The test pattern of `granmix ipc-pattern` (granmix_ipc::pattern), as (n, WORDS) u32."""
     i = np.arange(n, dtype=np.uint32)
-    out = np.empty((n, 13), dtype=np.uint32)
-    for w in range(13):
+    out = np.empty((n, WORDS), dtype=np.uint32)
+    for w in range(WORDS):
         h = i * np.uint32(2654435761) + np.uint32((k * 40503 + w * 97) % 2**32)
         float_word = not 8 <= w < 11
         out[:, w] = (h & np.uint32(0x807FFFFF)) | np.uint32(0x3F000000) if float_word else h
@@ -182,7 +186,7 @@ def main() -> int:
         received += 1
         headers.append(header)
         if a.check_pattern:
-            got = records.view(np.uint32).reshape(len(records), 13)
+            got = records.view(np.uint32).reshape(len(records), WORDS)
             if not np.array_equal(got, pattern_words(header["sequence"], len(records))):
                 mismatches += 1
         pos = records["position"]

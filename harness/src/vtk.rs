@@ -154,7 +154,8 @@ impl VtkSeries {
         let pressure: Vec<f32> = fine.iter().map(|p| p.pressure).collect();
         a.push("pressure", "Float32", 1, &bytes_f32(&pressure));
         a.push("density", "Float32", 1, &bytes_f32(&frame.density));
-        a.push("porosity", "Float32", 1, &bytes_f32(&frame.porosity));
+        let porosity: Vec<f32> = fine.iter().map(|p| p.porosity).collect();
+        a.push("porosity", "Float32", 1, &bytes_f32(&porosity));
         let eps: Vec<f32> = fine.iter().map(|p| p.plastic_strain).collect();
         a.push("plastic_strain", "Float32", 1, &bytes_f32(&eps));
         // the solver's stress is effective (Terzaghi): σ = σ' − p_w I, tension positive

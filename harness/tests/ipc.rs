@@ -203,8 +203,8 @@ fn recording_reads_back_with_the_rust_reader() {
                 assert_eq!(schema.encoding, "protobuf");
                 assert_eq!(&schema.data[..], &fox.data[..], "foxglove's descriptor");
                 let pc = PointCloud::decode(&m.data[..]).unwrap();
-                assert_eq!(pc.point_stride, 52);
-                assert_eq!(pc.data.len() as u64, 52 * particles);
+                assert_eq!(pc.point_stride, 56);
+                assert_eq!(pc.data.len() as u64, 56 * particles);
             }
             "/bodies" => {
                 let fox = FrameTransforms::get_schema().unwrap();
@@ -292,9 +292,9 @@ fn water_is_recorded_on_its_own_topic() {
         let m = m.unwrap();
         if m.channel.topic == "/water" {
             let pc = PointCloud::decode(&m.data[..]).unwrap();
-            assert_eq!(pc.point_stride, 52);
-            assert_eq!(pc.data.len() as u64, 52 * water);
-            for r in pc.data.chunks(52) {
+            assert_eq!(pc.point_stride, 56);
+            assert_eq!(pc.data.len() as u64, 56 * water);
+            for r in pc.data.chunks(56) {
                 assert_eq!(&r[40..44], &2u32.to_le_bytes(), "family of a water record");
             }
             seen += 1;

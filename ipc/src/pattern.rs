@@ -9,7 +9,7 @@ use crate::publisher::FrameInfo;
 /// Coarse-grain records at the end of every pattern frame.
 pub const PATTERN_COARSE: usize = 7;
 
-/// Word `w` (0..13, in layout order) of record `i` in frame `k`, as raw bits.
+/// Word `w` (0..14, in layout order) of record `i` in frame `k`, as raw bits.
 #[inline(always)]
 pub fn pattern_word(k: u64, i: usize, w: u32) -> u32 {
     let h = (i as u32)
@@ -37,6 +37,7 @@ pub fn pattern_record(k: u64, i: usize) -> ParticleRecord {
         family: pattern_word(k, i, 10),
         pore_pressure: f(11),
         excess_pore_pressure: f(12),
+        porosity: f(13),
     }
 }
 

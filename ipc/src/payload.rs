@@ -6,9 +6,9 @@
 use iceoryx2::prelude::ZeroCopySend;
 
 /// Layout version of [`FrameHeader`] and [`ParticleRecord`], also a service attribute.
-pub const SCHEMA_VERSION: u32 = 3;
+pub const SCHEMA_VERSION: u32 = 4;
 
-/// One particle: 52 bytes, fine particles first, then coarse-grain particles, then
+/// One particle: 56 bytes, fine particles first, then coarse-grain particles, then
 /// water; the one particle record of granmix
 /// ([`granmix_core::sample::ParticleRecord`]), its family in `family`.
 pub use granmix_core::sample::{ParticleRecord, FAMILY_COARSE, FAMILY_FINE, FAMILY_WATER};
@@ -70,6 +70,7 @@ pub fn append_record(out: &mut Vec<u8>, r: &ParticleRecord) {
     out.extend_from_slice(&r.family.to_le_bytes());
     out.extend_from_slice(&r.pore_pressure.to_le_bytes());
     out.extend_from_slice(&r.excess_pore_pressure.to_le_bytes());
+    out.extend_from_slice(&r.porosity.to_le_bytes());
 }
 
 #[cfg(test)]
@@ -79,7 +80,7 @@ mod tests {
 
     #[test]
     fn layouts_have_no_padding() {
-        assert_eq!(size_of::<ParticleRecord>(), 52);
+        assert_eq!(size_of::<ParticleRecord>(), 56);
         assert_eq!(align_of::<ParticleRecord>(), 4);
         assert_eq!(size_of::<FrameHeader>(), 56);
         assert_eq!(align_of::<FrameHeader>(), 8);
@@ -93,12 +94,14 @@ mod tests {
             family: FAMILY_WATER,
             pore_pressure: 11.0,
             excess_pore_pressure: 12.0,
+            porosity: 0.25,
         };
         let b = record_bytes(&[r]);
-        assert_eq!(b.len(), 52);
+        assert_eq!(b.len(), 56);
         assert_eq!(&b[36..40], &10u32.to_le_bytes());
         assert_eq!(&b[40..44], &2u32.to_le_bytes());
         assert_eq!(&b[44..48], &11f32.to_le_bytes());
         assert_eq!(&b[48..52], &12f32.to_le_bytes());
+        assert_eq!(&b[52..56], &0.25f32.to_le_bytes());
     }
 }

@@ -11,7 +11,7 @@
 //! | `/energy` | `granmix.Energies` | JSON (JSON Schema) | sample: every family's energies |
 //!
 //! Message log times are simulation time in ns. The PointCloud's data are the
-//! [`ParticleRecord`] bytes themselves (stride 52), so `/particles` and `/water` hold
+//! [`ParticleRecord`] bytes themselves (stride 56), so `/particles` and `/water` hold
 //! exactly what the particle channel carries. `/geometry` has one entity a wall object,
 //! `id` its name, frame `world`, metadata `object`, `kind` and `moving`: boxes as
 //! cubes, spheres and cylinders as such, polygons, rings, polyhedra, meshes and terrain
@@ -221,6 +221,7 @@ fn point_fields() -> Vec<PackedElementField> {
         f("family", 40, NumericType::Uint32),
         f("pore_pressure", 44, NumericType::Float32),
         f("excess_pore_pressure", 48, NumericType::Float32),
+        f("porosity", 52, NumericType::Float32),
     ]
 }
 

@@ -175,7 +175,7 @@ def test_run_record_reads_back_with_python_mcap(tmp_path):
         for _, ch, m in reader.iter_messages():
             if ch.topic == "/particles":
                 pc = protobuf_fields(m.data)
-                assert len(pc[6][0]) == 52 * n
+                assert len(pc[6][0]) == 56 * n
                 times.append(m.log_time)
             elif ch.topic == "/barriers":
                 assert isinstance(json.loads(m.data)["barriers"], list)

@@ -26,7 +26,7 @@ CLOUD = [("x", "FLOAT32"), ("y", "FLOAT32"), ("z", "FLOAT32"), ("vx", "FLOAT32")
          ("vy", "FLOAT32"), ("vz", "FLOAT32"), ("pressure", "FLOAT32"),
          ("plastic_strain", "FLOAT32"), ("id", "UINT32"), ("group", "UINT32"),
          ("family", "UINT32"), ("pore_pressure", "FLOAT32"),
-         ("excess_pore_pressure", "FLOAT32")]
+         ("excess_pore_pressure", "FLOAT32"), ("porosity", "FLOAT32")]
 WALLS = [("x", "FLOAT32"), ("y", "FLOAT32"), ("z", "FLOAT32"), ("object", "UINT32")]
 BARRIER = {"name", "force", "moment", "peak_force", "force_water", "force_grains", "panels"}
 PANEL = {"index", "force", "force_water", "force_grains"}
@@ -96,7 +96,7 @@ def check_topics(topics, schemas, scene):
         assert bool(topics.get(topic)) == has.get(topic, True), (topic, sorted(topics))
     for topic in ("/particles", "/water"):
         for _, m in topics.get(topic, []):
-            assert fields(m) == CLOUD and m.point_stride == 52 and m.frame_id == "world"
+            assert fields(m) == CLOUD and m.point_stride == 56 and m.frame_id == "world"
     (_, walls), = topics["/walls"]
     assert fields(walls) == WALLS and walls.point_stride == 16
     for _, m in topics.get("/bodies", []):
@@ -129,6 +129,24 @@ def check_box(entity, box, dp):
     assert np.allclose([s.x, s.y, s.z], [*(hi - lo), SLAB * dp], rtol=0, atol=1e-12)
 
 
+def check_porosity(topics, scene):
+    """Issue 44: each fine record carries its porosity, n = 1 - (1 - n0) rho/rho0, which
+    in the first frames (the soil at rest, compressed by its own weight by well under
+    1 %) stays within 0.01 of its material's n0; coarse and water records carry 0."""
+    n0 = [m.get("porosity", 0.0) for m in scene["materials"]]
+    for topic in ("/particles", "/water"):
+        for _, m in topics.get(topic, []):
+            rec = np.frombuffer(m.data, dtype="<f4").reshape(-1, m.point_stride // 4)
+            fam, group, n = rec[:, 10].view("<u4"), rec[:, 9].view("<u4"), rec[:, 13]
+            fine = fam == 0
+            assert np.all(n[~fine] == 0.0)
+            want = np.array(n0)[group[fine]]
+            assert fine.any() == (topic == "/particles")
+            if fine.any():
+                assert np.any(want > 0)
+                assert np.all(np.abs(n[fine] - want) < 0.01), np.abs(n[fine] - want).max()
+
+
 @pytest.mark.parametrize(
     "scene, sets",
     [
@@ -158,6 +176,7 @@ def test_issue_39_recording_decodes_every_documented_topic(tmp_path, scene, sets
         box = {"min": [lo[0] - t, lo[1] - t], "max": [hi[0] + t, lo[1]]}
         check_box(ents["tank.bottom"], box, dp)
         return
+    check_porosity(topics, sc)
     walls = {w["name"]: w["shape"] for w in sc["walls"] + sc["barriers"]}
     check_box(ents["runout"], walls["runout"], dp)
     check_box(ents["barrier"], walls["barrier"], dp)
