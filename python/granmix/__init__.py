@@ -11,6 +11,9 @@
   that ``--resume`` runs only the missing ones.
 - :mod:`granmix.cli` is ``granmix-sweep``.
 - :mod:`granmix.vtu` reads the ``.vtu`` snapshots of ``granmix run`` into numpy arrays.
+- :mod:`granmix.debris_variants` runs the saturated debris flow dry, saturated, dilatant
+  and contractant and reports run-out, barrier loads and the pore pressure around its
+  boulders (``python -m granmix.debris_variants``).
 """
 
 from granmix.design import Case, cases

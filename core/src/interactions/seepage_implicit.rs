@@ -137,6 +137,26 @@ impl ChunkRows {
         self.c.clear();
     }
 
+    /// The rows in order, each as its water indices and values.
+    pub fn rows(&self) -> impl Iterator<Item = (&[u32], &[Real])> + '_ {
+        let mut at = 0;
+        self.len.iter().map(move |&len| {
+            let r = at..at + len as usize;
+            at += len as usize;
+            (&self.idx[r.clone()], &self.c[r])
+        })
+    }
+
+    /// Add one row whose pairs `fill` pushes onto the row buffers (water indices,
+    /// values) itself, with a sink the compiler can inline.
+    #[inline]
+    pub fn push_row<R>(&mut self, fill: impl FnOnce(&mut Vec<u32>, &mut Vec<Real>) -> R) -> R {
+        let before = self.idx.len();
+        let r = fill(&mut self.idx, &mut self.c);
+        self.len.push((self.idx.len() - before) as u32);
+        r
+    }
+
     /// Add one row with the pairs that `fill` hands to its sink (water index, c_ij).
     #[inline]
     pub fn row<R>(&mut self, fill: impl FnOnce(&mut dyn FnMut(u32, Real)) -> R) -> R {

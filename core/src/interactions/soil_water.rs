@@ -52,9 +52,6 @@ pub struct SoilPoint<const D: usize> {
     pub drag: Real,
     /// 1 − n, the grains' share of the volume (0 without pores).
     pub solid: Real,
-    /// The velocity gradient L_j of the soil's last step (∂v_a/∂x_b), by which each
-    /// pair takes the soil's velocity at its midpoint ([`Seepage`]).
-    pub grad: Mat<D>,
 }
 
 /// A D × D matrix of the velocity gradients.
@@ -155,13 +152,7 @@ impl<const D: usize> SoilPoint<D> {
             vol,
             drag,
             solid,
-            grad: Mat::<D>::zeros(),
         }
-    }
-
-    /// The same point with the soil's velocity gradient `l`.
-    pub fn with_gradient(self, l: Mat<D>) -> Self {
-        SoilPoint { grad: l, ..self }
     }
 }
 
@@ -196,15 +187,18 @@ pub struct Seepage<const D: usize> {
 impl<const D: usize> Seepage<D> {
     /// The coefficients of a water particle at `x` from the soil particles `near`
     /// (indices into `soil`), not yet normalised, and the soil's sum Σ_j V_j W_ij there
-    /// (over soils with pores); with `midpoint`, each pair against the soil's velocity
-    /// at its midpoint (else v_j, and Ḡ_i stays zero).
+    /// (over soils with pores). With the soil's velocity gradients `grads` (L_j of
+    /// each soil particle; empty: none), each pair against the soil's velocity at its
+    /// midpoint (else v_j, and Ḡ_i stays zero). The gradients are kept apart from the
+    /// points so that the plain drag's pair loop reads no more than it needs.
     pub fn raw(
         x: &Vect<D>,
         soil: &[SoilPoint<D>],
         near: &[u32],
         k: &WendlandC2,
-        midpoint: bool,
+        grads: &[Mat<D>],
     ) -> (Self, Real) {
+        let midpoint = !grads.is_empty();
         let cut2 = k.cutoff * k.cutoff;
         let mut s = Seepage {
             a: 0.0,
@@ -228,8 +222,9 @@ impl<const D: usize> Seepage<D> {
                 sum += vw;
                 s.a += c;
                 if midpoint {
-                    s.b += (q.vel + q.grad * rij * 0.5) * c;
-                    s.grad += q.grad * vw;
+                    let l = &grads[j as usize];
+                    s.b += (q.vel + l * rij * 0.5) * c;
+                    s.grad += l * vw;
                     moment += rij * c;
                 } else {
                     s.b += q.vel * c;
@@ -310,33 +305,40 @@ pub struct WaterAround<'a, const D: usize> {
 }
 
 /// The water's force on soil particle `q` over the step (seepage and buoyancy, N),
-/// from the water particles `near`. `full` is the kernel sum the water would give
+/// from the water particles `near`; `l` is the particle's velocity gradient, with
+/// which the pairs' midpoint velocities were taken (zero without the midpoint drag). `full` is the kernel sum the water would give
 /// there in full ([`full_sum`] of the soil's own sum). Each pair that exchanges drag
 /// is handed to `pair` with its coefficient c_ij = V_j (μ/k_j) W_ij ⟨V_i/s_i⟩ (N·s/m),
-/// for the implicit close of the step ([`seepage_implicit`](super::seepage_implicit)).
+/// for the implicit close of the step ([`seepage_implicit`](super::seepage_implicit)),
+/// and each water particle within the kernel to `wet` with its V_i W_ij, for
+/// [`pore_water_inertia`] at the end of the step.
 pub fn soil_force<const D: usize>(
-    q: &SoilPoint<D>,
+    (q, l): (&SoilPoint<D>, &Mat<D>),
     w: &WaterAround<'_, D>,
     near: &[u32],
     k: &WendlandC2,
     full: Real,
-    mut pair: impl FnMut(u32, Real),
+    (mut pair, mut wet): (impl FnMut(u32, Real), impl FnMut(u32, Real)),
 ) -> Vect<D> {
     let cut2 = k.cutoff * k.cutoff;
     let mut seep = Vect::<D>::zeros();
     let mut s0 = 0.0;
+    let midpoint = !w.grad.is_empty();
     for &i in near {
         let iu = i as usize;
         let r2 = (q.pos - w.frozen[iu]).norm_squared();
         if r2 < cut2 {
             let wk = k.w(r2.sqrt());
-            s0 += wk * w.vol[iu];
+            let vw = wk * w.vol[iu];
+            s0 += vw;
+            wet(i, vw);
             if q.drag > 0.0 {
                 let d = &w.drag[iu];
                 // the soil's velocity at the pair's midpoint, as the water took it
-                let mid = match w.grad.get(iu) {
-                    Some(g) => q.vel + (g + q.grad) * (w.frozen[iu] - q.pos) * 0.5,
-                    None => q.vel,
+                let mid = if midpoint {
+                    q.vel + (w.grad[iu] + l) * (w.frozen[iu] - q.pos) * 0.5
+                } else {
+                    q.vel
                 };
                 seep += (d.vol_vel - mid * d.vol) * (q.drag * wk);
                 if d.vol > 0.0 {
@@ -360,28 +362,21 @@ pub fn soil_force<const D: usize>(
 /// term hands that surplus's inertia to the grains, so that a soil moving with its
 /// water carries the mixture's momentum (ρ_d + n ρ_w) V v (issue 44 item 1), and a
 /// saturated soil falls freely at g. It has no reaction on the water: the surplus it
-/// removes is not the real water's.
+/// removes is not the real water's. `wet` holds the water particles within the
+/// particle's kernel with their V_i W_ij, as [`soil_force`] handed them over.
 pub fn pore_water_inertia<const D: usize>(
     q: &SoilPoint<D>,
-    w: &WaterAround<'_, D>,
     du: &[Vect<D>],
-    near: &[u32],
-    k: &WendlandC2,
+    (idx, wet): (&[u32], &[Real]),
     (full, rho_w): (Real, Real),
 ) -> Vect<D> {
     if q.solid == 0.0 {
         return Vect::<D>::zeros();
     }
-    let cut2 = k.cutoff * k.cutoff;
     let (mut s0, mut m) = (0.0, Vect::<D>::zeros());
-    for &i in near {
-        let iu = i as usize;
-        let r2 = (q.pos - w.frozen[iu]).norm_squared();
-        if r2 < cut2 {
-            let vw = k.w(r2.sqrt()) * w.vol[iu];
-            s0 += vw;
-            m += du[iu] * vw;
-        }
+    for (&i, &vw) in idx.iter().zip(wet) {
+        s0 += vw;
+        m += du[i as usize] * vw;
     }
     if s0 == 0.0 {
         return Vect::<D>::zeros();
@@ -484,10 +479,16 @@ mod tests {
                 vol: dp * dp,
                 drag: 0.0,
                 solid: 0.6,
-                grad: Mat::<2>::zeros(),
             };
             let near: Vec<u32> = (0..n as u32).collect();
-            let f = soil_force(&q, &w, &near, &k, lattice_sum::<2>(&k, dp).0, |_, _| {});
+            let f = soil_force(
+                (&q, &Mat::<2>::zeros()),
+                &w,
+                &near,
+                &k,
+                lattice_sum::<2>(&k, dp).0,
+                (|_, _| {}, |_, _| {}),
+            );
             let ph = pore_pressure(&q.pos, (&pos, &vol, &p), &near, &k).unwrap();
             // no seepage: the grains' buoyancy, in full where the water surrounds them,
             // in part on the floor
@@ -520,9 +521,10 @@ mod tests {
                 vol: dp * dp,
                 drag: 1e5,
                 solid: 0.6,
-                grad: Mat::<2>::new(3.0, -1.0, 0.5, 2.0),
             })
             .collect();
+        let l = Mat::<2>::new(3.0, -1.0, 0.5, 2.0);
+        let soil_grads = vec![l; soil.len()];
         let (rho, dt, vol) = (1000.0, 1e-3, dp * dp);
         let mut impulse = Vector2::<Real>::zeros();
         let mut drag = vec![WaterDrag::default(); water.len()];
@@ -531,7 +533,7 @@ mod tests {
         for s in 0..3 {
             for (i, x) in water.iter().enumerate() {
                 let near: Vec<u32> = (0..soil.len() as u32).collect();
-                let (c, sum) = Seepage::raw(x, &soil, &near, &k, true);
+                let (c, sum) = Seepage::raw(x, &soil, &near, &k, &soil_grads);
                 let c = c.normalised(sum, lattice_sum::<2>(&k, dp).0);
                 grads[i] = c.grad;
                 let u0 = Vector2::new(0.1 * s as Real, 0.05 * i as Real);
@@ -552,7 +554,8 @@ mod tests {
         for q in &soil {
             let q = SoilPoint { solid: 0.0, ..*q };
             let near: Vec<u32> = (0..water.len() as u32).collect();
-            reaction += soil_force(&q, &w, &near, &k, 1.0, |_, _| {}) * (3.0 * dt);
+            reaction +=
+                soil_force((&q, &l), &w, &near, &k, 1.0, (|_, _| {}, |_, _| {})) * (3.0 * dt);
         }
         assert!(impulse.norm() > 1e-6);
         assert!(
@@ -587,13 +590,13 @@ mod tests {
                     vol,
                     drag: mu_k,
                     solid: 0.6,
-                    grad: g,
                 })
                 .collect();
+            let soil_grads = vec![g; soil.len()];
             let mut drag = vec![WaterDrag::default(); pts.len()];
             let mut grads = vec![Mat::<2>::zeros(); pts.len()];
             for (i, x) in pts.iter().enumerate() {
-                let (c, sum) = Seepage::raw(x, &soil, &near, &k, true);
+                let (c, sum) = Seepage::raw(x, &soil, &near, &k, &soil_grads);
                 let c = c.normalised(sum, lattice_sum::<2>(&k, dp).0);
                 grads[i] = c.grad;
                 drag[i].add(vol * c.inv, &field(x), 1.0);
@@ -612,7 +615,7 @@ mod tests {
                 .iter()
                 .map(|q| {
                     let q = SoilPoint { solid: 0.0, ..*q };
-                    soil_force(&q, &w, &near, &k, 1.0, |_, _| {}).norm() / unit
+                    soil_force((&q, &g), &w, &near, &k, 1.0, (|_, _| {}, |_, _| {})).norm() / unit
                 })
                 .fold(0.0, Real::max);
             eprintln!("gradient {with_gradient}: worst drag {worst:.3e} of L dp's");

@@ -13,7 +13,7 @@
 use super::relations::SoilWaterRelation;
 use crate::fine::material::FineMaterial;
 use crate::fine::source::Source;
-use crate::interactions::seepage_implicit::{Families, ImplicitDrag, SolveStats};
+use crate::interactions::seepage_implicit::{ChunkRows, Families, ImplicitDrag, SolveStats};
 use crate::interactions::soil_water::{
     full_sum, kernel_sum, lattice_sum, pore_pressure, pore_water_inertia, soil_force, Mat, Seepage,
     SoilPoint, WaterAround, WaterDrag,
@@ -77,6 +77,10 @@ pub struct SoilWater<const D: usize> {
     /// The implicit close of the drag: its pair rows and scratch.
     #[serde(skip)]
     implicit: ImplicitDrag<D>,
+    /// Per chunk of soil particles: each one's water within its kernel with V_i W_ij,
+    /// from the force pass, for [`pore_water_inertia`] at the end of the step.
+    #[serde(skip)]
+    wet: Vec<ChunkRows>,
     /// The water's velocities at the start of the step; at the close, their change
     /// over the step.
     #[serde(skip)]
@@ -85,6 +89,10 @@ pub struct SoilWater<const D: usize> {
     /// ([`Seepage::grad`]); empty without the midpoint drag.
     #[serde(skip)]
     grads: Vec<Mat<D>>,
+    /// Each soil particle's velocity gradient of its last step (L_j); empty without
+    /// the midpoint drag.
+    #[serde(skip)]
+    soil_grads: Vec<Mat<D>>,
     /// The impulse the grains took over from the pore water's surplus mass since the
     /// start ([`pore_water_inertia`], N·s, or N·s/m in 2D): the grains' and the water's
     /// momentum less it is what the seepage exchanges conserve.
@@ -170,8 +178,10 @@ impl<const D: usize> SoilWater<D> {
             force: Vec::new(),
             weight: Vec::new(),
             implicit: ImplicitDrag::default(),
+            wet: Vec::new(),
             start_vel: Vec::new(),
             grads: Vec::new(),
+            soil_grads: Vec::new(),
             carried: Vect::<D>::zeros(),
         })
     }
@@ -192,17 +202,16 @@ impl<const D: usize> SoilWater<D> {
     ) {
         let (f, mats) = (&world.fine, &world.materials);
         self.soil.clear();
-        let midpoint = self.midpoint;
         self.soil.par_extend((0..f.len()).into_par_iter().map(|i| {
             let m: &FineMaterial = &mats[f.material[i] as usize];
             let vol = src[i].vol;
-            let q = SoilPoint::of(m, mu, (f.pos[i], f.vel[i]), vol, f.mass[i] / vol);
-            if midpoint {
-                q.with_gradient(f.vel_grad[i].cast::<Real>())
-            } else {
-                q
-            }
+            SoilPoint::of(m, mu, (f.pos[i], f.vel[i]), vol, f.mass[i] / vol)
         }));
+        self.soil_grads.clear();
+        if self.midpoint {
+            self.soil_grads
+                .par_extend(f.vel_grad.par_iter().map(|l| l.cast::<Real>()));
+        }
         self.dt_explicit = self
             .soil
             .iter()
@@ -216,10 +225,11 @@ impl<const D: usize> SoilWater<D> {
             self.build_lists(world, src, water_grid, kernel, now);
         }
         let (soil, norm, rel, own) = (&self.soil, self.norm, &self.relation, &self.own_water);
+        let soil_grads = &self.soil_grads;
         self.coef.clear();
         self.coef
             .par_extend(w.pos.par_iter().enumerate().map(|(i, x)| {
-                let (s, sum) = Seepage::raw(x, soil, rel.soil_near(i), kernel, midpoint);
+                let (s, sum) = Seepage::raw(x, soil, rel.soil_near(i), kernel, soil_grads);
                 // amid soil: the Shepard mean against the soil's sum in full
                 s.normalised(sum, full_sum(norm, own[i]))
             }));
@@ -294,26 +304,40 @@ impl<const D: usize> SoilWater<D> {
             buoyancy: world.hydrostatic_gravity() * (-mat.rho0),
         };
         let (norm, own, rel) = (self.norm, &self.own, &self.relation);
-        let n = self.soil.len();
+        let (n, soil_grads) = (self.soil.len(), &self.soil_grads);
+        let zero = Mat::<D>::zeros();
         self.force.resize(n, Vect::<D>::zeros());
-        // the force pass also keeps each soil particle's pairs for the implicit close
+        // the force pass also keeps each soil particle's pairs for the implicit close,
+        // and its water with their kernel weights for the pore water's inertia
         let record = self.implicit_now;
+        self.wet.resize_with(n.div_ceil(CHUNK), ChunkRows::default);
         self.soil
             .par_chunks(CHUNK)
             .zip(self.force.par_chunks_mut(CHUNK))
             .zip(self.implicit.chunks(n).par_iter_mut())
+            .zip(self.wet.par_iter_mut())
             .enumerate()
-            .for_each(|(c, ((q, f), rows))| {
+            .for_each(|(c, (((q, f), rows), wet))| {
                 rows.clear();
+                wet.clear();
                 for k in 0..q.len() {
                     let j = c * CHUNK + k;
                     let full = full_sum(norm, own[j]);
                     let near = rel.water_near(j);
-                    f[k] = if record {
-                        rows.row(|pair| soil_force(&q[k], &around, near, kernel, full, pair))
-                    } else {
-                        soil_force(&q[k], &around, near, kernel, full, |_, _| {})
-                    };
+                    let p = (&q[k], soil_grads.get(j).unwrap_or(&zero));
+                    f[k] = wet.push_row(|idx, ws| {
+                        let sink = |i, vw| {
+                            idx.push(i);
+                            ws.push(vw);
+                        };
+                        if record {
+                            rows.row(|pair| {
+                                soil_force(p, &around, near, kernel, full, (pair, sink))
+                            })
+                        } else {
+                            soil_force(p, &around, near, kernel, full, (|_, _| {}, sink))
+                        }
+                    });
                 }
             });
         // the vertical gradient a soil rests at: its weight less the water's lift
@@ -339,13 +363,7 @@ impl<const D: usize> SoilWater<D> {
     /// side); then the grains take the inertia of the pore water's surplus mass
     /// ([`pore_water_inertia`]) from the water's velocity change over the whole step.
     /// Returns the close's iterations (none on an explicit step).
-    pub fn close(
-        &mut self,
-        world: &mut World<D>,
-        mat: &WaterMaterial,
-        kernel: &WendlandC2,
-        dt: Real,
-    ) -> SolveStats {
+    pub fn close(&mut self, world: &mut World<D>, mat: &WaterMaterial, dt: Real) -> SolveStats {
         let stats = if self.implicit_now {
             let f = &mut world.fine;
             let w = &mut world.water.particles;
@@ -358,13 +376,13 @@ impl<const D: usize> SoilWater<D> {
         } else {
             SolveStats::default()
         };
-        self.carry_pore_water(world, mat.rho0, kernel);
+        self.carry_pore_water(world, mat.rho0);
         stats
     }
 
     /// [`pore_water_inertia`] on every soil particle, from the water's velocity change
     /// since [`SoilWater::freeze`]; its sum joins [`SoilWater::carried`].
-    fn carry_pore_water(&mut self, world: &mut World<D>, rho_w: Real, kernel: &WendlandC2) {
+    fn carry_pore_water(&mut self, world: &mut World<D>, rho_w: Real) {
         let w = &world.water.particles;
         // the change in place; a particle that joined during the step has none
         let du = &mut self.start_vel;
@@ -374,21 +392,16 @@ impl<const D: usize> SoilWater<D> {
         }
         du.resize(w.len(), Vect::<D>::zeros());
         let du = &self.start_vel;
-        let around = WaterAround {
-            frozen: &self.frozen,
-            drag: &self.drag,
-            vol: &self.vol,
-            grad: &self.grads,
-            buoyancy: Vect::<D>::zeros(),
-        };
-        let (norm, own, rel) = (self.norm, &self.own, &self.relation);
+        let (norm, own, soil) = (self.norm, &self.own, &self.soil);
         let impulse: Vec<Vect<D>> = self
-            .soil
+            .wet
             .par_iter()
             .enumerate()
-            .map(|(j, q)| {
-                let full = full_sum(norm, own[j]);
-                pore_water_inertia(q, &around, du, rel.water_near(j), kernel, (full, rho_w))
+            .flat_map_iter(|(c, wet)| {
+                wet.rows().enumerate().map(move |(k, pairs)| {
+                    let j = c * CHUNK + k;
+                    pore_water_inertia(&soil[j], du, pairs, (full_sum(norm, own[j]), rho_w))
+                })
             })
             .collect();
         let f = &mut world.fine;

@@ -138,7 +138,6 @@ impl<const D: usize> Stepper<D> {
         let Stepper {
             water,
             timers,
-            kernel,
             soil_water,
             ..
         } = self;
@@ -149,7 +148,7 @@ impl<const D: usize> Stepper<D> {
         else {
             return;
         };
-        timers.time(Stage::SoilWater, || sw.close(world, &m, kernel, dt));
+        timers.time(Stage::SoilWater, || sw.close(world, &m, dt));
         if !world.water.outflows.is_empty() {
             w.let_out(world, timers);
         }
