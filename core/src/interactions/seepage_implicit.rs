@@ -147,24 +147,12 @@ impl ChunkRows {
         })
     }
 
-    /// Add one row whose pairs `fill` pushes onto the row buffers (water indices,
-    /// values) itself, with a sink the compiler can inline.
+    /// Add one row whose pairs `fill` pushes onto the row's buffers (water indices,
+    /// values) itself, so that its sink is a closure the compiler can inline.
     #[inline]
-    pub fn push_row<R>(&mut self, fill: impl FnOnce(&mut Vec<u32>, &mut Vec<Real>) -> R) -> R {
+    pub fn row<R>(&mut self, fill: impl FnOnce(&mut Vec<u32>, &mut Vec<Real>) -> R) -> R {
         let before = self.idx.len();
         let r = fill(&mut self.idx, &mut self.c);
-        self.len.push((self.idx.len() - before) as u32);
-        r
-    }
-
-    /// Add one row with the pairs that `fill` hands to its sink (water index, c_ij).
-    #[inline]
-    pub fn row<R>(&mut self, fill: impl FnOnce(&mut dyn FnMut(u32, Real)) -> R) -> R {
-        let before = self.idx.len();
-        let r = fill(&mut |i, c| {
-            self.idx.push(i);
-            self.c.push(c);
-        });
         self.len.push((self.idx.len() - before) as u32);
         r
     }

@@ -306,8 +306,9 @@ pub struct WaterAround<'a, const D: usize> {
 
 /// The water's force on soil particle `q` over the step (seepage and buoyancy, N),
 /// from the water particles `near`; `l` is the particle's velocity gradient, with
-/// which the pairs' midpoint velocities were taken (zero without the midpoint drag). `full` is the kernel sum the water would give
-/// there in full ([`full_sum`] of the soil's own sum). Each pair that exchanges drag
+/// which the pairs' midpoint velocities were taken (zero without the midpoint
+/// drag). `full` is the kernel sum the water would give there in full
+/// ([`full_sum`] of the soil's own sum). Each pair that exchanges drag
 /// is handed to `pair` with its coefficient c_ij = V_j (μ/k_j) W_ij ⟨V_i/s_i⟩ (N·s/m),
 /// for the implicit close of the step ([`seepage_implicit`](super::seepage_implicit)),
 /// and each water particle within the kernel to `wet` with its V_i W_ij, for

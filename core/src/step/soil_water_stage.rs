@@ -325,13 +325,17 @@ impl<const D: usize> SoilWater<D> {
                     let full = full_sum(norm, own[j]);
                     let near = rel.water_near(j);
                     let p = (&q[k], soil_grads.get(j).unwrap_or(&zero));
-                    f[k] = wet.push_row(|idx, ws| {
+                    f[k] = wet.row(|idx, ws| {
                         let sink = |i, vw| {
                             idx.push(i);
                             ws.push(vw);
                         };
                         if record {
-                            rows.row(|pair| {
+                            rows.row(|ri, rc| {
+                                let pair = |i, c| {
+                                    ri.push(i);
+                                    rc.push(c);
+                                };
                                 soil_force(p, &around, near, kernel, full, (pair, sink))
                             })
                         } else {
