@@ -152,13 +152,28 @@ pub struct FineAtWall<'a, const D: usize> {
     pub strength: WallStrength,
     /// Tensile strength of the interface ([`wall_contact::tensile_strength`]).
     pub tensile: Real,
+    /// The body acceleration whose hydrostatic increase Eq. (35) extrapolates to the
+    /// wall ([`FineAtWall::new`]).
+    body: Vect<D>,
     /// 2/ρ_i and the squared kernel cut-off, taken once per particle.
     inv_rho2: Real,
     cut2: Real,
 }
 
 impl<'a, const D: usize> FineAtWall<'a, D> {
-    /// The state of particle i (material `m`) at the walls `wl` of its list.
+    /// The state of particle i (material `m`) at the walls `wl` of its list, under
+    /// the water's force per unit mass `lift` where a soil exchanges one (seed 001
+    /// Eqs. 8–10: buoyancy and seepage).
+    ///
+    /// Eq. (35) extrapolates the pressure the particle's weight holds: ρ_i g less the
+    /// water's vertical force on it, ρ_i (g + ĝ ĝ·f_i/m_i), rather than ρ_i g, so that a
+    /// submerged soil rests on its walls at the gradient of its submerged weight ρ' g,
+    /// as its interior does (its initial stress, and the stress diffusion's
+    /// [`weight`](crate::fine::continuity::ContinuityParams::weight), which takes the
+    /// same vertical part). With ρ_i g the floor of Rondon's dense column (ρ_d = 1500,
+    /// ρ' = 894 kg/m³) pushed its lowest row up at 0.55 m/s² from rest, and a gated
+    /// column lifted off it into −57 Pa of suction by 0.6 s. Without gravity (or
+    /// along a periodic axis) there is no hydrostatic increase, nor any lift.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub fn new(
@@ -170,6 +185,7 @@ impl<'a, const D: usize> FineAtWall<'a, D> {
         rho: Real,
         src: &'a Source,
         wl: &[u32],
+        lift: Option<&Vect<D>>,
     ) -> Self {
         let (n, faces) = normals(&law.kernel, walls, &pos, wl, &law.wrap);
         FineAtWall {
@@ -187,6 +203,11 @@ impl<'a, const D: usize> FineAtWall<'a, D> {
                 WallStress::Mirrored => WallStrength::MIRROR,
             },
             tensile: wall_contact::tensile_strength(m),
+            body: match (lift, law.gravity.try_normalize(0.0)) {
+                // the lift's part along gravity only, as the stress diffusion's `weight`
+                (Some(a), Some(down)) => law.gravity + down * down.dot(a),
+                _ => law.gravity,
+            },
             inv_rho2: 2.0 / rho,
             cut2: law.kernel.cutoff * law.kernel.cutoff,
         }
@@ -210,7 +231,7 @@ impl<'a, const D: usize> FineAtWall<'a, D> {
         let uw = -n.dot(&walls.velocity(w));
         // Eq. (34): U_R = −U_L + 2u_w, so U_L − U_R = 2(U_L − u_w).
         let du = 2.0 * (self.ul - uw);
-        let pr = wall_pressure(si.p, self.rho, r, law.gravity.dot(&(-e)));
+        let pr = wall_pressure(si.p, self.rho, r, self.body.dot(&(-e)));
         let beta = law.riemann.limiter(du, self.inv_c);
         let pstar = 0.5 * (si.p + pr) + 0.5 * beta * si.z * du;
         let mut sstar = si.dev.scale(0.5 * (1.0 + self.strength.ratio(pr)));
@@ -327,5 +348,108 @@ impl WallStrength {
         } else {
             1.0
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Sym;
+    use crate::riemann::Riemann;
+    use crate::walls::{WallKind, WallObject};
+
+    type V = Vect<2>;
+
+    /// A soil particle at rest at `p` of geostatic pressure, over a floor particle
+    /// 0.8 dp below and to the side: its wall acceleration times its density.
+    fn traction(rho: Real, lift: Option<&V>) -> V {
+        let dp = 0.002;
+        let phi: Real = 25f64.to_radians();
+        let t = phi.tan();
+        let (e, nu): (Real, Real) = (5e5, 0.3);
+        let m = FineMaterial {
+            name: "beads".into(),
+            rho0: rho,
+            shear: e / (2.0 * (1.0 + nu)),
+            bulk: e / (3.0 * (1.0 - 2.0 * nu)),
+            c0: (e / (3.0 * (1.0 - 2.0 * nu) * rho)).sqrt(),
+            alpha_phi: t / (9.0 + 12.0 * t * t).sqrt(),
+            k_c: 0.0,
+            alpha_psi: 0.0,
+            k0: 1.0 - phi.sin(),
+            phi,
+            cohesion: 0.0,
+            pores: None,
+            surface: Default::default(),
+            hardening: None,
+            mu_i: None,
+            dilatancy: None,
+        };
+        let law = WallLaw {
+            kernel: WendlandC2::new(1.3 * dp, 2),
+            riemann: Riemann { eta: 40.0 },
+            gravity: V::new(0.0, -9.81),
+            dt: 1e-5,
+            friction: 0.0,
+            stress: WallStress::Extrapolated,
+            wrap: None,
+        };
+        let walls = Walls::<2> {
+            pos: vec![V::new(0.3 * dp, -0.8 * dp)],
+            object: vec![0],
+            objects: vec![WallObject {
+                name: "floor".into(),
+                kind: WallKind::default(),
+                velocity: V::zeros(),
+                prescribed: V::zeros(),
+                window: (0.0, Real::INFINITY),
+                barrier: None,
+                displacement: V::zeros(),
+                shape: None,
+                driven: false,
+                permeable: false,
+            }],
+            barriers: Vec::new(),
+            volume: dp * dp,
+            panel: Vec::new(),
+        };
+        let p = 300.0;
+        let src = Source {
+            dev: Sym([0.1 * p, -0.1 * p, 0.0, 0.0, 0.0, 0.0]),
+            p,
+            vol: dp * dp,
+            z: rho * m.c0,
+            p_rho: 0.0,
+        };
+        let (x, v) = (V::zeros(), V::zeros());
+        let at = FineAtWall::new(&law, &walls, &m, x, v, rho, &src, &[0], lift);
+        at.acceleration(&law, &walls, 0).expect("within the kernel") * rho
+    }
+
+    /// Eq. (35) read for a submerged soil: a soil of dry bulk density ρ_d whose grains
+    /// the water lifts by (1 − n) ρ_w g per unit volume presses on its floor as a dry
+    /// soil of density ρ' = ρ_d − (1 − n) ρ_w at the same stress: the hydrostatic
+    /// increase follows the weight the skeleton carries. A seepage force along the
+    /// floor adds nothing (only the vertical part enters).
+    #[test]
+    fn submerged_soil_presses_on_its_floor_with_its_submerged_weight() {
+        let (rho_d, n, rho_w) = (1500.0, 0.4, 1010.0);
+        let rho_sub = rho_d - (1.0 - n) * rho_w;
+        let lift = V::new(0.0, (1.0 - n) * rho_w * 9.81 / rho_d);
+        let want = traction(rho_sub, None);
+        let got = traction(rho_d, Some(&lift));
+        assert!(
+            (got - want).norm() < 1e-9 * want.norm(),
+            "{got} against {want}"
+        );
+        let sideways = lift + V::new(3.0, 0.0);
+        let got = traction(rho_d, Some(&sideways));
+        assert!(
+            (got - want).norm() < 1e-9 * want.norm(),
+            "{got} against {want}"
+        );
+        // with ρ_d g, as before, the floor pushes harder than the soil weighs
+        let dry = traction(rho_d, None);
+        assert!(dry[1] > want[1] * 1.001, "{dry} against {want}");
     }
 }

@@ -74,8 +74,11 @@ pub fn momentum_sweep<const D: usize>(
                 let sum = std::mem::replace(&mut sums[k].momentum, MomentumSums::zero());
                 let mut acc = pair_acceleration(&sum, rhoi);
                 let wl = cl.wall(k);
+                // the water's force on a soil (soil_water): buoyancy and seepage
+                let lift = water.get(i).map(|f| f / p.mass[i]);
                 if !wl.is_empty() {
-                    let at = FineAtWall::new(wall, walls, mat, xi, vi, rhoi, &src[i], wl);
+                    let (w, s) = (walls, &src[i]);
+                    let at = FineAtWall::new(wall, w, mat, xi, vi, rhoi, s, wl, lift.as_ref());
                     for &w in wl {
                         if let Some(a) = at.acceleration(wall, walls, w as usize) {
                             acc += a;
@@ -103,9 +106,8 @@ pub fn momentum_sweep<const D: usize>(
                         }
                     }
                 }
-                if let Some(f) = water.get(i) {
-                    // the water's seepage force and the grains' buoyancy (soil_water)
-                    acc += f / p.mass[i];
+                if let Some(a) = lift {
+                    acc += a;
                 }
                 *vo = integrate(p, prm, i, acc, &sum.hourglass, &mut hout[k]);
             }
