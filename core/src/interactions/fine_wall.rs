@@ -203,11 +203,15 @@ impl<'a, const D: usize> FineAtWall<'a, D> {
                 WallStress::Mirrored => WallStrength::MIRROR,
             },
             tensile: wall_contact::tensile_strength(m),
-            body: match (lift, law.gravity.try_normalize(0.0)) {
-                // the lift's part along gravity only, as the stress diffusion's `weight`
-                (Some(a), Some(down)) => law.gravity + down * down.dot(a),
-                _ => law.gravity,
-            },
+            // the lift's part along gravity only, as the stress diffusion's `weight`;
+            // a dry soil takes gravity as it is
+            body: lift
+                .and_then(|a| {
+                    law.gravity
+                        .try_normalize(0.0)
+                        .map(|down| down * down.dot(a))
+                })
+                .map_or(law.gravity, |l| law.gravity + l),
             inv_rho2: 2.0 / rho,
             cut2: law.kernel.cutoff * law.kernel.cutoff,
         }
@@ -354,6 +358,7 @@ impl WallStrength {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::interactions::symmetric_tests::material;
     use crate::math::Sym;
     use crate::riemann::Riemann;
     use crate::walls::{WallKind, WallObject};
@@ -364,27 +369,7 @@ mod tests {
     /// 0.8 dp below and to the side: its wall acceleration times its density.
     fn traction(rho: Real, lift: Option<&V>) -> V {
         let dp = 0.002;
-        let phi: Real = 25f64.to_radians();
-        let t = phi.tan();
-        let (e, nu): (Real, Real) = (5e5, 0.3);
-        let m = FineMaterial {
-            name: "beads".into(),
-            rho0: rho,
-            shear: e / (2.0 * (1.0 + nu)),
-            bulk: e / (3.0 * (1.0 - 2.0 * nu)),
-            c0: (e / (3.0 * (1.0 - 2.0 * nu) * rho)).sqrt(),
-            alpha_phi: t / (9.0 + 12.0 * t * t).sqrt(),
-            k_c: 0.0,
-            alpha_psi: 0.0,
-            k0: 1.0 - phi.sin(),
-            phi,
-            cohesion: 0.0,
-            pores: None,
-            surface: Default::default(),
-            hardening: None,
-            mu_i: None,
-            dilatancy: None,
-        };
+        let m = material("beads", rho, 5e5);
         let law = WallLaw {
             kernel: WendlandC2::new(1.3 * dp, 2),
             riemann: Riemann { eta: 40.0 },

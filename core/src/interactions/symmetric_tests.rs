@@ -36,7 +36,9 @@ impl Rng {
     }
 }
 
-fn material(name: &str, rho0: Real, e: Real) -> FineMaterial {
+/// A cohesionless soil of density `rho0` and Young's modulus `e` (φ = 30°, ν = 0.3);
+/// also the wall tests' soil.
+pub(super) fn material(name: &str, rho0: Real, e: Real) -> FineMaterial {
     let nu: Real = 0.3;
     let phi: Real = 30f64.to_radians();
     let t = phi.tan();
