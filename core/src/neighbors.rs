@@ -45,6 +45,10 @@ pub struct CellGrid<const D: usize> {
     /// `start[c]..start[c+1]` indexes `items` for cell c.
     start: Vec<u32>,
     items: Vec<u32>,
+    /// Whether `items` is the identity (the positions were binned already in cell
+    /// order): a stencil row's particles are then a contiguous index range.
+    #[serde(default)]
+    sorted: bool,
     /// Scratch of [`CellGrid::bin`] (refilled there before it is read).
     #[serde(skip)]
     cell_of: Vec<u32>,
@@ -178,6 +182,13 @@ impl<const D: usize> CellGrid<D> {
             self.items[*slot as usize] = i as u32;
             *slot += 1;
         }
+        self.sorted = self.cell_of.windows(2).all(|w| w[0] <= w[1]);
+    }
+
+    /// Whether the binned positions were already in cell order ([`order`](Self::order)
+    /// is then the identity).
+    pub fn is_sorted(&self) -> bool {
+        self.sorted
     }
 
     /// Particle indices in cell order (valid after [`bin`](Self::bin)).
@@ -187,20 +198,31 @@ impl<const D: usize> CellGrid<D> {
 
     /// Call `f(j)` for every binned particle in the 3^D cells around `x`.
     #[inline(always)]
-    pub fn for_each_near(&self, x: &Vect<D>, f: impl FnMut(u32)) {
-        self.stencil(x, false, f)
+    pub fn for_each_near(&self, x: &Vect<D>, mut f: impl FnMut(u32)) {
+        self.stencil(x, false, |a, b| {
+            for &j in &self.items[a..b] {
+                f(j);
+            }
+        })
     }
 
     /// Call `f(j)` for the binned particles in the 3^D cells around `x` whose cells
     /// come no earlier in cell order than the cell of `x`: with the particles sorted
     /// by cell, every j above the index of a particle at `x` is among them.
     #[inline(always)]
-    pub fn for_each_near_forward(&self, x: &Vect<D>, f: impl FnMut(u32)) {
-        self.stencil(x, true, f)
+    pub fn for_each_near_forward(&self, x: &Vect<D>, mut f: impl FnMut(u32)) {
+        self.stencil(x, true, |a, b| {
+            for &j in &self.items[a..b] {
+                f(j);
+            }
+        })
     }
 
+    /// Call `f(a, b)` for each run `order()[a..b]` of binned particles around `x`, in
+    /// the stencil's order: a row of adjacent cells (only the cells from the cell of
+    /// `x` on, in cell order, if `forward`), or one cell of a periodic grid.
     #[inline(always)]
-    fn stencil(&self, x: &Vect<D>, forward: bool, mut f: impl FnMut(u32)) {
+    fn stencil(&self, x: &Vect<D>, forward: bool, mut f: impl FnMut(usize, usize)) {
         if self.wrap.is_some() {
             return self.wrapped_stencil(x, f);
         }
@@ -230,8 +252,8 @@ impl<const D: usize> CellGrid<D> {
                 }
                 let a = self.start[first] as usize;
                 let b = self.start[last + 1] as usize;
-                for &j in &self.items[a..b] {
-                    f(j);
+                if a < b {
+                    f(a, b);
                 }
             }
         }
@@ -240,7 +262,7 @@ impl<const D: usize> CellGrid<D> {
     /// The stencil of a periodic grid: every one of the 3^D cells around `x`, the
     /// periodic axis' neighbours taken modulo the period (the forward half is not
     /// contiguous across the seam, so the lists filter j > i themselves).
-    fn wrapped_stencil(&self, x: &Vect<D>, mut f: impl FnMut(u32)) {
+    fn wrapped_stencil(&self, x: &Vect<D>, mut f: impl FnMut(usize, usize)) {
         let c = self.coords(x);
         // the cells along axis k around c[k]: (cells, count)
         let around = |k: usize| -> ([usize; 3], usize) {
@@ -271,12 +293,62 @@ impl<const D: usize> CellGrid<D> {
                     cc[a2] = r;
                     let k = self.index(cc);
                     let (a, b) = (self.start[k] as usize, self.start[k + 1] as usize);
-                    for &j in &self.items[a..b] {
-                        f(j);
+                    if a < b {
+                        f(a, b);
                     }
                 }
             }
         }
+    }
+
+    /// Append to `out`, in stencil order, the binned particles j around `x` whose
+    /// separation from `x` is shorter than the square root of `r2` (`pos`: the binned
+    /// positions), only those with j > `above` if it is given (with the grid sorted by
+    /// cell, only the stencil's forward half is searched then). Where the positions were
+    /// binned in cell order, a stencil row's candidates are read as one index range,
+    /// without the indirection through [`order`](Self::order); the lists are the same.
+    #[inline(always)]
+    pub fn collect_near(
+        &self,
+        x: &Vect<D>,
+        pos: &[Vect<D>],
+        r2: Real,
+        above: Option<usize>,
+        sep: &impl Separation,
+        out: &mut Vec<u32>,
+    ) {
+        let forward = above.is_some() && self.wrap.is_none();
+        let above = above.map_or(0, |i| i + 1);
+        let contiguous = self.sorted && self.items.len() == pos.len();
+        self.stencil(x, forward, |a, b| {
+            room(out, b - a);
+            if contiguous {
+                // the row's particles are the index range a..b itself
+                let a = a.max(above).min(b);
+                for (k, y) in pos[a..b].iter().enumerate() {
+                    if sep.of(x - y).norm_squared() < r2 {
+                        out.push((a + k) as u32);
+                    }
+                }
+            } else {
+                for &j in &self.items[a..b] {
+                    if j as usize >= above && sep.of(x - pos[j as usize]).norm_squared() < r2 {
+                        out.push(j);
+                    }
+                }
+            }
+        })
+    }
+}
+
+/// Make room for `extra` more entries, growing by an eighth instead of doubling: the
+/// lists are the solver's largest arrays, and doubling would leave up to half of them
+/// unused. Growth only happens while the lists lengthen; a steady run reuses them
+/// without allocating.
+#[inline]
+fn room(v: &mut Vec<u32>, extra: usize) {
+    if v.capacity() - v.len() < extra {
+        v.reserve_exact((v.len() / 8).max(extra).max(2048));
     }
 }
 
@@ -355,18 +427,6 @@ pub struct Binned<'a, const D: usize> {
 }
 
 /// Neighbour lists of all fine particles within the list radius (cut-off + skin).
-/// Make room for one more particle's neighbours (at most a few hundred) growing by an
-/// eighth instead of doubling: the lists are the solver's largest arrays, and
-/// doubling would leave up to half of them unused. Growth only happens while the
-/// lists lengthen; a steady run reuses them without allocating.
-#[inline]
-fn headroom(v: &mut Vec<u32>) {
-    const ROOM: usize = 512;
-    if v.capacity() - v.len() < ROOM {
-        v.reserve_exact((v.len() / 8).max(4 * ROOM));
-    }
-}
-
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct NeighborLists {
     pub chunks: Vec<ChunkList>,
@@ -411,29 +471,14 @@ impl NeighborLists {
             cl.coarse_off.push(0);
             for i in start..end {
                 let xi = pos[i];
-                headroom(&mut cl.inner);
-                headroom(&mut cl.wall);
-                headroom(&mut cl.coarse);
-                fine_grid.for_each_near_forward(&xi, |j| {
-                    if j as usize > i && sep.of(xi - pos[j as usize]).norm_squared() < r2 {
-                        cl.inner.push(j);
-                    }
-                });
+                fine_grid.collect_near(&xi, pos, r2, Some(i), sep, &mut cl.inner);
                 cl.inner_off.push(cl.inner.len() as u32);
                 if !wall_pos.is_empty() {
-                    wall_grid.for_each_near(&xi, |w| {
-                        if sep.of(xi - wall_pos[w as usize]).norm_squared() < r2 {
-                            cl.wall.push(w);
-                        }
-                    });
+                    wall_grid.collect_near(&xi, wall_pos, r2, None, sep, &mut cl.wall);
                 }
                 cl.wall_off.push(cl.wall.len() as u32);
                 if !coarse_pos.is_empty() {
-                    coarse_grid.for_each_near(&xi, |w| {
-                        if sep.of(xi - coarse_pos[w as usize]).norm_squared() < r2 {
-                            cl.coarse.push(w);
-                        }
-                    });
+                    coarse_grid.collect_near(&xi, coarse_pos, r2, None, sep, &mut cl.coarse);
                 }
                 cl.coarse_off.push(cl.coarse.len() as u32);
             }
