@@ -321,7 +321,6 @@ impl<const D: usize> CellGrid<D> {
         let above = above.map_or(0, |i| i + 1);
         let contiguous = self.sorted && self.items.len() == pos.len();
         self.stencil(x, forward, |a, b| {
-            room(out, b - a);
             if contiguous {
                 // the row's particles are the index range a..b itself
                 let a = a.max(above).min(b);
@@ -338,17 +337,6 @@ impl<const D: usize> CellGrid<D> {
                 }
             }
         })
-    }
-}
-
-/// Make room for `extra` more entries, growing by an eighth instead of doubling: the
-/// lists are the solver's largest arrays, and doubling would leave up to half of them
-/// unused. Growth only happens while the lists lengthen; a steady run reuses them
-/// without allocating.
-#[inline]
-fn room(v: &mut Vec<u32>, extra: usize) {
-    if v.capacity() - v.len() < extra {
-        v.reserve_exact((v.len() / 8).max(extra).max(2048));
     }
 }
 
@@ -426,6 +414,18 @@ pub struct Binned<'a, const D: usize> {
     pub grid: &'a CellGrid<D>,
 }
 
+/// Make room for one more particle's neighbours (at most a few hundred) growing by an
+/// eighth instead of doubling: the lists are the solver's largest arrays, and
+/// doubling would leave up to half of them unused. Growth only happens while the
+/// lists lengthen; a steady run reuses them without allocating.
+#[inline]
+fn headroom(v: &mut Vec<u32>) {
+    const ROOM: usize = 512;
+    if v.capacity() - v.len() < ROOM {
+        v.reserve_exact((v.len() / 8).max(4 * ROOM));
+    }
+}
+
 /// Neighbour lists of all fine particles within the list radius (cut-off + skin).
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct NeighborLists {
@@ -471,6 +471,9 @@ impl NeighborLists {
             cl.coarse_off.push(0);
             for i in start..end {
                 let xi = pos[i];
+                headroom(&mut cl.inner);
+                headroom(&mut cl.wall);
+                headroom(&mut cl.coarse);
                 fine_grid.collect_near(&xi, pos, r2, Some(i), sep, &mut cl.inner);
                 cl.inner_off.push(cl.inner.len() as u32);
                 if !wall_pos.is_empty() {
