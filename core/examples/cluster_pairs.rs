@@ -16,6 +16,7 @@
 //! runs); the medians and their ratio are printed. Run with
 //! `cargo run --release -p granmix-core --example cluster_pairs`.
 
+use granmix_core::rng::Rng;
 use pulp::{Simd, WithSimd};
 use std::time::Instant;
 
@@ -50,19 +51,6 @@ fn dw_coef() -> f64 {
     -5.0 * 7.0 / (4.0 * std::f64::consts::PI * H * H) / H
 }
 
-/// A linear congruential generator (the experiment's lattice jitter and fields).
-struct Lcg(u64);
-
-impl Lcg {
-    fn uniform(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 /// The cell of the list radius that `(x, y)` lies in, cells `nc` to a row.
 fn cell(x: f64, y: f64, nc: usize) -> usize {
     (((y + 0.5) / RADIUS) as usize) * nc + ((x + 0.5) / RADIUS) as usize
@@ -71,7 +59,7 @@ fn cell(x: f64, y: f64, nc: usize) -> usize {
 /// A jittered lattice with random velocities and pressures, in `columns` order or
 /// the solver's cell order.
 fn particles(columns: bool, nc: usize) -> Particles {
-    let mut rng = Lcg(7);
+    let mut rng = Rng(7);
     let mut pts: Vec<[f64; 6]> = Vec::new();
     for a in 0..SIDE {
         for b in 0..SIDE {

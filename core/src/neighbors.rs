@@ -185,12 +185,6 @@ impl<const D: usize> CellGrid<D> {
         self.sorted = self.cell_of.windows(2).all(|w| w[0] <= w[1]);
     }
 
-    /// Whether the binned positions were already in cell order ([`order`](Self::order)
-    /// is then the identity).
-    pub fn is_sorted(&self) -> bool {
-        self.sorted
-    }
-
     /// Particle indices in cell order (valid after [`bin`](Self::bin)).
     pub fn order(&self) -> &[u32] {
         &self.items
@@ -200,18 +194,6 @@ impl<const D: usize> CellGrid<D> {
     #[inline(always)]
     pub fn for_each_near(&self, x: &Vect<D>, mut f: impl FnMut(u32)) {
         self.stencil(x, false, |a, b| {
-            for &j in &self.items[a..b] {
-                f(j);
-            }
-        })
-    }
-
-    /// Call `f(j)` for the binned particles in the 3^D cells around `x` whose cells
-    /// come no earlier in cell order than the cell of `x`: with the particles sorted
-    /// by cell, every j above the index of a particle at `x` is among them.
-    #[inline(always)]
-    pub fn for_each_near_forward(&self, x: &Vect<D>, mut f: impl FnMut(u32)) {
-        self.stencil(x, true, |a, b| {
             for &j in &self.items[a..b] {
                 f(j);
             }
