@@ -35,6 +35,7 @@ pub mod panels;
 pub mod periodic;
 pub mod permute;
 pub mod pore_field;
+pub mod quad;
 pub mod resolution;
 mod restore;
 pub mod riemann;
