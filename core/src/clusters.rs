@@ -1,15 +1,16 @@
-//! Clusters of four consecutive particles and the pairs of clusters that hold a listed
-//! pair: the lists of the lane passes (GROMACS' NxM scheme, Páll & Hess 2013; issue 45,
-//! docs/method.md §Throughput).
+//! Clusters of four consecutive particles and, for each, the particles its members
+//! pair with: the lists of the lane passes (a cluster of four against one particle at a
+//! time, after GROMACS' NxM scheme, Páll & Hess 2013; issue 45, docs/method.md
+//! §Throughput).
 //!
 //! Within each slab of the lists ([`slabs`](crate::slabs)) the particles are cut into
 //! clusters of [`WIDTH`] in index order, the last of a slab holding what is left, so
-//! that no cluster straddles two slabs. Cluster J is a neighbour of cluster I when a
-//! particle of J is in the half list of a particle of I. The half lists hold each pair
-//! once under its lower index, so J ≥ I, and J lies in I's slab or the next: the
-//! two-phase schedule runs over clusters as it does over particles. Every pair within
-//! the cut-off is listed, so every such pair belongs to exactly one cluster pair (the
-//! pass masks the others out, and on the diagonal I = J the pairs with j ≤ i).
+//! that no cluster straddles two slabs. A cluster's list is the union of its members'
+//! half lists, ascending. The half lists hold each pair once under its lower index, so
+//! a pass takes the pair (i, j) of a member i and a listed j only where j > i (and
+//! within the cut-off), and every pair within the cut-off exactly once. A listed j lies
+//! in the cluster's slab or the next: the two-phase schedule runs over clusters as it
+//! does over particles.
 
 use crate::neighbors::NeighborLists;
 use crate::quad::WIDTH;
@@ -28,8 +29,9 @@ pub struct ClusterPairs {
     pub start: Vec<u32>,
     /// Slab s holds clusters `slabs[s]..slabs[s + 1]`.
     pub slabs: Vec<u32>,
-    /// `js[off[c]..off[c + 1]]`: the neighbour clusters of c, ascending, c itself first
-    /// when it pairs with itself.
+    /// The cluster of each particle.
+    pub of: Vec<u32>,
+    /// `js[off[c]..off[c + 1]]`: the particles the members of c pair with, ascending.
     off: Vec<u32>,
     js: Vec<u32>,
 }
@@ -52,11 +54,11 @@ impl ClusterPairs {
         self.slabs.push(self.start.len() as u32);
         self.start.push(n as u32);
         let nc = self.start.len() - 1;
-        // the cluster of each particle
-        let mut of = vec![0u32; n];
+        self.of.clear();
+        self.of.resize(n, 0);
         for c in 0..nc {
             for i in self.start[c]..self.start[c + 1] {
-                of[i as usize] = c as u32;
+                self.of[i as usize] = c as u32;
             }
         }
         let start = &self.start;
@@ -64,14 +66,25 @@ impl ClusterPairs {
             .into_par_iter()
             .map(|t| {
                 let (mut counts, mut js) = (Vec::new(), Vec::new());
-                let mut row = Vec::new();
+                let (mut row, mut a, mut b) = (Vec::new(), Vec::new(), Vec::new());
                 for c in t * TASK..((t + 1) * TASK).min(nc) {
-                    row.clear();
-                    for i in start[c]..start[c + 1] {
-                        row.extend(lists.inner_of(i as usize).iter().map(|&j| of[j as usize]));
+                    let mut m: [&[u32]; WIDTH] = [&[]; WIDTH];
+                    for (k, i) in (start[c]..start[c + 1]).enumerate() {
+                        m[k] = lists.inner_of(i as usize);
                     }
-                    row.sort_unstable();
-                    row.dedup();
+                    if m.iter().all(|l| l.is_sorted()) {
+                        // the lists of a cell-sorted family ascend (stencil rows in cell
+                        // order): merge them pairwise
+                        merge_union(m[0], m[1], &mut a);
+                        merge_union(m[2], m[3], &mut b);
+                        merge_union(&a, &b, &mut row);
+                    } else {
+                        // a list that wraps across a periodic seam
+                        row.clear();
+                        m.iter().for_each(|l| row.extend_from_slice(l));
+                        row.sort_unstable();
+                        row.dedup();
+                    }
                     counts.push(row.len() as u32);
                     js.extend_from_slice(&row);
                 }
@@ -100,7 +113,7 @@ impl ClusterPairs {
         self.len() == 0
     }
 
-    /// The neighbour clusters of cluster `c` (`c` itself first if it pairs with itself).
+    /// The particles the members of cluster `c` pair with (j > i of some member i).
     #[inline]
     pub fn of(&self, c: usize) -> &[u32] {
         &self.js[self.off[c] as usize..self.off[c + 1] as usize]
@@ -112,14 +125,18 @@ impl ClusterPairs {
         self.start[c] as usize..self.start[c + 1] as usize
     }
 
-    /// Cluster pairs held.
+    /// Cluster–particle pairs held.
     pub fn pairs(&self) -> usize {
         self.js.len()
     }
 
     /// Bytes held.
     pub fn bytes(&self) -> usize {
-        4 * (self.start.capacity() + self.slabs.capacity() + self.off.capacity() + self.js.capacity())
+        4 * (self.start.capacity()
+            + self.slabs.capacity()
+            + self.of.capacity()
+            + self.off.capacity()
+            + self.js.capacity())
     }
 
     /// Forget the lists they were derived from (the next [`update`](Self::update)
@@ -127,6 +144,20 @@ impl ClusterPairs {
     pub fn invalidate(&mut self) {
         self.from = None;
     }
+}
+
+/// The ascending union of two ascending lists into `out`.
+fn merge_union(a: &[u32], b: &[u32], out: &mut Vec<u32>) {
+    out.clear();
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        let (x, y) = (a[i], b[j]);
+        out.push(x.min(y));
+        i += (x <= y) as usize;
+        j += (y <= x) as usize;
+    }
+    out.extend_from_slice(&a[i..]);
+    out.extend_from_slice(&b[j..]);
 }
 
 #[cfg(test)]
@@ -138,15 +169,28 @@ mod tests {
     use crate::rng::Rng;
     use nalgebra::Vector2;
 
-    /// Every listed pair lies in one listed cluster pair; no cluster straddles a slab;
-    /// each neighbour cluster lies in its cluster's slab or the next.
+    #[test]
+    fn union_of_ascending_lists() {
+        let mut out = Vec::new();
+        merge_union(&[1, 4, 5, 9], &[2, 4, 9, 11, 12], &mut out);
+        assert_eq!(out, [1, 2, 4, 5, 9, 11, 12]);
+        merge_union(&[], &[3], &mut out);
+        assert_eq!(out, [3]);
+    }
+
+    /// Every listed pair (i, j) has j in the list of i's cluster; no cluster straddles a
+    /// slab; each listed particle lies in its cluster's slab or the next, after the
+    /// cluster's first member.
     #[test]
     fn cluster_pairs_cover_the_lists() {
         let mut rng = Rng(7);
         let pos: Vec<Vect<2>> = (0..900)
             .map(|k| {
                 let (a, b) = ((k % 45) as f64, (k / 45) as f64);
-                Vector2::new(a * 0.01 + 0.003 * rng.uniform(), b * 0.01 + 0.003 * rng.uniform())
+                Vector2::new(
+                    a * 0.01 + 0.003 * rng.uniform(),
+                    b * 0.01 + 0.003 * rng.uniform(),
+                )
             })
             .collect();
         let (lo, hi) = (Vector2::new(0.0, 0.0), Vector2::new(0.46, 0.21));
@@ -175,18 +219,20 @@ mod tests {
         for i in 0..pos.len() {
             let ci = cluster(i);
             assert!(cp.members(ci).len() <= WIDTH);
+            assert_eq!(cp.of[i] as usize, ci);
             for &j in nl.inner_of(i) {
-                let cj = cluster(j as usize);
-                assert!(cp.of(ci).contains(&(cj as u32)), "pair {i}-{j}");
+                assert!(cp.of(ci).contains(&j), "pair {i}-{j}");
                 listed += 1;
             }
-            for &cj in cp.of(ci) {
-                let (a, b) = (slab_of(ci), slab_of(cj as usize));
-                assert!(cj as usize >= ci && (b == a || b == a + 1));
+            let js = cp.of(ci);
+            assert!(js.windows(2).all(|w| w[0] < w[1]), "ascending, once each");
+            for &j in js {
+                let (a, b) = (slab_of(ci), slab_of(cluster(j as usize)));
+                assert!(j > cp.start[ci] && (b == a || b == a + 1));
             }
         }
         assert!(listed > 0);
         // the lanes hold every listed pair, plus the ones masked out
-        assert!(cp.pairs() * WIDTH * WIDTH >= listed);
+        assert!(cp.pairs() * WIDTH >= listed);
     }
 }

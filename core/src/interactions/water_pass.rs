@@ -23,17 +23,17 @@ pub struct WaterCoarse<'a, const D: usize> {
     /// coarse particle, `(coarse particle, force)`.
     pub shares: &'a mut [Vec<(u32, Vect<D>)>],
 }
+use crate::clusters::ClusterPairs;
 use crate::load::Load;
 use crate::math::{Real, Vect};
 use crate::neighbors::{NeighborLists, CHUNK};
+use crate::quad::Lanes;
 use crate::walls::Walls;
 use crate::water::correction::{self, Corr};
+use crate::water::lanes::WaterLanes;
 use crate::water::momentum::{WaterParams, WaterSums};
 use crate::water::source::WaterSource;
 use crate::water::state::WaterParticles;
-use crate::clusters::ClusterPairs;
-use crate::quad::Lanes;
-use crate::water::lanes::WaterLanes;
 use crate::water::{continuity, gradient, momentum};
 use rayon::prelude::*;
 
@@ -43,7 +43,9 @@ pub enum WaterPairs<'a, const D: usize> {
     /// [`continuity::pair_pass`]): with `water.muscl`, whose reconstruction reads each
     /// particle's velocity gradient.
     OnePair,
-    /// Four pairs at a time over the cluster pairs ([`WaterLanes`]), on `Lanes`.
+    /// Four pairs at a time over the clusters' lists ([`WaterLanes`]), on `Lanes`;
+    /// the buffers hold the state packed at the start of the sub-step
+    /// ([`WaterLanes::pack`]).
     Lanes(&'a mut WaterLanes<D>, &'a ClusterPairs, Lanes),
 }
 
@@ -63,8 +65,11 @@ pub fn momentum_pairs<const D: usize>(
     match pairs {
         WaterPairs::OnePair => momentum::pair_pass(w, src, (corr, grad), lists, prm, sums),
         WaterPairs::Lanes(buf, cp, lanes) => {
-            assert!(grad.is_empty(), "the cluster-pair pass takes no MUSCL gradients");
-            buf.pack(cp, w, src, corr);
+            assert!(
+                grad.is_empty(),
+                "the cluster-pair pass takes no MUSCL gradients"
+            );
+            buf.pack_corr(cp, corr);
             buf.momentum(cp, prm, lanes, sums);
         }
     }
@@ -97,8 +102,8 @@ pub fn continuity_pairs<const D: usize>(
 /// Runs over the water–water, water–wall and water–coarse relations.
 ///
 /// The kernel gradient correction B of every particle into `corr`: M from the
-/// water–water pairs and the walls, then inverted ([`correction`]); the identity where
-/// `on` is false.
+/// water–water pairs (as `pairs` says) and the walls, then inverted ([`correction`]);
+/// the identity where `on` is false.
 #[allow(clippy::too_many_arguments)]
 pub fn correction_sweep<const D: usize>(
     w: &WaterParticles<D>,
@@ -107,7 +112,7 @@ pub fn correction_sweep<const D: usize>(
     csrc: &[CoarseSource<D>],
     lists: &NeighborLists,
     prm: &WaterParams<D>,
-    on: bool,
+    (on, pairs): (bool, WaterPairs<'_, D>),
     corr: &mut [Corr<D>],
 ) {
     if !on {
@@ -115,7 +120,12 @@ pub fn correction_sweep<const D: usize>(
         return;
     }
     corr.par_iter_mut().for_each(|b| *b = Corr::<D>::zeros());
-    correction::pair_pass(w, |i| src[i].vol, lists, (&prm.kernel, &prm.wrap), corr);
+    match pairs {
+        WaterPairs::OnePair => {
+            correction::pair_pass(w, |i| src[i].vol, lists, (&prm.kernel, &prm.wrap), corr)
+        }
+        WaterPairs::Lanes(buf, cp, lanes) => buf.correction(cp, prm, lanes, corr),
+    }
     lists
         .chunks
         .par_iter()

@@ -6,24 +6,24 @@
 use super::family::{Closing, FamilyLists};
 use super::relations::WallRelation;
 use super::soil_water_stage::SeepStep;
+use crate::clusters::ClusterPairs;
 use crate::coarse::body::Body;
 use crate::guard::{Blowup, Family};
 use crate::interactions::fine_coarse::{self, CoarseSource};
 use crate::interactions::water_buoyancy::Hydrostatics;
-use crate::clusters::ClusterPairs;
 use crate::interactions::water_pass::{
     continuity_pairs, continuity_sweep, correction_sweep, gradient_sweep, momentum_pairs,
     momentum_sweep, WaterCoarse, WaterPairs,
 };
-use crate::quad::Lanes;
-use crate::water::lanes::WaterLanes;
 use crate::interactions::water_start::incompressible_start;
 use crate::kernel::WendlandC2;
 use crate::math::{to3, Real, Vect};
 use crate::neighbors::CellGrid;
+use crate::quad::Lanes;
 use crate::scene::WallSlip;
 use crate::timers::{Stage, StageTimers};
 use crate::water::correction::Corr;
+use crate::water::lanes::WaterLanes;
 use crate::water::material::WaterMaterial;
 use crate::water::momentum::{WaterParams, WaterSums};
 use crate::water::source::{drift_and_pack, pack, WaterSource};
@@ -248,6 +248,11 @@ impl<const D: usize> WaterStepper<D> {
                     (&prm, world.resolution.dp),
                 );
             }
+            if use_lanes(mat) {
+                self.clusters.update(lists, n);
+                self.lanes
+                    .pack(&self.clusters, &world.water.particles, &self.src);
+            }
             correction_sweep(
                 &world.water.particles,
                 &self.src,
@@ -255,7 +260,10 @@ impl<const D: usize> WaterStepper<D> {
                 csrc,
                 lists,
                 &prm,
-                mat.correction,
+                (
+                    mat.correction,
+                    pairs(mat, (&mut self.lanes, &mut self.clusters), lists, n),
+                ),
                 &mut self.corr,
             );
             if mat.muscl {
@@ -438,16 +446,22 @@ impl<const D: usize> WaterStepper<D> {
     }
 }
 
-/// The water–water pair terms on cluster pairs, on the lanes this processor has
-/// ([`Lanes::detect`]), with the clusters brought up to the last list build; one pair
-/// at a time with `water.muscl`, whose reconstruction the lanes do not take.
+/// The water–water pair terms are taken on the clusters' lanes: everywhere but with
+/// `water.muscl`, whose reconstruction the lanes do not take.
+fn use_lanes(mat: &WaterMaterial) -> bool {
+    !mat.muscl
+}
+
+/// The water–water pair terms on the clusters' lanes, on the instruction set this
+/// processor has ([`Lanes::detect`]), with the clusters brought up to the last list
+/// build; one pair at a time where [`use_lanes`] says no.
 fn pairs<'a, const D: usize>(
     mat: &WaterMaterial,
     (lanes, clusters): (&'a mut WaterLanes<D>, &'a mut ClusterPairs),
     lists: &crate::neighbors::NeighborLists,
     n: usize,
 ) -> WaterPairs<'a, D> {
-    if mat.muscl {
+    if !use_lanes(mat) {
         return WaterPairs::OnePair;
     }
     clusters.update(lists, n);

@@ -18,6 +18,9 @@
 //!
 //! [`quad`]: crate::quad
 
+// the terms loop over components of several lane arrays at once (x, v, B, their sums)
+#![allow(clippy::needless_range_loop)]
+
 use super::correction::Corr;
 use super::momentum::{WaterParams, WaterSums};
 use super::source::WaterSource;
@@ -25,7 +28,7 @@ use super::state::WaterParticles;
 use crate::clusters::ClusterPairs;
 use crate::math::{Real, Vect};
 use crate::quad::{Lanes, Quad, QuadTask, WIDTH};
-use crate::slabs::two_phase;
+use crate::slabs::two_phase_in;
 use rayon::prelude::*;
 
 /// Where the lanes of a cluster with fewer than four particles sit: so far that no
@@ -69,6 +72,8 @@ impl<const D: usize> Default for Block<D> {
 pub struct LaneSums<const D: usize> {
     acc: [L; D],
     drho: L,
+    /// M of the correction, upper triangle (row ≤ column).
+    m: [[L; D]; D],
 }
 
 impl<const D: usize> Default for LaneSums<D> {
@@ -76,6 +81,7 @@ impl<const D: usize> Default for LaneSums<D> {
         LaneSums {
             acc: [[0.0; WIDTH]; D],
             drho: [0.0; WIDTH],
+            m: [[[0.0; WIDTH]; D]; D],
         }
     }
 }
@@ -94,14 +100,8 @@ impl<const D: usize> WaterLanes<D> {
             + self.sums.capacity() * std::mem::size_of::<LaneSums<D>>()
     }
 
-    /// Pack positions, velocities, pressure, volume, density and B of every cluster.
-    pub fn pack(
-        &mut self,
-        cp: &ClusterPairs,
-        w: &WaterParticles<D>,
-        src: &[WaterSource],
-        corr: &[Corr<D>],
-    ) {
+    /// Pack positions, velocities, pressure, volume and density of every cluster.
+    pub fn pack(&mut self, cp: &ClusterPairs, w: &WaterParticles<D>, src: &[WaterSource]) {
         self.blocks.resize(cp.len(), Block::default());
         self.blocks.par_iter_mut().enumerate().for_each(|(c, b)| {
             *b = Block::default();
@@ -109,13 +109,65 @@ impl<const D: usize> WaterLanes<D> {
                 for d in 0..D {
                     b.x[d][l] = w.pos[i][d];
                     b.v[d][l] = w.vel[i][d];
-                    for e in 0..D {
-                        b.b[d][e][l] = corr[i][(d, e)];
-                    }
                 }
                 b.p[l] = src[i].p;
                 b.vol[l] = src[i].vol;
                 b.rho[l] = src[i].rho;
+            }
+        });
+    }
+
+    /// Pack each particle's correction B, after [`pack`](Self::pack).
+    pub fn pack_corr(&mut self, cp: &ClusterPairs, corr: &[Corr<D>]) {
+        self.blocks.par_iter_mut().enumerate().for_each(|(c, b)| {
+            for (l, i) in cp.members(c).enumerate() {
+                for d in 0..D {
+                    for e in 0..D {
+                        b.b[d][e][l] = corr[i][(d, e)];
+                    }
+                }
+            }
+        });
+    }
+
+    /// The correction's water–water sums of M into `m` (added), on `lanes`, after
+    /// [`pack`](Self::pack).
+    pub fn correction(
+        &mut self,
+        cp: &ClusterPairs,
+        prm: &WaterParams<D>,
+        lanes: Lanes,
+        m: &mut [Corr<D>],
+    ) {
+        self.run(cp, |blocks, cp, s, win, base| {
+            lanes.run(Moment {
+                blocks,
+                cp,
+                prm,
+                slab: s,
+                win,
+                base,
+            })
+        });
+        let lane_sums = &self.sums;
+        let start = &cp.start;
+        m.par_chunks_mut(1024).enumerate().for_each(|(k, out)| {
+            let first = k * 1024;
+            let mut c = start.partition_point(|&b| b as usize <= first) - 1;
+            for (n, o) in out.iter_mut().enumerate() {
+                let i = first + n;
+                while start[c + 1] as usize <= i {
+                    c += 1;
+                }
+                let (s, l) = (&lane_sums[c].m, i - start[c] as usize);
+                for d in 0..D {
+                    for e in d..D {
+                        o[(d, e)] += s[d][e][l];
+                        if e != d {
+                            o[(e, d)] += s[d][e][l];
+                        }
+                    }
+                }
             }
         });
     }
@@ -193,9 +245,14 @@ impl<const D: usize> WaterLanes<D> {
         self.sums.clear();
         self.sums.resize(cp.len(), LaneSums::default());
         let blocks = &self.blocks;
-        two_phase(&cp.slabs, &mut self.sums, &|s, win: &mut [LaneSums<D>], base| {
-            task(blocks, cp, s, win, base)
-        });
+        // as many particles per serial range as the one-pair passes take
+        let serial = 512 / WIDTH;
+        two_phase_in(
+            &cp.slabs,
+            &mut self.sums,
+            serial,
+            &|s, win: &mut [LaneSums<D>], base| task(blocks, cp, s, win, base),
+        );
     }
 
     /// Add each particle's lane sums to its entry of `sums` with `add`.
@@ -205,20 +262,18 @@ impl<const D: usize> WaterLanes<D> {
     {
         let lane_sums = &self.sums;
         let start = &cp.start;
-        sums.par_chunks_mut(1024)
-            .enumerate()
-            .for_each(|(k, out)| {
-                let first = k * 1024;
-                // the cluster of the chunk's first particle
-                let mut c = start.partition_point(|&b| b as usize <= first) - 1;
-                for (m, o) in out.iter_mut().enumerate() {
-                    let i = first + m;
-                    while start[c + 1] as usize <= i {
-                        c += 1;
-                    }
-                    add(o, &lane_sums[c], i - start[c] as usize);
+        sums.par_chunks_mut(1024).enumerate().for_each(|(k, out)| {
+            let first = k * 1024;
+            // the cluster of the chunk's first particle
+            let mut c = start.partition_point(|&b| b as usize <= first) - 1;
+            for (m, o) in out.iter_mut().enumerate() {
+                let i = first + m;
+                while start[c + 1] as usize <= i {
+                    c += 1;
                 }
-            });
+                add(o, &lane_sums[c], i - start[c] as usize);
+            }
+        });
     }
 }
 
@@ -228,17 +283,18 @@ fn bc<Q: Quad>(q: Q, v: &L, l: usize) -> Q::V {
     q.splat(v[l])
 }
 
-/// x_i − x_j of one particle against four, minimum images across a periodic seam.
+/// x_i − x_j of the four particles of a cluster against one particle, minimum images
+/// across a periodic seam.
 #[inline(always)]
 fn separation<Q: Quad, const D: usize>(
     q: Q,
     prm: &WaterParams<D>,
-    (bi, k): (&Block<D>, usize),
-    xj: &[Q::V; D],
+    xi: &[Q::V; D],
+    (bj, l): (&Block<D>, usize),
 ) -> [Q::V; D] {
-    let mut r = [q.splat(0.0); D];
+    let mut r = *xi;
     for d in 0..D {
-        r[d] = q.sub(bc(q, &bi.x[d], k), xj[d]);
+        r[d] = q.sub(xi[d], bc(q, &bj.x[d], l));
     }
     if let Some(p) = prm.wrap {
         let a = p.axis;
@@ -250,31 +306,22 @@ fn separation<Q: Quad, const D: usize>(
     r
 }
 
-/// The lanes of the diagonal cluster pair a particle in lane `k` pairs with (l > k).
-#[inline(always)]
-fn above<Q: Quad>(q: Q, k: usize) -> Q::M {
-    let lane = q.load(&[0.0, 1.0, 2.0, 3.0]);
-    q.lt(q.splat(k as Real), lane)
-}
-
-/// The lanes within the cut-off (and above `k` on the diagonal); r², r, 1/r and
-/// ∂W/∂r there (r² = 1 elsewhere, to keep the arithmetic finite).
+/// The lanes that pair with particle `j`: within the cut-off and i < j (`idx` holds
+/// the lanes' particle indices); r, 1/r and ∂W/∂r there (r = 1 elsewhere, to keep
+/// the arithmetic finite).
 #[inline(always)]
 fn geometry<Q: Quad, const D: usize>(
     q: Q,
     prm: &WaterParams<D>,
     rij: &[Q::V; D],
-    diagonal: Option<usize>,
+    (idx, j): (Q::V, usize),
 ) -> (Q::M, Q::V, Q::V, Q::V) {
     let mut r2 = q.mul(rij[0], rij[0]);
     for x in rij.iter().skip(1) {
         r2 = q.add(r2, q.mul(*x, *x));
     }
     let cut = prm.kernel.cutoff;
-    let mut m = q.lt(r2, q.splat(cut * cut));
-    if let Some(k) = diagonal {
-        m = q.and(m, above(q, k));
-    }
+    let m = q.and(q.lt(r2, q.splat(cut * cut)), q.lt(idx, q.splat(j as Real)));
     let one = q.splat(1.0);
     let r = q.sqrt(q.select(m, r2, one));
     let inv_r = q.div(one, r);
@@ -284,6 +331,165 @@ fn geometry<Q: Quad, const D: usize>(
     let t = q.sub(one, q.mul(q.splat(0.5), s));
     let dw = q.mul(q.mul(q.mul(q.mul(q.splat(coef), s), t), t), t);
     (m, r, inv_r, dw)
+}
+
+/// The particle indices of cluster `c`'s lanes.
+#[inline(always)]
+fn lane_indices<Q: Quad>(q: Q, cp: &ClusterPairs, c: usize) -> Q::V {
+    let first = cp.start[c] as Real;
+    q.add(q.splat(first), q.load(&[0.0, 1.0, 2.0, 3.0]))
+}
+
+/// One slab of the correction's pass: M_i = −Σ_j r ∂W/∂r e⊗e V_j
+/// ([`correction`](super::correction)), its upper triangle.
+struct Moment<'a, const D: usize> {
+    blocks: &'a [Block<D>],
+    cp: &'a ClusterPairs,
+    prm: &'a WaterParams<D>,
+    slab: usize,
+    win: &'a mut [LaneSums<D>],
+    base: usize,
+}
+
+impl<const D: usize> QuadTask for Moment<'_, D> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<Q: Quad>(self, q: Q) {
+        let Moment {
+            blocks,
+            cp,
+            prm,
+            slab,
+            win,
+            base,
+        } = self;
+        let zero = q.splat(0.0);
+        for ci in cp.slabs[slab] as usize..cp.slabs[slab + 1] as usize {
+            let bi = &blocks[ci];
+            let idx = lane_indices(q, cp, ci);
+            let mut xi = [zero; D];
+            for d in 0..D {
+                xi[d] = q.load(&bi.x[d]);
+            }
+            let voli = q.load(&bi.vol);
+            let mut own = [[zero; D]; D];
+            for &j in cp.of(ci) {
+                let j = j as usize;
+                let cj = cp.of[j] as usize;
+                let (bj, l) = (&blocks[cj], j - cp.start[cj] as usize);
+                let rij = separation(q, prm, &xi, (bj, l));
+                let (m, r, inv_r, dw) = geometry(q, prm, &rij, (idx, j));
+                let f = q.select(m, q.sub(zero, q.mul(r, dw)), zero);
+                let volj = bc(q, &bj.vol, l);
+                let mut e = [zero; D];
+                for d in 0..D {
+                    e[d] = q.mul(rij[d], inv_r);
+                }
+                // the upper triangle, row by row, into one array for the lane sums
+                let mut tj = [zero; 6];
+                let mut k = 0;
+                for d in 0..D {
+                    for c in d..D {
+                        let t = q.mul(q.mul(e[d], e[c]), f);
+                        own[d][c] = q.add(own[d][c], q.mul(t, volj));
+                        tj[k] = q.mul(t, voli);
+                        k += 1;
+                    }
+                }
+                let sums = if D == 2 {
+                    let s = q.sums(&[tj[0], tj[1], tj[2]]);
+                    [s[0], s[1], s[2], 0.0, 0.0, 0.0]
+                } else {
+                    q.sums(&tj)
+                };
+                let out = &mut win[cj - base].m;
+                let mut k = 0;
+                for d in 0..D {
+                    for c in d..D {
+                        out[d][c][l] += sums[k];
+                        k += 1;
+                    }
+                }
+            }
+            let out = &mut win[ci - base].m;
+            for d in 0..D {
+                for c in d..D {
+                    let s = q.add(q.load(&out[d][c]), own[d][c]);
+                    q.store(&mut out[d][c], s);
+                }
+            }
+        }
+    }
+}
+
+/// The lanes of a cluster as its momentum terms read them.
+struct MomentumLanes<Q: Quad, const D: usize> {
+    idx: Q::V,
+    x: [Q::V; D],
+    v: [Q::V; D],
+    b: [[Q::V; D]; D],
+    p: Q::V,
+    vol: Q::V,
+}
+
+/// The momentum term of the four lanes of a cluster against particle `j` (lane `l` of
+/// block `bj`): what the lanes gain (times V_j) and what j gains from each (times
+/// V_i, to be summed over the lanes and subtracted); zero outside the cut-off.
+#[inline(always)]
+fn momentum_term<Q: Quad, const D: usize>(
+    q: Q,
+    prm: &WaterParams<D>,
+    i: &MomentumLanes<Q, D>,
+    (bj, l, j): (&Block<D>, usize, usize),
+) -> ([Q::V; D], [Q::V; D]) {
+    let zero = q.splat(0.0);
+    let (half, one) = (q.splat(0.5), q.splat(1.0));
+    let rij = separation(q, prm, &i.x, (bj, l));
+    let (m, _r, inv_r, dw) = geometry(q, prm, &rij, (i.idx, j));
+    let mut e = [zero; D];
+    let mut vij = [zero; D];
+    // U_L − U_R = −v_ij·e
+    let mut vie = zero;
+    for d in 0..D {
+        e[d] = q.mul(rij[d], inv_r);
+        vij[d] = q.sub(i.v[d], bc(q, &bj.v[d], l));
+        vie = q.add(vie, q.mul(vij[d], e[d]));
+    }
+    let du = q.sub(zero, vie);
+    // β = min(η du/c0, 1) under compression, 0 in expansion (p_star)
+    let eta_c = q.splat(prm.eta * prm.inv_c);
+    let beta = q.select(q.lt(zero, du), q.min(q.mul(eta_c, du), one), zero);
+    let mean = q.mul(half, q.add(i.p, bc(q, &bj.p, l)));
+    let ps = q.add(mean, q.mul(q.mul(q.mul(half, beta), q.splat(prm.z)), du));
+    // B̄e = ½ (B_i + B_j) e
+    let mut eh = [zero; D];
+    for d in 0..D {
+        eh[d] = q.mul(e[d], half);
+    }
+    let mut be = [zero; D];
+    let mut ebe = zero;
+    for d in 0..D {
+        let mut s = zero;
+        for c in 0..D {
+            let bsum = q.add(i.b[d][c], bc(q, &bj.b[d][c], l));
+            s = q.add(s, q.mul(bsum, eh[c]));
+        }
+        be[d] = s;
+        ebe = q.add(ebe, q.mul(e[d], s));
+    }
+    // Morris' term with the corrected gradient: μ ∂W/∂r e·B̄e / r
+    let visc = q.mul(q.mul(q.mul(q.splat(prm.mu), dw), inv_r), ebe);
+    let pd = q.mul(q.sub(zero, ps), dw);
+    let volj = bc(q, &bj.vol, l);
+    let (mut own, mut tj) = ([zero; D], [zero; D]);
+    for d in 0..D {
+        let t = q.add(q.mul(be[d], pd), q.mul(vij[d], visc));
+        let t = q.select(m, t, zero);
+        own[d] = q.mul(t, volj);
+        tj[d] = q.mul(t, i.vol);
+    }
+    (own, tj)
 }
 
 /// One slab of the momentum pass.
@@ -299,6 +505,8 @@ struct Momentum<'a, const D: usize> {
 impl<const D: usize> QuadTask for Momentum<'_, D> {
     type Output = ();
 
+    /// Two neighbours per iteration, so that the processor overlaps their chains of
+    /// square root, division and products.
     #[inline(always)]
     fn run<Q: Quad>(self, q: Q) {
         let Momentum {
@@ -310,81 +518,114 @@ impl<const D: usize> QuadTask for Momentum<'_, D> {
             base,
         } = self;
         let zero = q.splat(0.0);
-        let (half, one) = (q.splat(0.5), q.splat(1.0));
-        let (eta_c, z, mu) = (q.splat(prm.eta * prm.inv_c), q.splat(prm.z), q.splat(prm.mu));
         for ci in cp.slabs[slab] as usize..cp.slabs[slab + 1] as usize {
             let bi = &blocks[ci];
-            let ni = cp.members(ci).len();
-            let mut own = [[zero; D]; WIDTH];
-            for &cj in cp.of(ci) {
-                let cj = cj as usize;
-                let bj = &blocks[cj];
-                let mut xj = [zero; D];
-                let mut vj = [zero; D];
-                let mut bjm = [[zero; D]; D];
-                for d in 0..D {
-                    xj[d] = q.load(&bj.x[d]);
-                    vj[d] = q.load(&bj.v[d]);
-                    for e in 0..D {
-                        bjm[d][e] = q.load(&bj.b[d][e]);
-                    }
+            let mut lanes = MomentumLanes::<Q, D> {
+                idx: lane_indices(q, cp, ci),
+                x: [zero; D],
+                v: [zero; D],
+                b: [[zero; D]; D],
+                p: q.load(&bi.p),
+                vol: q.load(&bi.vol),
+            };
+            for d in 0..D {
+                lanes.x[d] = q.load(&bi.x[d]);
+                lanes.v[d] = q.load(&bi.v[d]);
+                for c in 0..D {
+                    lanes.b[d][c] = q.load(&bi.b[d][c]);
                 }
-                let (pj, volj) = (q.load(&bj.p), q.load(&bj.vol));
-                let mut accj = [zero; D];
-                for (k, own) in own.iter_mut().enumerate().take(ni) {
-                    let rij = separation(q, prm, (bi, k), &xj);
-                    let (m, _r, inv_r, dw) = geometry(q, prm, &rij, (cj == ci).then_some(k));
-                    let mut e = [zero; D];
-                    let mut vij = [zero; D];
-                    // U_L − U_R = −v_ij·e
-                    let mut vie = zero;
-                    for d in 0..D {
-                        e[d] = q.mul(rij[d], inv_r);
-                        vij[d] = q.sub(bc(q, &bi.v[d], k), vj[d]);
-                        vie = q.add(vie, q.mul(vij[d], e[d]));
-                    }
-                    let du = q.sub(zero, vie);
-                    // β = min(η du/c0, 1) under compression, 0 in expansion (p_star)
-                    let beta = q.select(q.lt(zero, du), q.min(q.mul(eta_c, du), one), zero);
-                    let mean = q.mul(half, q.add(bc(q, &bi.p, k), pj));
-                    let ps = q.add(mean, q.mul(q.mul(q.mul(half, beta), z), du));
-                    // B̄e = ½ (B_i + B_j) e
-                    let mut be = [zero; D];
-                    let mut ebe = zero;
-                    for d in 0..D {
-                        let mut s = zero;
-                        for c in 0..D {
-                            let bsum = q.add(bc(q, &bi.b[d][c], k), bjm[d][c]);
-                            s = q.add(s, q.mul(bsum, q.mul(e[c], half)));
-                        }
-                        be[d] = s;
-                        ebe = q.add(ebe, q.mul(e[d], s));
-                    }
-                    // Morris' term with the corrected gradient: μ ∂W/∂r e·B̄e / r
-                    let visc = q.mul(q.mul(q.mul(mu, dw), inv_r), ebe);
-                    let pd = q.mul(q.sub(zero, ps), dw);
-                    let voli = bc(q, &bi.vol, k);
-                    for d in 0..D {
-                        let t = q.add(q.mul(be[d], pd), q.mul(vij[d], visc));
-                        let t = q.select(m, t, zero);
-                        own[d] = q.add(own[d], q.mul(t, volj));
-                        accj[d] = q.sub(accj[d], q.mul(t, voli));
-                    }
-                }
-                let out = &mut win[cj - base].acc;
+            }
+            let mut own = [zero; D];
+            let js = cp.of(ci);
+            let at = |j: u32| {
+                let j = j as usize;
+                let cj = cp.of[j] as usize;
+                (cj, j - cp.start[cj] as usize, j)
+            };
+            let mut pairs = js.chunks_exact(2);
+            for two in &mut pairs {
+                let (c0, l0, j0) = at(two[0]);
+                let (c1, l1, j1) = at(two[1]);
+                let (o0, t0) = momentum_term(q, prm, &lanes, (&blocks[c0], l0, j0));
+                let (o1, t1) = momentum_term(q, prm, &lanes, (&blocks[c1], l1, j1));
+                let mut t = [zero; 6];
                 for d in 0..D {
-                    let s = q.add(q.load(&out[d]), accj[d]);
-                    q.store(&mut out[d], s);
+                    own[d] = q.add(q.add(own[d], o0[d]), o1[d]);
+                    t[d] = t0[d];
+                    t[D + d] = t1[d];
+                }
+                let s = if D == 2 {
+                    let s = q.sums(&[t[0], t[1], t[2], t[3]]);
+                    [s[0], s[1], s[2], s[3], 0.0, 0.0]
+                } else {
+                    q.sums(&t)
+                };
+                for d in 0..D {
+                    win[c0 - base].acc[d][l0] -= s[d];
+                }
+                for d in 0..D {
+                    win[c1 - base].acc[d][l1] -= s[D + d];
+                }
+            }
+            for &j in pairs.remainder() {
+                let (c0, l0, j0) = at(j);
+                let (o0, t0) = momentum_term(q, prm, &lanes, (&blocks[c0], l0, j0));
+                for d in 0..D {
+                    own[d] = q.add(own[d], o0[d]);
+                }
+                for (d, s) in q.sums(&t0).into_iter().enumerate() {
+                    win[c0 - base].acc[d][l0] -= s;
                 }
             }
             let out = &mut win[ci - base].acc;
-            for (k, own) in own.iter().enumerate().take(ni) {
-                for d in 0..D {
-                    out[d][k] += q.sum(own[d]);
-                }
+            for d in 0..D {
+                let s = q.add(q.load(&out[d]), own[d]);
+                q.store(&mut out[d], s);
             }
         }
     }
+}
+
+/// The lanes of a cluster as its continuity terms read them.
+struct ContinuityLanes<Q: Quad, const D: usize> {
+    idx: Q::V,
+    x: [Q::V; D],
+    v: [Q::V; D],
+    g: [Q::V; D],
+    p: Q::V,
+    vol: Q::V,
+    rho: Q::V,
+}
+
+/// The continuity term of the four lanes against particle `j`: what the lanes gain
+/// (times V_j) and what j gains from each (times V_i, to be summed over the lanes).
+#[inline(always)]
+fn continuity_term<Q: Quad, const D: usize>(
+    q: Q,
+    prm: &WaterParams<D>,
+    i: &ContinuityLanes<Q, D>,
+    (bj, l, j): (&Block<D>, usize, usize),
+) -> (Q::V, Q::V) {
+    let zero = q.splat(0.0);
+    let half = q.splat(0.5);
+    let rij = separation(q, prm, &i.x, (bj, l));
+    let (m, _r, inv_r, dw) = geometry(q, prm, &rij, (i.idx, j));
+    // u = v_ij·x_ij / r; the jump relative to ρ̄ ḡ·x_ij
+    let (mut vx, mut gx) = (zero, zero);
+    for d in 0..D {
+        let vij = q.sub(i.v[d], bc(q, &bj.v[d], l));
+        vx = q.add(vx, q.mul(vij, rij[d]));
+        let g = q.mul(half, q.add(i.g[d], bc(q, &bj.g[d], l)));
+        gx = q.add(gx, q.mul(g, rij[d]));
+    }
+    let u = q.mul(vx, inv_r);
+    let rho = q.mul(half, q.add(i.rho, bc(q, &bj.rho, l)));
+    let dp = q.sub(i.p, bc(q, &bj.p, l));
+    let jump = q.mul(q.sub(dp, q.mul(rho, gx)), q.splat(1.0 / prm.z));
+    let dw = q.select(m, dw, zero);
+    let own = q.mul(q.mul(q.add(u, jump), dw), bc(q, &bj.vol, l));
+    let tj = q.mul(q.mul(q.sub(u, jump), dw), i.vol);
+    (own, tj)
 }
 
 /// One slab of the continuity pass.
@@ -400,6 +641,7 @@ struct Continuity<'a, const D: usize> {
 impl<const D: usize> QuadTask for Continuity<'_, D> {
     type Output = ();
 
+    /// Four neighbours per iteration, their lane sums taken together.
     #[inline(always)]
     fn run<Q: Quad>(self, q: Q) {
         let Continuity {
@@ -411,52 +653,53 @@ impl<const D: usize> QuadTask for Continuity<'_, D> {
             base,
         } = self;
         let zero = q.splat(0.0);
-        let (half, inv_z) = (q.splat(0.5), q.splat(1.0 / prm.z));
         for ci in cp.slabs[slab] as usize..cp.slabs[slab + 1] as usize {
             let bi = &blocks[ci];
-            let ni = cp.members(ci).len();
-            let mut own = [zero; WIDTH];
-            for &cj in cp.of(ci) {
-                let cj = cj as usize;
-                let bj = &blocks[cj];
-                let mut xj = [zero; D];
-                let mut vj = [zero; D];
-                let mut gj = [zero; D];
-                for d in 0..D {
-                    xj[d] = q.load(&bj.x[d]);
-                    vj[d] = q.load(&bj.v[d]);
-                    gj[d] = q.load(&bj.g[d]);
+            let mut lanes = ContinuityLanes::<Q, D> {
+                idx: lane_indices(q, cp, ci),
+                x: [zero; D],
+                v: [zero; D],
+                g: [zero; D],
+                p: q.load(&bi.p),
+                vol: q.load(&bi.vol),
+                rho: q.load(&bi.rho),
+            };
+            for d in 0..D {
+                lanes.x[d] = q.load(&bi.x[d]);
+                lanes.v[d] = q.load(&bi.v[d]);
+                lanes.g[d] = q.load(&bi.g[d]);
+            }
+            let mut own = zero;
+            let js = cp.of(ci);
+            let at = |j: u32| {
+                let j = j as usize;
+                let cj = cp.of[j] as usize;
+                (cj, j - cp.start[cj] as usize, j)
+            };
+            let mut fours = js.chunks_exact(4);
+            for four in &mut fours {
+                let mut t = [zero; 4];
+                let mut to = [(0, 0); 4];
+                for k in 0..4 {
+                    let (c, l, j) = at(four[k]);
+                    let (o, tj) = continuity_term(q, prm, &lanes, (&blocks[c], l, j));
+                    own = q.add(own, o);
+                    t[k] = tj;
+                    to[k] = (c, l);
                 }
-                let (pj, volj, rhoj) = (q.load(&bj.p), q.load(&bj.vol), q.load(&bj.rho));
-                let mut accj = zero;
-                for (k, own) in own.iter_mut().enumerate().take(ni) {
-                    let rij = separation(q, prm, (bi, k), &xj);
-                    let (m, _r, inv_r, dw) = geometry(q, prm, &rij, (cj == ci).then_some(k));
-                    // u = v_ij·x_ij / r; the jump relative to ρ̄ ḡ·x_ij
-                    let (mut vx, mut gx) = (zero, zero);
-                    for d in 0..D {
-                        let vij = q.sub(bc(q, &bi.v[d], k), vj[d]);
-                        vx = q.add(vx, q.mul(vij, rij[d]));
-                        let g = q.mul(half, q.add(bc(q, &bi.g[d], k), gj[d]));
-                        gx = q.add(gx, q.mul(g, rij[d]));
-                    }
-                    let u = q.mul(vx, inv_r);
-                    let rho = q.mul(half, q.add(bc(q, &bi.rho, k), rhoj));
-                    let dp = q.sub(bc(q, &bi.p, k), pj);
-                    let jump = q.mul(q.sub(dp, q.mul(rho, gx)), inv_z);
-                    let dw = q.select(m, dw, zero);
-                    *own = q.add(*own, q.mul(q.mul(q.add(u, jump), dw), volj));
-                    let voli = bc(q, &bi.vol, k);
-                    accj = q.add(accj, q.mul(q.mul(q.sub(u, jump), dw), voli));
+                for ((c, l), s) in to.into_iter().zip(q.sums(&t)) {
+                    win[c - base].drho[l] += s;
                 }
-                let out = &mut win[cj - base].drho;
-                let s = q.add(q.load(out), accj);
-                q.store(out, s);
+            }
+            for &j in fours.remainder() {
+                let (c, l, j) = at(j);
+                let (o, tj) = continuity_term(q, prm, &lanes, (&blocks[c], l, j));
+                own = q.add(own, o);
+                win[c - base].drho[l] += q.sum(tj);
             }
             let out = &mut win[ci - base].drho;
-            for (k, own) in own.iter().enumerate().take(ni) {
-                out[k] += q.sum(*own);
-            }
+            let s = q.add(q.load(out), own);
+            q.store(out, s);
         }
     }
 }
@@ -468,7 +711,7 @@ mod tests {
     use crate::neighbors::{Binned, CellGrid, NeighborLists};
     use crate::periodic::{Period, Wrap};
     use crate::rng::Rng;
-    use crate::water::{continuity, momentum};
+    use crate::water::{continuity, correction, momentum};
 
     /// A disordered block of water (spacing `dp`, ±30 % jitter), sorted by cell, its
     /// lists, and per-particle pressures, volumes, B and seepage accelerations that
@@ -496,7 +739,12 @@ mod tests {
                     let ijk = [a, b, c];
                     let x = Vect::<D>::from_fn(|d, _| (ijk[d] as Real + 0.6 * u()) * dp);
                     let v = Vect::<D>::from_fn(|_, _| 0.4 * u());
-                    w.push(x, v, 1000.0 * (1.0 + 0.01 * u()), 1000.0 * dp.powi(D as i32));
+                    w.push(
+                        x,
+                        v,
+                        1000.0 * (1.0 + 0.01 * u()),
+                        1000.0 * dp.powi(D as i32),
+                    );
                 }
             }
         }
@@ -509,17 +757,7 @@ mod tests {
         let hi = Vect::<D>::from_fn(|d, _| side[d] as Real * dp + 0.05);
         let mut g = CellGrid::periodic(&lo, &hi, radius, wrap);
         g.bin(&w.pos);
-        let mut order = g.order().to_vec();
-        if std::env::var("PROBE_SORT").is_ok() {
-            let mut sl = Vec::new();
-            g.slab_starts(&mut sl);
-            let fast = if D == 2 { 1 } else { 1 };
-            for s in 0..sl.len() - 1 {
-                let (a, b) = (sl[s] as usize, sl[s + 1] as usize);
-                let p = &w.pos;
-                order[a..b].sort_by(|&i, &j| p[i as usize][fast].total_cmp(&p[j as usize][fast]));
-            }
-        }
+        let order = g.order().to_vec();
         w.permute(&order, &mut Default::default());
         g.bin(&w.pos);
         let none = CellGrid::periodic(&lo, &hi, radius, wrap);
@@ -567,13 +805,24 @@ mod tests {
         let mut want = vec![WaterSums::<D>::zero(); n];
         momentum::pair_pass(&w, &src, (&corr, &[]), &lists, &prm, &mut want);
         continuity::pair_pass(&w, &src, &lists, &prm, &body, &mut want);
+        let mut want_m = vec![Corr::<D>::zeros(); n];
+        let vol = |i: usize| src[i].vol;
+        correction::pair_pass(&w, vol, &lists, (&prm.kernel, &prm.wrap), &mut want_m);
         let mut cp = ClusterPairs::default();
         cp.update(&lists, n);
         let mut runs = Vec::new();
         for lanes in [Lanes::portable(), Lanes::best()] {
             let mut buf = WaterLanes::<D>::default();
             let mut got = vec![WaterSums::<D>::zero(); n];
-            buf.pack(&cp, &w, &src, &corr);
+            buf.pack(&cp, &w, &src);
+            let mut m = vec![Corr::<D>::zeros(); n];
+            buf.correction(&cp, &prm, lanes, &mut m);
+            let scale_m = want_m.iter().map(|m| m.norm()).fold(0.0, Real::max);
+            for i in 0..n {
+                let dm = (m[i] - want_m[i]).norm() / scale_m;
+                assert!(dm < 1e-12, "{} particle {i}: M {dm:e}", lanes.name());
+            }
+            buf.pack_corr(&cp, &corr);
             buf.momentum(&cp, &prm, lanes, &mut got);
             buf.repack_velocity(&cp, &w.vel, (&prm.hydrostatic, &body));
             buf.continuity(&cp, &prm, lanes, &mut got);
@@ -582,9 +831,13 @@ mod tests {
             for i in 0..n {
                 let da = (got[i].acc - want[i].acc).norm() / scale_a;
                 let dd = (got[i].drho - want[i].drho).abs() / scale_d;
-                assert!(da < 1e-12 && dd < 1e-12, "{} particle {i}: {da:e} {dd:e}", lanes.name());
+                assert!(
+                    da < 1e-12 && dd < 1e-12,
+                    "{} particle {i}: {da:e} {dd:e}",
+                    lanes.name()
+                );
             }
-            runs.push(got);
+            runs.push((got, m));
         }
         let bits = |s: &[WaterSums<D>]| -> Vec<u64> {
             s.iter()
@@ -592,43 +845,22 @@ mod tests {
                 .map(f64::to_bits)
                 .collect()
         };
-        assert_eq!(bits(&runs[0]), bits(&runs[1]), "the two instruction sets differ");
-    }
-
-    #[test]
-    fn usage_probe() {
-        let (w, _src, _corr, _body, lists, prm) = cloud::<2>(None, 11);
-        let n = w.len();
-        let mut cp = ClusterPairs::default();
-        cp.update(&lists, n);
-        let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
-        let mut within = 0;
-        let mut listed = 0;
-        for i in 0..n {
-            for &j in lists.inner_of(i) {
-                listed += 1;
-                if (w.pos[i] - w.pos[j as usize]).norm_squared() < cut2 {
-                    within += 1;
-                }
-            }
-        }
-        let mut lanes = 0;
-        for c in 0..cp.len() {
-            for &cj in cp.of(c) {
-                lanes += cp.members(c).len() * WIDTH;
-                let _ = cj;
-            }
-        }
-        let mut l41 = 0;
-        for c in 0..cp.len() {
-            let mut u: Vec<u32> = cp.members(c).flat_map(|i| lists.inner_of(i).iter().copied()).collect();
-            u.extend(cp.members(c).map(|i| i as u32));
-            u.sort_unstable();
-            u.dedup();
-            l41 += u.len() * WIDTH;
-        }
-        eprintln!("4x1 lanes {l41} useful {:.3}", within as f64 / l41 as f64);
-        eprintln!("n {n} listed {listed} within {within} cluster pairs {} lanes {lanes} useful {:.3}", cp.pairs(), within as f64 / lanes as f64);
+        assert_eq!(
+            bits(&runs[0].0),
+            bits(&runs[1].0),
+            "the two instruction sets differ"
+        );
+        let mbits = |m: &[Corr<D>]| -> Vec<u64> {
+            m.iter()
+                .flat_map(|x| x.iter().copied())
+                .map(f64::to_bits)
+                .collect()
+        };
+        assert_eq!(
+            mbits(&runs[0].1),
+            mbits(&runs[1].1),
+            "M differs between the two"
+        );
     }
 
     #[test]
