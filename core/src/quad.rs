@@ -51,6 +51,39 @@ pub trait Quad: Copy {
         self.store(&mut a, v);
         (a[0] + a[1]) + (a[2] + a[3])
     }
+
+    /// [`sum`](Self::sum) of two vectors at once.
+    #[inline(always)]
+    fn sum2(self, a: Self::V, b: Self::V) -> [f64; 2] {
+        [self.sum(a), self.sum(b)]
+    }
+
+    /// [`sum`](Self::sum) of four vectors at once.
+    #[inline(always)]
+    fn sum4(self, a: Self::V, b: Self::V, c: Self::V, d: Self::V) -> [f64; 4] {
+        [self.sum(a), self.sum(b), self.sum(c), self.sum(d)]
+    }
+
+    /// [`sum`](Self::sum) of each of `N` vectors, four, two or one at a time.
+    #[inline(always)]
+    fn sums<const N: usize>(self, v: &[Self::V; N]) -> [f64; N] {
+        let mut out = [0.0; N];
+        let mut k = 0;
+        while k + 4 <= N {
+            let s = self.sum4(v[k], v[k + 1], v[k + 2], v[k + 3]);
+            out[k..k + 4].copy_from_slice(&s);
+            k += 4;
+        }
+        if k + 3 == N {
+            let s = self.sum4(v[k], v[k + 1], v[k + 2], v[k + 2]);
+            out[k..].copy_from_slice(&s[..3]);
+        } else if k + 2 == N {
+            out[k..].copy_from_slice(&self.sum2(v[k], v[k + 1]));
+        } else if k + 1 == N {
+            out[k] = self.sum(v[k]);
+        }
+        out
+    }
 }
 
 /// `[f64; 4]` with the baseline instruction set.
@@ -107,16 +140,18 @@ impl Quad for Portable {
     }
 }
 
-/// A [`pulp::Simd`] of four f64 lanes (x86-64-v3's `f64x4`).
+/// AVX2's four f64 lanes (pulp's x86-64-v3 token; its intrinsics are safe calls).
+#[cfg(target_arch = "x86_64")]
 #[derive(Clone, Copy, Debug)]
-struct Wide<S>(S);
+struct Avx2(pulp::x86::V3);
 
-impl<S: pulp::Simd> Quad for Wide<S> {
-    type V = S::f64s;
-    type M = S::m64s;
+#[cfg(target_arch = "x86_64")]
+impl Quad for Avx2 {
+    type V = pulp::f64x4;
+    type M = pulp::m64x4;
     #[inline(always)]
     fn splat(self, x: f64) -> Self::V {
-        self.0.splat_f64s(x)
+        self.0.splat_f64x4(x)
     }
     #[inline(always)]
     fn load(self, a: &[f64; WIDTH]) -> Self::V {
@@ -128,35 +163,57 @@ impl<S: pulp::Simd> Quad for Wide<S> {
     }
     #[inline(always)]
     fn add(self, a: Self::V, b: Self::V) -> Self::V {
-        self.0.add_f64s(a, b)
+        pulp::Simd::add_f64s(self.0, a, b)
     }
     #[inline(always)]
     fn sub(self, a: Self::V, b: Self::V) -> Self::V {
-        self.0.sub_f64s(a, b)
+        pulp::Simd::sub_f64s(self.0, a, b)
     }
     #[inline(always)]
     fn mul(self, a: Self::V, b: Self::V) -> Self::V {
-        self.0.mul_f64s(a, b)
+        pulp::Simd::mul_f64s(self.0, a, b)
     }
     #[inline(always)]
     fn div(self, a: Self::V, b: Self::V) -> Self::V {
-        self.0.div_f64s(a, b)
+        pulp::Simd::div_f64s(self.0, a, b)
     }
     #[inline(always)]
     fn sqrt(self, a: Self::V) -> Self::V {
-        self.0.sqrt_f64s(a)
+        pulp::Simd::sqrt_f64s(self.0, a)
     }
     #[inline(always)]
     fn lt(self, a: Self::V, b: Self::V) -> Self::M {
-        self.0.less_than_f64s(a, b)
+        pulp::Simd::less_than_f64s(self.0, a, b)
     }
     #[inline(always)]
     fn and(self, a: Self::M, b: Self::M) -> Self::M {
-        self.0.and_m64s(a, b)
+        pulp::Simd::and_m64s(self.0, a, b)
     }
     #[inline(always)]
     fn select(self, m: Self::M, a: Self::V, b: Self::V) -> Self::V {
-        self.0.select_f64s(m, a, b)
+        pulp::Simd::select_f64s(self.0, m, a, b)
+    }
+    /// hadd gives (l0 + l1) and (l2 + l3) of both, the two halves' sum the rest.
+    #[inline(always)]
+    fn sum2(self, a: Self::V, b: Self::V) -> [f64; 2] {
+        let avx = self.0.avx;
+        let h = avx._mm256_hadd_pd(pulp::cast(a), pulp::cast(b));
+        let s = self.0.sse2._mm_add_pd(
+            avx._mm256_castpd256_pd128(h),
+            avx._mm256_extractf128_pd::<1>(h),
+        );
+        pulp::cast(s)
+    }
+    /// Two hadds, then the low halves (l0 + l1) and high halves (l2 + l3) of all four
+    /// gathered into one vector each, and added.
+    #[inline(always)]
+    fn sum4(self, a: Self::V, b: Self::V, c: Self::V, d: Self::V) -> [f64; 4] {
+        let avx = self.0.avx;
+        let ab = avx._mm256_hadd_pd(pulp::cast(a), pulp::cast(b));
+        let cd = avx._mm256_hadd_pd(pulp::cast(c), pulp::cast(d));
+        let lo = avx._mm256_permute2f128_pd::<0x20>(ab, cd);
+        let hi = avx._mm256_permute2f128_pd::<0x31>(ab, cd);
+        pulp::cast(avx._mm256_add_pd(lo, hi))
     }
 }
 
@@ -168,14 +225,17 @@ pub trait QuadTask {
     fn run<Q: Quad>(self, q: Q) -> Self::Output;
 }
 
-/// The AVX2 entry point of a [`QuadTask`].
-struct OnWide<K>(K);
+/// The AVX2 entry point of a [`QuadTask`]: run inside the function pulp compiles
+/// with the x86-64-v3 features, on the token it was made with.
+#[cfg(target_arch = "x86_64")]
+struct OnAvx2<K>(K, pulp::x86::V3);
 
-impl<K: QuadTask> pulp::WithSimd for OnWide<K> {
+#[cfg(target_arch = "x86_64")]
+impl<K: QuadTask> pulp::WithSimd for OnAvx2<K> {
     type Output = K::Output;
     #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, s: S) -> K::Output {
-        self.0.run(Wide(s))
+    fn with_simd<S: pulp::Simd>(self, _: S) -> K::Output {
+        self.0.run(Avx2(self.1))
     }
 }
 
@@ -241,7 +301,7 @@ impl Lanes {
         match self.0 {
             Level::Portable => task.run(Portable),
             #[cfg(target_arch = "x86_64")]
-            Level::Avx2(v3) => pulp::Simd::vectorize(v3, OnWide(task)),
+            Level::Avx2(v3) => pulp::Simd::vectorize(v3, OnAvx2(task, v3)),
         }
     }
 }
@@ -266,15 +326,24 @@ mod tests {
                     let keep = q.and(q.lt(q.splat(-0.5), x), q.lt(x, q.splat(0.9)));
                     let mut out = [0.0; WIDTH];
                     q.store(&mut out, q.select(keep, v, q.sub(q.splat(0.0), x)));
-                    out[0] = q.sum(q.load(&out));
+                    let v = q.load(&out);
+                    let w = q.mul(v, q.splat(-0.3));
+                    let [a, b] = q.sum2(v, w);
+                    let [c, d, e, f] = q.sum4(w, v, v, w);
+                    out[0] = q.sum(v);
+                    out[1] = ((a - b) + (c - d)) + (e - f);
+                    let [g, h, k] = q.sums(&[v, w, v]);
+                    out[2] = (g - h) + k;
+                    let s5 = q.sums(&[w, v, v, v, w]);
+                    out[3] = s5.iter().sum::<f64>();
                     out
                 })
                 .collect()
         }
     }
 
-    /// Both levels take the same terms, min, masks and the lane sum to the same bits,
-    /// and those of one value at a time.
+    /// Both levels take the same terms, min, masks and the lane sums (one, two and four
+    /// at a time) to the same bits, and those of one value at a time.
     #[test]
     fn both_levels_compute_the_same_bits() {
         let x: Vec<[f64; WIDTH]> = (0..37)
@@ -292,7 +361,13 @@ mod tests {
             .iter()
             .map(|x| {
                 let mut o: [f64; WIDTH] = std::array::from_fn(|l| one(x[l]));
-                o[0] = (o[0] + o[1]) + (o[2] + o[3]);
+                let w: [f64; WIDTH] = std::array::from_fn(|l| o[l] * -0.3);
+                let sum = |v: &[f64; WIDTH]| (v[0] + v[1]) + (v[2] + v[3]);
+                let (sv, sw) = (sum(&o), sum(&w));
+                o[0] = sv;
+                o[1] = ((sv - sw) + (sw - sv)) + (sv - sw);
+                o[2] = (sv - sw) + sv;
+                o[3] = [sw, sv, sv, sv, sw].iter().sum::<f64>();
                 o
             })
             .collect();
