@@ -1,9 +1,9 @@
-//! Four f64 lanes for the cluster-pair passes (issue 45), on the instruction set chosen
-//! at run time.
+//! Four f64 lanes for pair passes over clusters of four particles (issue 45,
+//! docs/method.md §Throughput), on the instruction set chosen at run time.
 //!
-//! A cluster-pair pass ([`clusters`](crate::clusters)) takes one particle against the
-//! four of a neighbour cluster at a time: its terms are written once, generic over
-//! [`Quad`], and [`Lanes::run`] compiles them twice:
+//! Such a pass takes the four particles of a cluster, one per lane, against one
+//! neighbour at a time: its terms are written once, generic over [`Quad`], and
+//! [`Lanes::run`] compiles them twice:
 //! - on AVX2 ([`pulp`]'s x86-64-v3 entry point, `f64x4`), when the processor has it;
 //! - on `[f64; 4]` arrays with the baseline instruction set, on any x86-64 a master
 //!   runs on, and wherever `GRANMIX_SIMD=scalar` asks for it.
@@ -75,6 +75,7 @@ pub trait Quad: Copy {
             k += 4;
         }
         if k + 3 == N {
+            // the fourth sum is a repeat of the third, dropped
             let s = self.sum4(v[k], v[k + 1], v[k + 2], v[k + 2]);
             out[k..].copy_from_slice(&s[..3]);
         } else if k + 2 == N {
@@ -286,7 +287,7 @@ impl Lanes {
         Lanes::portable()
     }
 
-    /// The name of the instruction set, as the bench and the run summary print it.
+    /// The name of the instruction set: `scalar` or `avx2`.
     pub fn name(&self) -> &'static str {
         match self.0 {
             Level::Portable => "scalar",
