@@ -25,18 +25,13 @@ use super::correction::Corr;
 use super::momentum::{WaterParams, WaterSums};
 use super::source::WaterSource;
 use super::state::WaterParticles;
+use crate::cluster_lanes::{
+    at, bc, geometry, lane_indices, run_slabs, separation, unpack, Geometry, FAR, L,
+};
 use crate::clusters::ClusterPairs;
-use crate::math::{Real, Vect};
+use crate::math::Vect;
 use crate::quad::{Lanes, Quad, QuadTask, WIDTH};
-use crate::slabs::two_phase_in;
 use rayon::prelude::*;
-
-/// Where the lanes of a cluster with fewer than four particles sit: so far that no
-/// pair with them is within the cut-off.
-const FAR: Real = 1e30;
-
-/// Lanes of one component.
-type L = [Real; WIDTH];
 
 /// The state the pair terms read, for the four particles of a cluster.
 #[derive(Clone, Copy, Debug)]
@@ -149,23 +144,12 @@ impl<const D: usize> WaterLanes<D> {
                 base,
             })
         });
-        let lane_sums = &self.sums;
-        let start = &cp.start;
-        m.par_chunks_mut(1024).enumerate().for_each(|(k, out)| {
-            let first = k * 1024;
-            let mut c = start.partition_point(|&b| b as usize <= first) - 1;
-            for (n, o) in out.iter_mut().enumerate() {
-                let i = first + n;
-                while start[c + 1] as usize <= i {
-                    c += 1;
-                }
-                let (s, l) = (&lane_sums[c].m, i - start[c] as usize);
-                for d in 0..D {
-                    for e in d..D {
-                        o[(d, e)] += s[d][e][l];
-                        if e != d {
-                            o[(e, d)] += s[d][e][l];
-                        }
+        unpack(cp, &self.sums, m, |o, s, l| {
+            for d in 0..D {
+                for e in d..D {
+                    o[(d, e)] += s.m[d][e][l];
+                    if e != d {
+                        o[(e, d)] += s.m[d][e][l];
                     }
                 }
             }
@@ -242,17 +226,10 @@ impl<const D: usize> WaterLanes<D> {
     where
         F: Fn(&[Block<D>], &ClusterPairs, usize, &mut [LaneSums<D>], usize) + Sync,
     {
-        self.sums.clear();
-        self.sums.resize(cp.len(), LaneSums::default());
         let blocks = &self.blocks;
-        // as many particles per serial range as the one-pair passes take
-        let serial = 512 / WIDTH;
-        two_phase_in(
-            &cp.slabs,
-            &mut self.sums,
-            serial,
-            &|s, win: &mut [LaneSums<D>], base| task(blocks, cp, s, win, base),
-        );
+        run_slabs(cp, &mut self.sums, |s, win, base| {
+            task(blocks, cp, s, win, base)
+        });
     }
 
     /// Add each particle's lane sums to its entry of `sums` with `add`.
@@ -260,84 +237,8 @@ impl<const D: usize> WaterLanes<D> {
     where
         F: Fn(&mut WaterSums<D>, &LaneSums<D>, usize) + Sync,
     {
-        let lane_sums = &self.sums;
-        let start = &cp.start;
-        sums.par_chunks_mut(1024).enumerate().for_each(|(k, out)| {
-            let first = k * 1024;
-            // the cluster of the chunk's first particle
-            let mut c = start.partition_point(|&b| b as usize <= first) - 1;
-            for (m, o) in out.iter_mut().enumerate() {
-                let i = first + m;
-                while start[c + 1] as usize <= i {
-                    c += 1;
-                }
-                add(o, &lane_sums[c], i - start[c] as usize);
-            }
-        });
+        unpack(cp, &self.sums, sums, add);
     }
-}
-
-/// Lane `l` of `v`, broadcast.
-#[inline(always)]
-fn bc<Q: Quad>(q: Q, v: &L, l: usize) -> Q::V {
-    q.splat(v[l])
-}
-
-/// x_i − x_j of the four particles of a cluster against one particle, minimum images
-/// across a periodic seam.
-#[inline(always)]
-fn separation<Q: Quad, const D: usize>(
-    q: Q,
-    prm: &WaterParams<D>,
-    xi: &[Q::V; D],
-    (bj, l): (&Block<D>, usize),
-) -> [Q::V; D] {
-    let mut r = *xi;
-    for d in 0..D {
-        r[d] = q.sub(xi[d], bc(q, &bj.x[d], l));
-    }
-    if let Some(p) = prm.wrap {
-        let a = p.axis;
-        let (half, len, zero) = (q.splat(0.5 * p.len), q.splat(p.len), q.splat(0.0));
-        let up = q.select(q.lt(half, r[a]), len, zero);
-        let down = q.select(q.lt(r[a], q.sub(zero, half)), len, zero);
-        r[a] = q.add(q.sub(r[a], up), down);
-    }
-    r
-}
-
-/// The lanes that pair with particle `j`: within the cut-off and i < j (`idx` holds
-/// the lanes' particle indices); r, 1/r and ∂W/∂r there (r = 1 elsewhere, to keep
-/// the arithmetic finite).
-#[inline(always)]
-fn geometry<Q: Quad, const D: usize>(
-    q: Q,
-    prm: &WaterParams<D>,
-    rij: &[Q::V; D],
-    (idx, j): (Q::V, usize),
-) -> (Q::M, Q::V, Q::V, Q::V) {
-    let mut r2 = q.mul(rij[0], rij[0]);
-    for x in rij.iter().skip(1) {
-        r2 = q.add(r2, q.mul(*x, *x));
-    }
-    let cut = prm.kernel.cutoff;
-    let m = q.and(q.lt(r2, q.splat(cut * cut)), q.lt(idx, q.splat(j as Real)));
-    let one = q.splat(1.0);
-    let r = q.sqrt(q.select(m, r2, one));
-    let inv_r = q.div(one, r);
-    // ∂W/∂r of the Wendland C2 kernel (WendlandC2::dw_within)
-    let (inv_h, coef) = prm.kernel.dw_factors();
-    let s = q.mul(r, q.splat(inv_h));
-    let t = q.sub(one, q.mul(q.splat(0.5), s));
-    let dw = q.mul(q.mul(q.mul(q.mul(q.splat(coef), s), t), t), t);
-    (m, r, inv_r, dw)
-}
-
-/// The particle indices of cluster `c`'s lanes.
-#[inline(always)]
-fn lane_indices<Q: Quad>(q: Q, cp: &ClusterPairs, c: usize) -> Q::V {
-    let first = cp.start[c] as Real;
-    q.add(q.splat(first), q.load(&[0.0, 1.0, 2.0, 3.0]))
 }
 
 /// One slab of the correction's pass: M_i = −Σ_j r ∂W/∂r e⊗e V_j
@@ -378,8 +279,10 @@ impl<const D: usize> QuadTask for Moment<'_, D> {
                 let j = j as usize;
                 let cj = cp.of[j] as usize;
                 let (bj, l) = (&blocks[cj], j - cp.start[cj] as usize);
-                let rij = separation(q, prm, &xi, (bj, l));
-                let (m, r, inv_r, dw) = geometry(q, prm, &rij, (idx, j));
+                let rij = separation(q, &prm.wrap, &xi, (&bj.x, l));
+                let Geometry {
+                    m, r, inv_r, dw, ..
+                } = geometry(q, &prm.kernel, &rij, (idx, j));
                 let f = q.select(m, q.sub(zero, q.mul(r, dw)), zero);
                 let volj = bc(q, &bj.vol, l);
                 let mut e = [zero; D];
@@ -445,8 +348,8 @@ fn momentum_term<Q: Quad, const D: usize>(
 ) -> ([Q::V; D], [Q::V; D]) {
     let zero = q.splat(0.0);
     let (half, one) = (q.splat(0.5), q.splat(1.0));
-    let rij = separation(q, prm, &i.x, (bj, l));
-    let (m, _r, inv_r, dw) = geometry(q, prm, &rij, (i.idx, j));
+    let rij = separation(q, &prm.wrap, &i.x, (&bj.x, l));
+    let Geometry { m, inv_r, dw, .. } = geometry(q, &prm.kernel, &rij, (i.idx, j));
     let mut e = [zero; D];
     let mut vij = [zero; D];
     // U_L − U_R = −v_ij·e
@@ -537,11 +440,7 @@ impl<const D: usize> QuadTask for Momentum<'_, D> {
             }
             let mut own = [zero; D];
             let js = cp.of(ci);
-            let at = |j: u32| {
-                let j = j as usize;
-                let cj = cp.of[j] as usize;
-                (cj, j - cp.start[cj] as usize, j)
-            };
+            let at = |j: u32| at(cp, j);
             let mut pairs = js.chunks_exact(2);
             for two in &mut pairs {
                 let (c0, l0, j0) = at(two[0]);
@@ -608,8 +507,8 @@ fn continuity_term<Q: Quad, const D: usize>(
 ) -> (Q::V, Q::V) {
     let zero = q.splat(0.0);
     let half = q.splat(0.5);
-    let rij = separation(q, prm, &i.x, (bj, l));
-    let (m, _r, inv_r, dw) = geometry(q, prm, &rij, (i.idx, j));
+    let rij = separation(q, &prm.wrap, &i.x, (&bj.x, l));
+    let Geometry { m, inv_r, dw, .. } = geometry(q, &prm.kernel, &rij, (i.idx, j));
     // u = v_ij·x_ij / r; the jump relative to ρ̄ ḡ·x_ij
     let (mut vx, mut gx) = (zero, zero);
     for d in 0..D {
@@ -671,11 +570,7 @@ impl<const D: usize> QuadTask for Continuity<'_, D> {
             }
             let mut own = zero;
             let js = cp.of(ci);
-            let at = |j: u32| {
-                let j = j as usize;
-                let cj = cp.of[j] as usize;
-                (cj, j - cp.start[cj] as usize, j)
-            };
+            let at = |j: u32| at(cp, j);
             let mut fours = js.chunks_exact(4);
             for four in &mut fours {
                 let mut t = [zero; 4];
@@ -708,6 +603,7 @@ impl<const D: usize> QuadTask for Continuity<'_, D> {
 mod tests {
     use super::*;
     use crate::kernel::WendlandC2;
+    use crate::math::Real;
     use crate::neighbors::{Binned, CellGrid, NeighborLists};
     use crate::periodic::{Period, Wrap};
     use crate::rng::Rng;
