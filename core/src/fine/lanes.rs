@@ -173,6 +173,15 @@ struct MomentumScalars<const D: usize> {
 }
 
 impl<const D: usize> FineLanes<D> {
+    /// Bytes per particle of the packed state and the two passes' lane sums.
+    pub fn bytes_per_particle() -> usize {
+        use std::mem::size_of;
+        (size_of::<Block<D>>()
+            + size_of::<MomentumLaneSums<D>>()
+            + size_of::<ContinuityLaneSums<D>>())
+            / WIDTH
+    }
+
     /// Bytes held.
     pub fn bytes(&self) -> usize {
         use std::mem::size_of;
@@ -236,8 +245,10 @@ impl<const D: usize> FineLanes<D> {
             "the fine cluster-pair pass takes one impedance, no MUSCL and no artificial stress"
         );
         self.pack(cp, (p, src), prm, jump);
-        // one impedance and sound speed: those of any soil
-        let mat = &prm.materials[0];
+        // one impedance and sound speed: those of any soil (none: no fine grains)
+        let Some(mat) = prm.materials.first() else {
+            return;
+        };
         let z = mat.rho0 * mat.c0;
         let sc = MomentumScalars {
             kernel: prm.kernel,
@@ -288,6 +299,9 @@ impl<const D: usize> FineLanes<D> {
         lanes: Lanes,
         sums: &mut [PairSums<D>],
     ) {
+        if cp.is_empty() {
+            return;
+        }
         self.blocks.par_iter_mut().enumerate().for_each(|(c, b)| {
             for (l, i) in cp.members(c).enumerate() {
                 for d in 0..D {
@@ -343,7 +357,9 @@ const fn slots(d: usize) -> usize {
 
 /// The momentum terms of the four lanes of a cluster against particle `j` (lane `l`
 /// of block `bj`): what the lanes gain, added into `own` (laid out as [`slots`]),
-/// and what j gains from each lane, to be summed over the lanes, into `tj`.
+/// and what j gains from each lane, to be summed over the lanes, into `tj`. False,
+/// with neither touched, if no lane pairs with j (a list entry beyond the cut-off of
+/// every member, in the lists' skin).
 #[inline(always)]
 fn momentum_term<Q: Quad, const D: usize>(
     q: Q,
@@ -352,7 +368,7 @@ fn momentum_term<Q: Quad, const D: usize>(
     (bj, l, j): (&Block<D>, usize, usize),
     own: &mut [Q::V; 16],
     tj: &mut [Q::V; 16],
-) {
+) -> bool {
     let zero = q.splat(0.0);
     let (half, one) = (q.splat(0.5), q.splat(1.0));
     let rij = separation(q, &sc.wrap, &i.x, (&bj.x, l));
@@ -364,6 +380,9 @@ fn momentum_term<Q: Quad, const D: usize>(
         dw,
         ..
     } = geometry(q, &sc.kernel, &rij, (i.idx, j));
+    if !q.any(m) {
+        return false;
+    }
     // the pairs beyond the cut-off (or with j ≤ i) add nothing: every term is ∝ ∂W/∂r
     let dw = q.select(m, dw, zero);
     let (volj, pj) = (bc(q, &bj.vol, l), bc(q, &bj.p, l));
@@ -463,6 +482,7 @@ fn momentum_term<Q: Quad, const D: usize>(
             tj[o + 4 + k] = q.mul(wj, i.dev[k]);
         }
     }
+    true
 }
 
 /// The lane sums of the first [`slots`] entries of `t`.
@@ -533,7 +553,9 @@ impl<const D: usize> QuadTask for Momentum<'_, D> {
             let mut tj = [zero; 16];
             for &j in cp.of(ci) {
                 let (c, l, j) = at(cp, j);
-                momentum_term(q, sc, &lanes, (&blocks[c], l, j), &mut own, &mut tj);
+                if !momentum_term(q, sc, &lanes, (&blocks[c], l, j), &mut own, &mut tj) {
+                    continue;
+                }
                 let s = slot_sums::<Q, D>(q, &tj);
                 let out = &mut win[c - base];
                 for d in 0..D {
@@ -570,7 +592,8 @@ impl<const D: usize> QuadTask for Momentum<'_, D> {
 
 /// The continuity terms of the four lanes against particle `j`: what the lanes gain
 /// (drho, then −v_ij ⊗ e ∂W/∂r V_j by row) into `own`, and what j gains from each
-/// into `tj`, to be summed over the lanes (drho added, the gradient subtracted).
+/// into `tj`, to be summed over the lanes (drho added, the gradient subtracted);
+/// false, with neither touched, if no lane pairs with j.
 #[inline(always)]
 fn continuity_term<Q: Quad, const D: usize>(
     q: Q,
@@ -579,11 +602,14 @@ fn continuity_term<Q: Quad, const D: usize>(
     (bj, l, j): (&Block<D>, usize, usize),
     own: &mut [Q::V; 10],
     tj: &mut [Q::V; 10],
-) {
+) -> bool {
     let zero = q.splat(0.0);
     let (x, v, vol) = (&i.x, &i.v, i.vol);
     let rij = separation(q, wrap, x, (&bj.x, l));
     let Geometry { m, inv_r, dw, .. } = geometry(q, kernel, &rij, (i.idx, j));
+    if !q.any(m) {
+        return false;
+    }
     let dw = q.select(m, dw, zero);
     let volj = bc(q, &bj.vol, l);
     let mut e = [zero; D];
@@ -605,6 +631,7 @@ fn continuity_term<Q: Quad, const D: usize>(
             tj[k] = q.mul(gj, e[b]);
         }
     }
+    true
 }
 
 /// The lanes of a cluster as the continuity terms read them.
@@ -657,14 +684,10 @@ impl<const D: usize> QuadTask for Continuity<'_, D> {
             let mut tj = [zero; 10];
             for &j in cp.of(ci) {
                 let (c, l, j) = at(cp, j);
-                continuity_term(
-                    q,
-                    (kernel, wrap),
-                    &lanes,
-                    (&blocks[c], l, j),
-                    &mut own,
-                    &mut tj,
-                );
+                let block = (&blocks[c], l, j);
+                if !continuity_term(q, (kernel, wrap), &lanes, block, &mut own, &mut tj) {
+                    continue;
+                }
                 let s: [Real; 10] = if D == 2 {
                     let a: [Q::V; 5] = std::array::from_fn(|k| tj[k]);
                     let mut s = [0.0; 10];

@@ -283,6 +283,10 @@ impl<const D: usize> QuadTask for Moment<'_, D> {
                 let Geometry {
                     m, r, inv_r, dw, ..
                 } = geometry(q, &prm.kernel, &rij, (idx, j));
+                if !q.any(m) {
+                    // beyond the cut-off of every lane (the lists' skin)
+                    continue;
+                }
                 let f = q.select(m, q.sub(zero, q.mul(r, dw)), zero);
                 let volj = bc(q, &bj.vol, l);
                 let mut e = [zero; D];
@@ -326,6 +330,10 @@ impl<const D: usize> QuadTask for Moment<'_, D> {
     }
 }
 
+/// What the four lanes gain from a neighbour (times V_j) and what it gains from each
+/// of them (times V_i), per component.
+type OwnAndPartner<Q, const D: usize> = ([<Q as Quad>::V; D], [<Q as Quad>::V; D]);
+
 /// The lanes of a cluster as its momentum terms read them.
 struct MomentumLanes<Q: Quad, const D: usize> {
     idx: Q::V,
@@ -338,18 +346,22 @@ struct MomentumLanes<Q: Quad, const D: usize> {
 
 /// The momentum term of the four lanes of a cluster against particle `j` (lane `l` of
 /// block `bj`): what the lanes gain (times V_j) and what j gains from each (times
-/// V_i, to be summed over the lanes and subtracted); zero outside the cut-off.
+/// V_i, to be summed over the lanes and subtracted); zero outside the cut-off, and
+/// none if no lane pairs with j.
 #[inline(always)]
 fn momentum_term<Q: Quad, const D: usize>(
     q: Q,
     prm: &WaterParams<D>,
     i: &MomentumLanes<Q, D>,
     (bj, l, j): (&Block<D>, usize, usize),
-) -> ([Q::V; D], [Q::V; D]) {
+) -> Option<OwnAndPartner<Q, D>> {
     let zero = q.splat(0.0);
     let (half, one) = (q.splat(0.5), q.splat(1.0));
     let rij = separation(q, &prm.wrap, &i.x, (&bj.x, l));
     let Geometry { m, inv_r, dw, .. } = geometry(q, &prm.kernel, &rij, (i.idx, j));
+    if !q.any(m) {
+        return None;
+    }
     let mut e = [zero; D];
     let mut vij = [zero; D];
     // U_L − U_R = −v_ij·e
@@ -392,7 +404,7 @@ fn momentum_term<Q: Quad, const D: usize>(
         own[d] = q.mul(t, volj);
         tj[d] = q.mul(t, i.vol);
     }
-    (own, tj)
+    Some((own, tj))
 }
 
 /// One slab of the momentum pass.
@@ -408,8 +420,6 @@ struct Momentum<'a, const D: usize> {
 impl<const D: usize> QuadTask for Momentum<'_, D> {
     type Output = ();
 
-    /// Two neighbours per iteration, so that the processor overlaps their chains of
-    /// square root, division and products.
     #[inline(always)]
     fn run<Q: Quad>(self, q: Q) {
         let Momentum {
@@ -439,41 +449,16 @@ impl<const D: usize> QuadTask for Momentum<'_, D> {
                 }
             }
             let mut own = [zero; D];
-            let js = cp.of(ci);
-            let at = |j: u32| at(cp, j);
-            let mut pairs = js.chunks_exact(2);
-            for two in &mut pairs {
-                let (c0, l0, j0) = at(two[0]);
-                let (c1, l1, j1) = at(two[1]);
-                let (o0, t0) = momentum_term(q, prm, &lanes, (&blocks[c0], l0, j0));
-                let (o1, t1) = momentum_term(q, prm, &lanes, (&blocks[c1], l1, j1));
-                let mut t = [zero; 6];
-                for d in 0..D {
-                    own[d] = q.add(q.add(own[d], o0[d]), o1[d]);
-                    t[d] = t0[d];
-                    t[D + d] = t1[d];
-                }
-                let s = if D == 2 {
-                    let s = q.sums(&[t[0], t[1], t[2], t[3]]);
-                    [s[0], s[1], s[2], s[3], 0.0, 0.0]
-                } else {
-                    q.sums(&t)
+            for &j in cp.of(ci) {
+                let (c, l, j) = at(cp, j);
+                let Some((o, t)) = momentum_term(q, prm, &lanes, (&blocks[c], l, j)) else {
+                    continue;
                 };
                 for d in 0..D {
-                    win[c0 - base].acc[d][l0] -= s[d];
+                    own[d] = q.add(own[d], o[d]);
                 }
-                for d in 0..D {
-                    win[c1 - base].acc[d][l1] -= s[D + d];
-                }
-            }
-            for &j in pairs.remainder() {
-                let (c0, l0, j0) = at(j);
-                let (o0, t0) = momentum_term(q, prm, &lanes, (&blocks[c0], l0, j0));
-                for d in 0..D {
-                    own[d] = q.add(own[d], o0[d]);
-                }
-                for (d, s) in q.sums(&t0).into_iter().enumerate() {
-                    win[c0 - base].acc[d][l0] -= s;
+                for (d, s) in q.sums(&t).into_iter().enumerate() {
+                    win[c - base].acc[d][l] -= s;
                 }
             }
             let out = &mut win[ci - base].acc;
@@ -497,18 +482,22 @@ struct ContinuityLanes<Q: Quad, const D: usize> {
 }
 
 /// The continuity term of the four lanes against particle `j`: what the lanes gain
-/// (times V_j) and what j gains from each (times V_i, to be summed over the lanes).
+/// (times V_j) and what j gains from each (times V_i, to be summed over the lanes);
+/// none if no lane pairs with j.
 #[inline(always)]
 fn continuity_term<Q: Quad, const D: usize>(
     q: Q,
     prm: &WaterParams<D>,
     i: &ContinuityLanes<Q, D>,
     (bj, l, j): (&Block<D>, usize, usize),
-) -> (Q::V, Q::V) {
+) -> Option<(Q::V, Q::V)> {
     let zero = q.splat(0.0);
     let half = q.splat(0.5);
     let rij = separation(q, &prm.wrap, &i.x, (&bj.x, l));
     let Geometry { m, inv_r, dw, .. } = geometry(q, &prm.kernel, &rij, (i.idx, j));
+    if !q.any(m) {
+        return None;
+    }
     // u = v_ij·x_ij / r; the jump relative to ρ̄ ḡ·x_ij
     let (mut vx, mut gx) = (zero, zero);
     for d in 0..D {
@@ -524,7 +513,7 @@ fn continuity_term<Q: Quad, const D: usize>(
     let dw = q.select(m, dw, zero);
     let own = q.mul(q.mul(q.add(u, jump), dw), bc(q, &bj.vol, l));
     let tj = q.mul(q.mul(q.sub(u, jump), dw), i.vol);
-    (own, tj)
+    Some((own, tj))
 }
 
 /// One slab of the continuity pass.
@@ -540,7 +529,7 @@ struct Continuity<'a, const D: usize> {
 impl<const D: usize> QuadTask for Continuity<'_, D> {
     type Output = ();
 
-    /// Four neighbours per iteration, their lane sums taken together.
+    /// The neighbours' lane sums taken four at a time.
     #[inline(always)]
     fn run<Q: Quad>(self, q: Q) {
         let Continuity {
@@ -569,28 +558,26 @@ impl<const D: usize> QuadTask for Continuity<'_, D> {
                 lanes.g[d] = q.load(&bi.g[d]);
             }
             let mut own = zero;
-            let js = cp.of(ci);
-            let at = |j: u32| at(cp, j);
-            let mut fours = js.chunks_exact(4);
-            for four in &mut fours {
-                let mut t = [zero; 4];
-                let mut to = [(0, 0); 4];
-                for k in 0..4 {
-                    let (c, l, j) = at(four[k]);
-                    let (o, tj) = continuity_term(q, prm, &lanes, (&blocks[c], l, j));
-                    own = q.add(own, o);
-                    t[k] = tj;
-                    to[k] = (c, l);
-                }
-                for ((c, l), s) in to.into_iter().zip(q.sums(&t)) {
-                    win[c - base].drho[l] += s;
+            // the neighbours' terms, four at a time into one lane sum
+            let (mut t, mut to, mut k) = ([zero; 4], [(0, 0); 4], 0);
+            for &j in cp.of(ci) {
+                let (c, l, j) = at(cp, j);
+                let Some((o, tj)) = continuity_term(q, prm, &lanes, (&blocks[c], l, j)) else {
+                    continue;
+                };
+                own = q.add(own, o);
+                (t[k], to[k]) = (tj, (c, l));
+                k += 1;
+                if k == 4 {
+                    for ((c, l), s) in to.into_iter().zip(q.sums(&t)) {
+                        win[c - base].drho[l] += s;
+                    }
+                    k = 0;
                 }
             }
-            for &j in fours.remainder() {
-                let (c, l, j) = at(j);
-                let (o, tj) = continuity_term(q, prm, &lanes, (&blocks[c], l, j));
-                own = q.add(own, o);
-                win[c - base].drho[l] += q.sum(tj);
+            for n in 0..k {
+                let (c, l) = to[n];
+                win[c - base].drho[l] += q.sum(t[n]);
             }
             let out = &mut win[ci - base].drho;
             let s = q.add(q.load(out), own);
