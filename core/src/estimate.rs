@@ -11,6 +11,7 @@
 //! depth (coarea formula: the shell volume is the surface area times the depth).
 
 use crate::build_error::empty_region_message;
+use crate::fine::lanes::FineLanes;
 use crate::fine::pair_sums::PairSums;
 use crate::fine::pores::Pores;
 use crate::fine::source::Source;
@@ -18,6 +19,7 @@ use crate::flow_speed::{saturated, water_spec, water_speed, WaterSpeed};
 use crate::geometry::Shape;
 use crate::math::{from3, to3, Real, Sym, Vect};
 use crate::neighbors::BYTES_PER_CELL;
+use crate::quad::WIDTH;
 use crate::resolution::Resolution;
 use crate::rng::Rng;
 use crate::scene::spec_rotation;
@@ -443,8 +445,9 @@ const BODY_FILL_BYTES_PER_DIM: Real = 64.0;
 /// three index arrays) and its Verlet list: half the lattice points within the list
 /// radius (2h + skin; each pair is stored once), 4 bytes each, plus the list offsets,
 /// counted twice: the lists grow by doubling, so they hold up to twice what they use
-/// (and the wall neighbours of particles next to walls are then covered). This gives
-/// 588 (2D) and 999 (3D) bytes with the default numerics; `docs/scale.md` measures
+/// (and the wall neighbours of particles next to walls are then covered), and the
+/// cluster-pair passes' buffers. This gives 942 (2D) and 1594 (3D) bytes with the
+/// default numerics (588 and 999 without the passes); `docs/scale.md` measures
 /// 494–501 (2D) and 890–925 (3D) in bulk, and `tests/tests/memory_budget.rs` the built
 /// solver's own count.
 pub fn fine_bytes_per_particle<const D: usize>(smoothing_ratio: Real, skin: Real) -> Real {
@@ -470,7 +473,30 @@ pub fn fine_bytes_per_particle<const D: usize>(smoothing_ratio: Real, skin: Real
         4.0 / 3.0 * std::f64::consts::PI * r.powi(3)
     };
     let lists = 2.0 * 4.0 * (0.5 * ball + 3.0);
-    (state + scratch) as Real + lists
+    (state + scratch) as Real + lists + cluster_bytes_per_particle::<D>(r)
+}
+
+/// Bytes per fine particle of the cluster-pair passes ([`FineLanes`]): the packed state
+/// and the lane sums, each particle's cluster, the clusters' bounds and offsets, and
+/// each cluster's pair list, the union of its four members' half lists: about half the
+/// lattice points within the list radius `r` plus half a spacing (the members lie
+/// about that far from their centre), counted twice as the lists are. With the
+/// default numerics this adds 354 (2D) and 595 (3D) bytes; the built solver holds
+/// 370 and 597 more than without the passes (`tests/tests/memory_budget.rs`).
+///
+/// [`FineLanes`]: crate::fine::lanes::FineLanes
+fn cluster_bytes_per_particle<const D: usize>(r: Real) -> Real {
+    let rc = r + 0.5;
+    let ball = if D == 2 {
+        std::f64::consts::PI * rc * rc
+    } else {
+        4.0 / 3.0 * std::f64::consts::PI * rc.powi(3)
+    };
+    let width = WIDTH as Real;
+    FineLanes::<D>::bytes_per_particle() as Real
+        + 4.0
+        + 2.0 * 4.0 / width
+        + 2.0 * 4.0 * 0.5 * ball / width
 }
 
 /// Bytes per dummy wall particle: position, object index, panel index and the wall

@@ -57,6 +57,12 @@ impl WendlandC2 {
         self.dw_coef * q * t * t * t
     }
 
+    /// 1/h and the constant factor c of ∂W/∂r = c q (1 − q/2)³, q = r/h, for passes
+    /// that take [`dw_within`](Self::dw_within) on lanes.
+    pub fn dw_factors(&self) -> (Real, Real) {
+        (self.inv_h, self.dw_coef)
+    }
+
     /// ∂W/∂r for r already known to lie within the cut-off (the sweeps test r² first).
     #[inline(always)]
     pub fn dw_within(&self, r: Real) -> Real {

@@ -11,6 +11,8 @@ pub mod assets;
 pub mod budget;
 pub mod build_error;
 pub mod capped_read;
+pub mod cluster_lanes;
+pub mod clusters;
 pub mod coarse;
 pub mod cosim;
 pub mod cross_lists;

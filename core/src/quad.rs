@@ -37,6 +37,8 @@ pub trait Quad: Copy {
     fn and(self, a: Self::M, b: Self::M) -> Self::M;
     /// `a` where the mask is set, `b` elsewhere.
     fn select(self, m: Self::M, a: Self::V, b: Self::V) -> Self::V;
+    /// Some lane of the mask is set.
+    fn any(self, m: Self::M) -> bool;
 
     /// min(a, b) as a < b ? a : b in each lane.
     #[inline(always)]
@@ -139,6 +141,10 @@ impl Quad for Portable {
         let pick = |k: usize| if m[k] { a[k] } else { b[k] };
         [pick(0), pick(1), pick(2), pick(3)]
     }
+    #[inline(always)]
+    fn any(self, m: Self::M) -> bool {
+        (m[0] | m[1]) | (m[2] | m[3])
+    }
 }
 
 /// AVX2's four f64 lanes (pulp's x86-64-v3 token; its intrinsics are safe calls).
@@ -193,6 +199,10 @@ impl Quad for Avx2 {
     #[inline(always)]
     fn select(self, m: Self::M, a: Self::V, b: Self::V) -> Self::V {
         pulp::Simd::select_f64s(self.0, m, a, b)
+    }
+    #[inline(always)]
+    fn any(self, m: Self::M) -> bool {
+        self.0.avx._mm256_movemask_pd(pulp::cast(m)) != 0
     }
     /// hadd gives (l0 + l1) and (l2 + l3) of both, the two halves' sum the rest.
     #[inline(always)]
@@ -380,6 +390,39 @@ mod tests {
                 .zip(want.iter().flatten())
                 .all(|(a, b)| a.to_bits() == b.to_bits());
             assert!(same, "{}", lanes.name());
+        }
+    }
+
+    struct Any(f64);
+
+    impl QuadTask for Any {
+        type Output = Vec<bool>;
+        #[inline(always)]
+        fn run<Q: Quad>(self, q: Q) -> Self::Output {
+            // each lane alone below the threshold, then none, then all
+            let mut cases: Vec<[f64; WIDTH]> = (0..WIDTH)
+                .map(|l| std::array::from_fn(|k| if k == l { -1.0 } else { 1.0 }))
+                .collect();
+            cases.push([1.0; WIDTH]);
+            cases.push([-1.0; WIDTH]);
+            cases
+                .iter()
+                .map(|x| q.any(q.lt(q.load(x), q.splat(self.0))))
+                .collect()
+        }
+    }
+
+    /// `any` sees each lane of a mask alone, and an empty mask as empty.
+    #[test]
+    fn any_sees_every_lane() {
+        for lanes in [Lanes::portable(), Lanes::best()] {
+            let got = lanes.run(Any(0.0));
+            assert_eq!(
+                got,
+                [true, true, true, true, false, true],
+                "{}",
+                lanes.name()
+            );
         }
     }
 }

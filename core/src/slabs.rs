@@ -22,19 +22,36 @@ where
     T: Send,
     F: Fn(usize, &mut [T], usize) + Sync,
 {
+    two_phase_in(start, acc, SERIAL, task)
+}
+
+/// [`two_phase`] over entries that each stand for several particles (the clusters of
+/// [`clusters`](crate::clusters)): a range of slabs runs on the calling thread below
+/// `serial` entries.
+pub fn two_phase_in<T, F>(start: &[u32], acc: &mut [T], serial: usize, task: &F)
+where
+    T: Send,
+    F: Fn(usize, &mut [T], usize) + Sync,
+{
     let ns = start.len().saturating_sub(1);
     debug_assert_eq!(start.last().map_or(0, |&e| e as usize), acc.len());
     for first in 0..2.min(ns) {
         let lo = start[first] as usize;
         let tasks = (ns - first).div_ceil(2);
-        run(start, &mut acc[lo..], lo, first, tasks, task);
+        run(start, &mut acc[lo..], (lo, serial), first, tasks, task);
     }
 }
 
 /// Slabs `first, first + 2, …` (`tasks` of them) on `acc`, which begins at particle
 /// `base` and reaches at least to the end of the last slab's window.
-fn run<T, F>(start: &[u32], acc: &mut [T], base: usize, first: usize, tasks: usize, task: &F)
-where
+fn run<T, F>(
+    start: &[u32],
+    acc: &mut [T],
+    (base, serial): (usize, usize),
+    first: usize,
+    tasks: usize,
+    task: &F,
+) where
     T: Send,
     F: Fn(usize, &mut [T], usize) + Sync,
 {
@@ -42,7 +59,7 @@ where
     let last = first + 2 * (tasks - 1);
     let end = start[(last + 2).min(ns)] as usize;
     let own = |s: usize| (start[s + 1] - start[s]) as usize;
-    if tasks == 1 || end - base <= SERIAL {
+    if tasks == 1 || end - base <= serial {
         for s in (first..=last).step_by(2).filter(|&s| own(s) > 0) {
             let (a, b) = (start[s] as usize, start[(s + 2).min(ns)] as usize);
             task(s, &mut acc[a - base..b - base], a);
@@ -59,8 +76,8 @@ where
     let cut = start[second] as usize - base;
     let (left, right) = acc.split_at_mut(cut);
     rayon::join(
-        || run(start, left, base, first, k, task),
-        || run(start, right, base + cut, second, tasks - k, task),
+        || run(start, left, (base, serial), first, k, task),
+        || run(start, right, (base + cut, serial), second, tasks - k, task),
     );
 }
 

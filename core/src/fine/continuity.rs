@@ -179,6 +179,26 @@ impl<'a, const D: usize> JumpDiffusion<'a, D> {
         }
     }
 
+    /// The jump is taken from density (`numerics.continuity_jump`).
+    pub fn by_density(&self) -> bool {
+        self.by_density
+    }
+
+    /// The geostatic pressure gradient of soil `mat` (the jump by stress).
+    pub fn pgeo(&self, mat: usize) -> Real {
+        self.pgeo.get(mat).copied().unwrap_or(0.0)
+    }
+
+    /// Stress diffusion is on (ζ > 0).
+    pub fn diffusion(&self) -> bool {
+        self.diffusion
+    }
+
+    /// The unit vector the geostatic state is taken along.
+    pub fn up(&self) -> Vect<D> {
+        self.up
+    }
+
     /// Add the terms of pair (i, j) to both particles' sums: `dw` = ∂W/∂r at `r`,
     /// `inv` = 1/(r (r² + 0.01h²)), `two_inv_z` = 2/(Z_i + Z_j).
     ///

@@ -69,14 +69,15 @@ pub fn non_affine<const D: usize>(
     li: &SMatrix<f32, D, D>,
     lj: &SMatrix<f32, D, D>,
 ) -> Vect<D> {
-    let l = (li + lj).cast::<Real>();
+    // each gradient widened before the sum, as the cluster-pair pass takes it
+    let l = li.cast::<Real>() + lj.cast::<Real>();
     vij - l * rij * 0.5
 }
 
 /// Pair weight s_ij = ½(e_i + e_j) from the kept shares of the pair.
 #[inline(always)]
 pub fn pair_weight(kept_i: f32, kept_j: f32) -> Real {
-    0.5 * (kept_i + kept_j) as Real
+    0.5 * (kept_i as Real + kept_j as Real)
 }
 
 #[cfg(test)]

@@ -8,6 +8,7 @@ pub mod dilatancy;
 pub mod element;
 pub mod hardening;
 pub mod hourglass;
+pub mod lanes;
 pub mod material;
 pub mod momentum;
 pub mod mu_i;

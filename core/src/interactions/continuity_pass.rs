@@ -8,6 +8,7 @@
 use super::fine_coarse::{self, CoarseSource};
 use super::fine_wall;
 use crate::fine::continuity::{ContinuityOut, ContinuityParams, ParticleOut, Rates};
+use crate::fine::lanes::FinePairs;
 use crate::fine::material::FineMaterial;
 use crate::fine::pair_sums::ContinuitySums;
 use crate::fine::source::Source;
@@ -29,11 +30,19 @@ pub fn continuity_sweep<const D: usize>(
     prm: &ContinuityParams<'_, D>,
     coarse: &[CoarseSource<D>],
     out: ContinuityOut<'_, D>,
+    pairs: FinePairs<'_, D>,
 ) {
     // neighbour arrays of one length, so that a neighbour index is bounds-checked once
     let n = p.len();
     let (pos, vel, src, material) = (&p.pos[..n], &p.vel[..n], &src[..n], &p.material[..n]);
-    crate::fine::continuity::pair_pass(p, src, mats, lists, prm, &mut *out.sums);
+    match pairs {
+        FinePairs::OnePair => {
+            crate::fine::continuity::pair_pass(p, src, mats, lists, prm, &mut *out.sums)
+        }
+        FinePairs::Lanes(buf, cp, lanes) => {
+            buf.continuity(cp, (vel, prm.kernel, prm.wrap), lanes, &mut *out.sums)
+        }
+    }
     lists
         .chunks
         .par_iter()

@@ -11,6 +11,7 @@ use super::barrier_load;
 use super::fine_coarse::{CoarseSide, FineSide};
 use super::fine_wall::{FineAtWall, WallLaw};
 use crate::fine::continuity::JumpDiffusion;
+use crate::fine::lanes::FinePairs;
 use crate::fine::momentum::{integrate, pair_acceleration, pair_pass, MomentumParams};
 use crate::fine::pair_sums::{MomentumSums, PairSums};
 use crate::fine::source::Source;
@@ -45,13 +46,19 @@ pub fn momentum_sweep<const D: usize>(
     jump: &JumpDiffusion<'_, D>,
     sums: &mut [PairSums<D>],
     water: &[Vect<D>],
+    pairs: FinePairs<'_, D>,
 ) {
     let (csrc, coupling, tension) = (coarse.src, coarse.coupling, coarse.tension);
     let nbs = walls.load_slots().max(1);
     // neighbour arrays of one length, so that a neighbour index is bounds-checked once
     let n = p.len();
     let (pos, vel, src) = (&p.pos[..n], &p.vel[..n], &src[..n]);
-    pair_pass(p, src, lists, art, prm, jump, &mut *sums);
+    match pairs {
+        FinePairs::OnePair => pair_pass(p, src, lists, art, prm, jump, &mut *sums),
+        FinePairs::Lanes(buf, cp, lanes) => {
+            buf.momentum(cp, (p, src), prm, jump, lanes, &mut *sums)
+        }
+    }
     lists
         .chunks
         .par_iter()

@@ -7,8 +7,10 @@ use super::continuity_pass::continuity_sweep;
 use super::fine_coarse::{CoarseSide, Coupling};
 use super::fine_wall::WallLaw;
 use super::momentum_pass::momentum_sweep;
+use crate::clusters::ClusterPairs;
 use crate::fine::continuity::{ContinuityOut, ContinuityParams, JumpDiffusion};
 use crate::fine::hourglass::{non_affine, pair_weight};
+use crate::fine::lanes::{FineLanes, FinePairs};
 use crate::fine::material::uniform_acoustics;
 use crate::fine::material::FineMaterial;
 use crate::fine::momentum::MomentumParams;
@@ -20,6 +22,7 @@ use crate::kernel::WendlandC2;
 use crate::load::Load;
 use crate::math::{sub_outer, Real, Sym, Vect};
 use crate::neighbors::{Binned, CellGrid, NeighborLists};
+use crate::quad::Lanes;
 use crate::riemann::{pair_reciprocals, Riemann, Side};
 use crate::scene::{ContinuityJump, WallStress};
 use crate::walls::Walls;
@@ -161,6 +164,33 @@ fn close(a: Real, b: Real, scale: Real, what: &str, i: usize) {
     );
 }
 
+/// How the sweeps take the fine–fine pairs: one at a time, or on the clusters' lanes
+/// (the buffers carry the state the momentum sweep packs to the continuity sweep).
+struct Pairing<const D: usize> {
+    lanes: Option<Lanes>,
+    buf: FineLanes<D>,
+    cp: ClusterPairs,
+}
+
+impl<const D: usize> Pairing<D> {
+    fn new(cloud: &Cloud<D>, lanes: Option<Lanes>) -> Self {
+        let mut cp = ClusterPairs::default();
+        cp.update(&cloud.lists, cloud.p.len());
+        Pairing {
+            lanes,
+            buf: FineLanes::default(),
+            cp,
+        }
+    }
+
+    fn pairs(&mut self) -> FinePairs<'_, D> {
+        match self.lanes {
+            None => FinePairs::OnePair,
+            Some(l) => FinePairs::Lanes(&mut self.buf, &self.cp, l),
+        }
+    }
+}
+
 /// Continuity parameters of the cloud: gravity along −y (or −z), ζ = 0.1.
 fn continuity_params<'a, const D: usize>(
     kernel: WendlandC2,
@@ -203,6 +233,7 @@ fn momentum<const D: usize>(
     cloud: &Cloud<D>,
     src: &[Source],
     cprm: &ContinuityParams<'_, D>,
+    how: &mut Pairing<D>,
 ) -> (Vec<Vect<D>>, Vec<SVector<f32, D>>, Vec<PairSums<D>>) {
     let (p, mats, lists, kernel) = (&cloud.p, &cloud.mats, &cloud.lists, cloud.kernel);
     let n = p.len();
@@ -267,11 +298,12 @@ fn momentum<const D: usize>(
         &JumpDiffusion::new(cprm),
         &mut sums,
         &[],
+        how.pairs(),
     );
     (vel_new, hg, sums)
 }
 
-fn momentum_matches<const D: usize>(two_soils: bool) {
+fn momentum_matches<const D: usize>(two_soils: bool, lanes: Option<Lanes>) {
     let cloud = cloud::<D>(if D == 2 { 30 } else { 11 }, two_soils);
     let (p, mats, kernel) = (&cloud.p, &cloud.mats, cloud.kernel);
     let n = p.len();
@@ -279,7 +311,8 @@ fn momentum_matches<const D: usize>(two_soils: bool) {
     pack(p, mats, &mut src);
     let (geo, pgeo) = geostatic(mats);
     let cprm = continuity_params::<D>(kernel, ContinuityJump::Stress, mats, &geo, &pgeo);
-    let (vel_new, hg, sums) = momentum(&cloud, &src, &cprm);
+    let mut how = Pairing::new(&cloud, lanes);
+    let (vel_new, hg, sums) = momentum(&cloud, &src, &cprm, &mut how);
     let hourglass: Vec<Real> = mats.iter().map(|m| 0.1 * m.shear).collect();
     let riemann = Riemann {
         eta: 20.0 * D as Real,
@@ -343,7 +376,7 @@ fn momentum_matches<const D: usize>(two_soils: bool) {
     );
 }
 
-fn continuity_matches<const D: usize>(two_soils: bool, jump: ContinuityJump) {
+fn continuity_matches<const D: usize>(two_soils: bool, jump: ContinuityJump, lanes: Option<Lanes>) {
     let cloud = cloud::<D>(if D == 2 { 30 } else { 11 }, two_soils);
     let (p, mats, lists, kernel) = (&cloud.p, &cloud.mats, &cloud.lists, cloud.kernel);
     let n = p.len();
@@ -353,7 +386,8 @@ fn continuity_matches<const D: usize>(two_soils: bool, jump: ContinuityJump) {
     let prm = continuity_params::<D>(kernel, jump, mats, &geostatic, &pgeo);
     let (up, dt, zeta) = (prm.up, prm.dt, prm.zeta);
     // the momentum sweep takes the terms without velocity (same positions and σ_n)
-    let (_, _, mut sums) = momentum(&cloud, &src, &prm);
+    let mut how = Pairing::new(&cloud, lanes);
+    let (_, _, mut sums) = momentum(&cloud, &src, &prm, &mut how);
     let walls = Walls::<D>::default();
     let mut drho = vec![0.0; n];
     let mut stress = p.stress.clone();
@@ -376,6 +410,7 @@ fn continuity_matches<const D: usize>(two_soils: bool, jump: ContinuityJump) {
             vel_grad: &mut lg,
             hourglass_kept: &mut kept,
         },
+        how.pairs(),
     );
     assert!(sums
         .iter()
@@ -436,20 +471,73 @@ fn continuity_matches<const D: usize>(two_soils: bool, jump: ContinuityJump) {
 
 #[test]
 fn momentum_2d_one_soil() {
-    momentum_matches::<2>(false);
+    momentum_matches::<2>(false, None);
 }
 
 #[test]
 fn momentum_3d_two_soils() {
-    momentum_matches::<3>(true);
+    momentum_matches::<3>(true, None);
 }
 
 #[test]
 fn continuity_2d_stress_jump_two_soils() {
-    continuity_matches::<2>(true, ContinuityJump::Stress);
+    continuity_matches::<2>(true, ContinuityJump::Stress, None);
 }
 
 #[test]
 fn continuity_3d_density_jump_one_soil() {
-    continuity_matches::<3>(false, ContinuityJump::Density);
+    continuity_matches::<3>(false, ContinuityJump::Density, None);
+}
+
+/// The cluster-pair passes (one soil) against the direct evaluation, on both
+/// instruction sets.
+#[test]
+fn lanes_momentum_2d_and_3d() {
+    for lanes in [Lanes::portable(), Lanes::best()] {
+        momentum_matches::<2>(false, Some(lanes));
+        momentum_matches::<3>(false, Some(lanes));
+    }
+}
+
+#[test]
+fn lanes_continuity_both_jumps() {
+    for lanes in [Lanes::portable(), Lanes::best()] {
+        continuity_matches::<2>(false, ContinuityJump::Stress, Some(lanes));
+        continuity_matches::<2>(false, ContinuityJump::Density, Some(lanes));
+        continuity_matches::<3>(false, ContinuityJump::Stress, Some(lanes));
+    }
+}
+
+/// The two instruction sets give the same bits: the momentum sweep's velocities,
+/// hourglass accelerations and the continuity sums it leaves.
+#[test]
+fn lanes_levels_agree_bitwise() {
+    fn bits<const D: usize>(lanes: Lanes) -> Vec<u64> {
+        let cloud = cloud::<D>(if D == 2 { 30 } else { 11 }, false);
+        let mut src: Vec<Source> = Vec::new();
+        pack(&cloud.p, &cloud.mats, &mut src);
+        let (geo, pgeo) = geostatic(&cloud.mats);
+        let prm = continuity_params::<D>(
+            cloud.kernel,
+            ContinuityJump::Stress,
+            &cloud.mats,
+            &geo,
+            &pgeo,
+        );
+        let mut how = Pairing::new(&cloud, Some(lanes));
+        let (v, hg, sums) = momentum(&cloud, &src, &prm, &mut how);
+        let mut out: Vec<u64> = v
+            .iter()
+            .flat_map(|x| x.iter().map(|c| c.to_bits()))
+            .collect();
+        out.extend(hg.iter().flat_map(|x| x.iter().map(|c| c.to_bits() as u64)));
+        for s in &sums {
+            let c = &s.continuity;
+            out.extend([c.drho, c.w, c.wz, c.wp].map(f64::to_bits));
+            out.extend(c.wdev.0.map(f64::to_bits));
+        }
+        out
+    }
+    assert_eq!(bits::<2>(Lanes::portable()), bits::<2>(Lanes::best()));
+    assert_eq!(bits::<3>(Lanes::portable()), bits::<3>(Lanes::best()));
 }

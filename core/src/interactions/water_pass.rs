@@ -23,22 +23,87 @@ pub struct WaterCoarse<'a, const D: usize> {
     /// coarse particle, `(coarse particle, force)`.
     pub shares: &'a mut [Vec<(u32, Vect<D>)>],
 }
+use crate::clusters::ClusterPairs;
 use crate::load::Load;
 use crate::math::{Real, Vect};
 use crate::neighbors::{NeighborLists, CHUNK};
+use crate::quad::Lanes;
 use crate::walls::Walls;
 use crate::water::correction::{self, Corr};
+use crate::water::lanes::WaterLanes;
 use crate::water::momentum::{WaterParams, WaterSums};
 use crate::water::source::WaterSource;
 use crate::water::state::WaterParticles;
 use crate::water::{continuity, gradient, momentum};
 use rayon::prelude::*;
 
+/// How the water–water pair terms of the momentum and continuity sweeps are taken.
+pub enum WaterPairs<'a, const D: usize> {
+    /// One pair at a time over the half lists ([`momentum::pair_pass`],
+    /// [`continuity::pair_pass`]): with `water.muscl`, whose reconstruction reads each
+    /// particle's velocity gradient.
+    OnePair,
+    /// Four pairs at a time over the clusters' lists ([`WaterLanes`]), on `Lanes`;
+    /// the buffers hold the state packed at the start of the sub-step
+    /// ([`WaterLanes::pack`]).
+    Lanes(&'a mut WaterLanes<D>, &'a ClusterPairs, Lanes),
+}
+
+/// Runs over the water–water relation.
+///
+/// The momentum sweep's water–water terms into `sums[..].acc` (zero on entry), as
+/// `pairs` says; `corr` holds B, `grad` the velocity gradients with `water.muscl`.
+pub fn momentum_pairs<const D: usize>(
+    w: &WaterParticles<D>,
+    src: &[WaterSource],
+    (corr, grad): (&[Corr<D>], &[Corr<D>]),
+    lists: &NeighborLists,
+    prm: &WaterParams<D>,
+    pairs: WaterPairs<'_, D>,
+    sums: &mut [WaterSums<D>],
+) {
+    match pairs {
+        WaterPairs::OnePair => momentum::pair_pass(w, src, (corr, grad), lists, prm, sums),
+        WaterPairs::Lanes(buf, cp, lanes) => {
+            assert!(
+                grad.is_empty(),
+                "the cluster-pair pass takes no MUSCL gradients"
+            );
+            buf.pack_corr(cp, corr);
+            buf.momentum(cp, prm, lanes, sums);
+        }
+    }
+}
+
+/// Runs over the water–water relation.
+///
+/// The continuity sweep's water–water terms into `sums[..].drho` (zero on entry), with
+/// the velocities v_{n+1} in `w`, as `pairs` says; `body` holds each particle's
+/// seepage acceleration (empty: none). The cluster-pair form reads the state the
+/// momentum pass packed, with the velocities packed anew.
+pub fn continuity_pairs<const D: usize>(
+    w: &WaterParticles<D>,
+    src: &[WaterSource],
+    lists: &NeighborLists,
+    prm: &WaterParams<D>,
+    body: &[Vect<D>],
+    pairs: WaterPairs<'_, D>,
+    sums: &mut [WaterSums<D>],
+) {
+    match pairs {
+        WaterPairs::OnePair => continuity::pair_pass(w, src, lists, prm, body, sums),
+        WaterPairs::Lanes(buf, cp, lanes) => {
+            buf.repack_velocity(cp, &w.vel, (&prm.hydrostatic, body));
+            buf.continuity(cp, prm, lanes, sums);
+        }
+    }
+}
+
 /// Runs over the water–water, water–wall and water–coarse relations.
 ///
 /// The kernel gradient correction B of every particle into `corr`: M from the
-/// water–water pairs and the walls, then inverted ([`correction`]); the identity where
-/// `on` is false.
+/// water–water pairs (as `pairs` says) and the walls, then inverted ([`correction`]);
+/// the identity where `on` is false.
 #[allow(clippy::too_many_arguments)]
 pub fn correction_sweep<const D: usize>(
     w: &WaterParticles<D>,
@@ -47,7 +112,7 @@ pub fn correction_sweep<const D: usize>(
     csrc: &[CoarseSource<D>],
     lists: &NeighborLists,
     prm: &WaterParams<D>,
-    on: bool,
+    (on, pairs): (bool, WaterPairs<'_, D>),
     corr: &mut [Corr<D>],
 ) {
     if !on {
@@ -55,7 +120,12 @@ pub fn correction_sweep<const D: usize>(
         return;
     }
     corr.par_iter_mut().for_each(|b| *b = Corr::<D>::zeros());
-    correction::pair_pass(w, |i| src[i].vol, lists, (&prm.kernel, &prm.wrap), corr);
+    match pairs {
+        WaterPairs::OnePair => {
+            correction::pair_pass(w, |i| src[i].vol, lists, (&prm.kernel, &prm.wrap), corr)
+        }
+        WaterPairs::Lanes(buf, cp, lanes) => buf.correction(cp, prm, lanes, corr),
+    }
     lists
         .chunks
         .par_iter()
@@ -99,15 +169,16 @@ pub fn gradient_sweep<const D: usize>(
 /// Runs over the water–water, water–wall and water–coarse relations.
 ///
 /// v_{n+1} = v_n + Δt (dv/dt + g) into `vel_new`, and the walls' reactions per chunk
-/// into `loads` (`max(1, load slots)` per chunk). `sums` is zero on entry and left
-/// with zero `acc`; `corr` holds B ([`correction_sweep`]); `body` each particle's
-/// seepage acceleration of the last sub-step (empty: none), which the walls'
-/// pressure extrapolation carries with gravity.
+/// into `loads` (`max(1, load slots)` per chunk). `sums[..].acc` holds the
+/// water–water terms on entry ([`momentum_pairs`]) and is left zero; `corr` holds B
+/// ([`correction_sweep`]); `body` each particle's seepage acceleration of the last
+/// sub-step (empty: none), which the walls' pressure extrapolation carries with
+/// gravity.
 #[allow(clippy::too_many_arguments)]
 pub fn momentum_sweep<const D: usize>(
     w: &WaterParticles<D>,
     src: &[WaterSource],
-    (corr, grad): (&[Corr<D>], &[Corr<D>]),
+    corr: &[Corr<D>],
     walls: &Walls<D>,
     coarse: WaterCoarse<'_, D>,
     lists: &NeighborLists,
@@ -118,7 +189,6 @@ pub fn momentum_sweep<const D: usize>(
     sums: &mut [WaterSums<D>],
 ) {
     let (csrc, field) = (coarse.src, coarse.field);
-    momentum::pair_pass(w, src, (corr, grad), lists, prm, sums);
     let nbs = walls.load_slots().max(1);
     lists
         .chunks
@@ -188,20 +258,18 @@ pub fn momentum_sweep<const D: usize>(
 
 /// Runs over the water–water, water–wall and water–coarse relations.
 ///
-/// dρ/dt with v_{n+1} into `drho`; `sums` holds zero `drho` on entry and is left so.
+/// dρ/dt with v_{n+1} into `drho`; `sums[..].drho` holds the water–water terms on
+/// entry ([`continuity_pairs`]) and is left zero.
 #[allow(clippy::too_many_arguments)]
 pub fn continuity_sweep<const D: usize>(
     w: &WaterParticles<D>,
-    src: &[WaterSource],
     walls: &Walls<D>,
     csrc: &[CoarseSource<D>],
     lists: &NeighborLists,
     prm: &WaterParams<D>,
-    body: &[Vect<D>],
     drho: &mut [Real],
     sums: &mut [WaterSums<D>],
 ) {
-    continuity::pair_pass(w, src, lists, prm, body, sums);
     lists
         .chunks
         .par_iter()

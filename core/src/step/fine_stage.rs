@@ -8,8 +8,10 @@ use super::family::{Closing, FamilyLists};
 use super::params::StepParams;
 use super::relations::WallRelation;
 use super::soil_water_stage::SoilWater;
+use crate::clusters::ClusterPairs;
 use crate::fine::artificial_stress::gray2001_artificial_stress;
 use crate::fine::continuity::{ContinuityOut, ContinuityParams, JumpDiffusion};
+use crate::fine::lanes::{lanes_apply, FineLanes, FinePairs};
 use crate::fine::material::{uniform_acoustics, DensityFloor};
 use crate::fine::momentum::{ArtificialStress, MomentumParams};
 use crate::fine::pair_sums::PairSums;
@@ -22,6 +24,7 @@ use crate::interactions::momentum_pass::momentum_sweep;
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Sym, Vect};
 use crate::neighbors::CellGrid;
+use crate::quad::Lanes;
 use crate::riemann::Riemann;
 use crate::timers::{Stage, StageTimers};
 use crate::world::{geostatic_tensor, World};
@@ -72,6 +75,17 @@ pub struct FineStepper<const D: usize> {
     uniform: bool,
     /// Per material: the least density (`numerics.density_floor`; empty: off).
     density_floor: Vec<Real>,
+    /// The clusters of the fine–fine lists and their pairs, derived from each list
+    /// build ([`ClusterPairs`]).
+    #[serde(skip)]
+    clusters: ClusterPairs,
+    /// The cluster-pair passes' packed state and sums.
+    #[serde(skip)]
+    lanes: FineLanes<D>,
+    /// The momentum sweep of this step took its pairs on the lanes (the continuity
+    /// sweep then does too, on the state it packed).
+    #[serde(skip)]
+    on_lanes: bool,
 }
 
 impl<const D: usize> FineStepper<D> {
@@ -120,6 +134,9 @@ impl<const D: usize> FineStepper<D> {
             } else {
                 Vec::new()
             },
+            clusters: ClusterPairs::default(),
+            lanes: FineLanes::default(),
+            on_lanes: false,
         }
     }
 
@@ -131,6 +148,8 @@ impl<const D: usize> FineStepper<D> {
             + self.art.capacity() * size_of::<Sym>()
             + self.src.capacity() * size_of::<Source>()
             + self.pair_sums.capacity() * size_of::<PairSums<D>>()
+            + self.clusters.bytes()
+            + self.lanes.bytes()
     }
 
     /// Rebuild the lists (particles re-sorted by cell) if the skin may be used up over
@@ -274,6 +293,10 @@ impl<const D: usize> FineStepper<D> {
             stress: cx.params.wall_stress,
             wrap: world.periodic,
         };
+        self.on_lanes = lanes_apply(&mprm);
+        if self.on_lanes {
+            self.clusters.update(&self.family.lists, world.fine.len());
+        }
         let (lists, chunk_loads, reactions) = self.family.pass_outputs();
         let side = CoarseSide {
             src: cx.csrc,
@@ -305,6 +328,7 @@ impl<const D: usize> FineStepper<D> {
                 &JumpDiffusion::new(&cprm),
                 &mut self.pair_sums,
                 cx.soil_water.map_or(&[], |s| &s.force[..]),
+                pairs(self.on_lanes, &mut self.lanes, &self.clusters),
             )
         });
         world.fine.hourglass = hourglass;
@@ -341,8 +365,9 @@ impl<const D: usize> FineStepper<D> {
             cprm: &cprm,
             csrc: cx.csrc,
         };
+        let pairs = pairs(self.on_lanes, &mut self.lanes, &self.clusters);
         timers.time(Stage::ContinuityStress, || {
-            sweep.run(world, &mut self.pair_sums)
+            sweep.run(world, &mut self.pair_sums, pairs)
         });
     }
 }
@@ -386,7 +411,7 @@ impl<const D: usize> ContinuitySweep<'_, D> {
     /// hourglass penalty of every fine particle, advanced in place: the sweep reads
     /// none of these of a neighbour (the neighbours' stress comes from the packed
     /// sources).
-    fn run(&self, world: &mut World<D>, sums: &mut [PairSums<D>]) {
+    fn run(&self, world: &mut World<D>, sums: &mut [PairSums<D>], pairs: FinePairs<'_, D>) {
         let f = &mut world.fine;
         let mut stress = std::mem::take(&mut f.stress);
         let mut drho = std::mem::take(&mut f.drho);
@@ -403,7 +428,7 @@ impl<const D: usize> ContinuitySweep<'_, D> {
         };
         let (f, mats, walls) = (&world.fine, &world.materials, &world.walls);
         continuity_sweep(
-            f, self.src, mats, walls, self.lists, self.cprm, self.csrc, out,
+            f, self.src, mats, walls, self.lists, self.cprm, self.csrc, out, pairs,
         );
         let f = &mut world.fine;
         f.drho = drho;
@@ -411,6 +436,20 @@ impl<const D: usize> ContinuitySweep<'_, D> {
         f.plastic_strain = eps;
         f.vel_grad = vel_grad;
         f.hourglass_kept = hourglass_kept;
+    }
+}
+
+/// The fine–fine pair terms on the clusters' lanes where `on`, on the instruction set
+/// this processor has ([`Lanes::detect`]); one pair at a time otherwise.
+fn pairs<'a, const D: usize>(
+    on: bool,
+    lanes: &'a mut FineLanes<D>,
+    clusters: &'a ClusterPairs,
+) -> FinePairs<'a, D> {
+    if on {
+        FinePairs::Lanes(lanes, clusters, Lanes::detect())
+    } else {
+        FinePairs::OnePair
     }
 }
 

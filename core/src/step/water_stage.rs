@@ -6,20 +6,24 @@
 use super::family::{Closing, FamilyLists};
 use super::relations::WallRelation;
 use super::soil_water_stage::SeepStep;
+use crate::clusters::ClusterPairs;
 use crate::coarse::body::Body;
 use crate::guard::{Blowup, Family};
 use crate::interactions::fine_coarse::{self, CoarseSource};
 use crate::interactions::water_buoyancy::Hydrostatics;
 use crate::interactions::water_pass::{
-    continuity_sweep, correction_sweep, gradient_sweep, momentum_sweep, WaterCoarse,
+    continuity_pairs, continuity_sweep, correction_sweep, gradient_sweep, momentum_pairs,
+    momentum_sweep, WaterCoarse, WaterPairs,
 };
 use crate::interactions::water_start::incompressible_start;
 use crate::kernel::WendlandC2;
 use crate::math::{to3, Real, Vect};
 use crate::neighbors::CellGrid;
+use crate::quad::Lanes;
 use crate::scene::WallSlip;
 use crate::timers::{Stage, StageTimers};
 use crate::water::correction::Corr;
+use crate::water::lanes::WaterLanes;
 use crate::water::material::WaterMaterial;
 use crate::water::momentum::{WaterParams, WaterSums};
 use crate::water::source::{drift_and_pack, pack, WaterSource};
@@ -64,6 +68,13 @@ pub struct WaterStepper<const D: usize> {
     /// Archimedes' force on each coarse particle in the sub-step.
     #[serde(skip)]
     archimedes: Vec<Vect<D>>,
+    /// The clusters of the water–water lists and their pairs, derived from each list
+    /// build ([`ClusterPairs`]).
+    #[serde(skip)]
+    clusters: ClusterPairs,
+    /// The cluster-pair passes' packed state and sums.
+    #[serde(skip)]
+    lanes: WaterLanes<D>,
 }
 
 impl<const D: usize> WaterStepper<D> {
@@ -89,6 +100,8 @@ impl<const D: usize> WaterStepper<D> {
             hydro: Hydrostatics::default(),
             shares: Vec::new(),
             archimedes: Vec::new(),
+            clusters: ClusterPairs::default(),
+            lanes: WaterLanes::default(),
         }
     }
 
@@ -125,6 +138,8 @@ impl<const D: usize> WaterStepper<D> {
             + self.vel_new.capacity() * size_of::<Vect<D>>()
             + self.src.capacity() * size_of::<WaterSource>()
             + self.sums.capacity() * size_of::<WaterSums<D>>()
+            + self.clusters.bytes()
+            + self.lanes.bytes()
     }
 
     /// x and ρ to the half step, and the sources at the half step.
@@ -233,6 +248,11 @@ impl<const D: usize> WaterStepper<D> {
                     (&prm, world.resolution.dp),
                 );
             }
+            if use_lanes(mat) {
+                self.clusters.update(lists, n);
+                self.lanes
+                    .pack(&self.clusters, &world.water.particles, &self.src);
+            }
             correction_sweep(
                 &world.water.particles,
                 &self.src,
@@ -240,7 +260,10 @@ impl<const D: usize> WaterStepper<D> {
                 csrc,
                 lists,
                 &prm,
-                mat.correction,
+                (
+                    mat.correction,
+                    pairs(mat, (&mut self.lanes, &mut self.clusters), lists, n),
+                ),
                 &mut self.corr,
             );
             if mat.muscl {
@@ -256,10 +279,19 @@ impl<const D: usize> WaterStepper<D> {
             } else {
                 self.grad.clear();
             }
-            momentum_sweep(
+            momentum_pairs(
                 &world.water.particles,
                 &self.src,
                 (&self.corr, &self.grad),
+                lists,
+                &prm,
+                pairs(mat, (&mut self.lanes, &mut self.clusters), lists, n),
+                &mut self.sums,
+            );
+            momentum_sweep(
+                &world.water.particles,
+                &self.src,
+                &self.corr,
                 &world.walls,
                 WaterCoarse {
                     src: csrc,
@@ -285,7 +317,7 @@ impl<const D: usize> WaterStepper<D> {
         }
         std::mem::swap(&mut world.water.particles.vel, &mut self.vel_new);
         self.after_momentum(world, csrc, (t0, dt), (s, k));
-        self.continuity(world, csrc, &prm, t);
+        self.continuity(world, mat, csrc, &prm, t);
     }
 
     /// After the momentum sweep of sub-step `s` of `k` over (`t0`, `t0 + dt`): the
@@ -349,20 +381,30 @@ impl<const D: usize> WaterStepper<D> {
     fn continuity(
         &mut self,
         world: &mut World<D>,
+        mat: &WaterMaterial,
         csrc: &[CoarseSource<D>],
         prm: &WaterParams<D>,
         t: &mut StageTimers,
     ) {
         let mut drho = std::mem::take(&mut world.water.particles.drho);
+        let n = drho.len();
         t.time(Stage::WaterContinuity, || {
-            continuity_sweep(
+            let lists = &self.family.lists;
+            continuity_pairs(
                 &world.water.particles,
                 &self.src,
-                &world.walls,
-                csrc,
-                &self.family.lists,
+                lists,
                 prm,
                 &self.body,
+                pairs(mat, (&mut self.lanes, &mut self.clusters), lists, n),
+                &mut self.sums,
+            );
+            continuity_sweep(
+                &world.water.particles,
+                &world.walls,
+                csrc,
+                lists,
+                prm,
                 &mut drho,
                 &mut self.sums,
             )
@@ -402,6 +444,28 @@ impl<const D: usize> WaterStepper<D> {
         self.family
             .guard(Family::Water, (&w.id, &w.pos), at, max_speed)
     }
+}
+
+/// The water–water pair terms are taken on the clusters' lanes: everywhere but with
+/// `water.muscl`, whose reconstruction the lanes do not take.
+fn use_lanes(mat: &WaterMaterial) -> bool {
+    !mat.muscl
+}
+
+/// The water–water pair terms on the clusters' lanes, on the instruction set this
+/// processor has ([`Lanes::detect`]), with the clusters brought up to the last list
+/// build; one pair at a time where [`use_lanes`] says no.
+fn pairs<'a, const D: usize>(
+    mat: &WaterMaterial,
+    (lanes, clusters): (&'a mut WaterLanes<D>, &'a mut ClusterPairs),
+    lists: &crate::neighbors::NeighborLists,
+    n: usize,
+) -> WaterPairs<'a, D> {
+    if !use_lanes(mat) {
+        return WaterPairs::OnePair;
+    }
+    clusters.update(lists, n);
+    WaterPairs::Lanes(lanes, clusters, Lanes::detect())
 }
 
 /// The water's parameters of a sweep over (`t0`, `t0 + dt`); `confined` water (no

@@ -11,6 +11,7 @@ pub mod boundary;
 pub mod continuity;
 pub mod correction;
 pub mod gradient;
+pub mod lanes;
 pub mod material;
 pub mod momentum;
 pub mod source;

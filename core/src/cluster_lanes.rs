@@ -1,0 +1,150 @@
+//! What the cluster-pair passes of every family share (issue 45, docs/method.md
+//! §Throughput): the pair geometry of a cluster's four particles against one
+//! neighbour on [`Quad`] lanes, the two-phase schedule over cluster slabs, and the
+//! return of the lane sums to the particles.
+//!
+//! A pass packs the state its terms read per cluster ([`clusters`](crate::clusters)),
+//! one array of four lanes per component, so that a neighbour's values are read from
+//! its cluster's arrays and broadcast; the four particles of a cluster are the lanes.
+//! Pairs beyond the cut-off, or with j ≤ i, are masked out, so each pair is taken once,
+//! as in the one-pair passes; the sums a neighbour gains from the four lanes are added
+//! across the lanes in one fixed order ([`Quad::sums`]).
+
+use crate::clusters::ClusterPairs;
+use crate::kernel::WendlandC2;
+use crate::math::Real;
+use crate::periodic::Wrap;
+use crate::quad::{Quad, WIDTH};
+use crate::slabs::two_phase_in;
+use rayon::prelude::*;
+
+/// Where the lanes of a cluster with fewer than four particles sit: so far that no
+/// pair with them is within the cut-off.
+pub const FAR: Real = 1e30;
+
+/// Lanes of one component.
+pub type L = [Real; WIDTH];
+
+/// Lane `l` of `v`, broadcast.
+#[inline(always)]
+pub fn bc<Q: Quad>(q: Q, v: &L, l: usize) -> Q::V {
+    q.splat(v[l])
+}
+
+/// x_i − x_j of the four particles of a cluster (`xi`) against lane `l` of `xj`,
+/// minimum images across a periodic seam.
+#[inline(always)]
+pub fn separation<Q: Quad, const D: usize>(
+    q: Q,
+    wrap: &Wrap,
+    xi: &[Q::V; D],
+    (xj, l): (&[L; D], usize),
+) -> [Q::V; D] {
+    let mut r = *xi;
+    for d in 0..D {
+        r[d] = q.sub(xi[d], bc(q, &xj[d], l));
+    }
+    if let Some(p) = wrap {
+        let a = p.axis;
+        let (half, len, zero) = (q.splat(0.5 * p.len), q.splat(p.len), q.splat(0.0));
+        let up = q.select(q.lt(half, r[a]), len, zero);
+        let down = q.select(q.lt(r[a], q.sub(zero, half)), len, zero);
+        r[a] = q.add(q.sub(r[a], up), down);
+    }
+    r
+}
+
+/// One lane pass's pair geometry: which lanes pair, and r², r, 1/r and ∂W/∂r there.
+pub struct Geometry<Q: Quad> {
+    /// Within the cut-off and i < j.
+    pub m: Q::M,
+    /// r² (1 outside `m`, to keep the arithmetic finite).
+    pub r2: Q::V,
+    pub r: Q::V,
+    pub inv_r: Q::V,
+    pub dw: Q::V,
+}
+
+/// The lanes that pair with particle `j`: within the cut-off and i < j (`idx` holds
+/// the lanes' particle indices), with the kernel's ∂W/∂r.
+#[inline(always)]
+pub fn geometry<Q: Quad, const D: usize>(
+    q: Q,
+    kernel: &WendlandC2,
+    rij: &[Q::V; D],
+    (idx, j): (Q::V, usize),
+) -> Geometry<Q> {
+    let mut r2 = q.mul(rij[0], rij[0]);
+    for x in rij.iter().skip(1) {
+        r2 = q.add(r2, q.mul(*x, *x));
+    }
+    let cut = kernel.cutoff;
+    let m = q.and(q.lt(r2, q.splat(cut * cut)), q.lt(idx, q.splat(j as Real)));
+    let one = q.splat(1.0);
+    let r2 = q.select(m, r2, one);
+    let r = q.sqrt(r2);
+    let inv_r = q.div(one, r);
+    // ∂W/∂r of the Wendland C2 kernel (WendlandC2::dw_within)
+    let (inv_h, coef) = kernel.dw_factors();
+    let s = q.mul(r, q.splat(inv_h));
+    let t = q.sub(one, q.mul(q.splat(0.5), s));
+    let dw = q.mul(q.mul(q.mul(q.mul(q.splat(coef), s), t), t), t);
+    Geometry {
+        m,
+        r2,
+        r,
+        inv_r,
+        dw,
+    }
+}
+
+/// The particle indices of cluster `c`'s lanes.
+#[inline(always)]
+pub fn lane_indices<Q: Quad>(q: Q, cp: &ClusterPairs, c: usize) -> Q::V {
+    let first = cp.start[c] as Real;
+    q.add(q.splat(first), q.load(&[0.0, 1.0, 2.0, 3.0]))
+}
+
+/// Particle `j`'s cluster, its lane there, and `j`.
+#[inline(always)]
+pub fn at(cp: &ClusterPairs, j: u32) -> (usize, usize, usize) {
+    let j = j as usize;
+    let c = cp.of[j] as usize;
+    (c, j - cp.start[c] as usize, j)
+}
+
+/// Zero `sums` (one entry per cluster) and run `task(slab, window, base)` on every
+/// cluster slab, two-phase ([`two_phase_in`]), as many particles per serial range as
+/// the one-pair passes take.
+pub fn run_slabs<S, F>(cp: &ClusterPairs, sums: &mut Vec<S>, task: F)
+where
+    S: Default + Clone + Send,
+    F: Fn(usize, &mut [S], usize) + Sync,
+{
+    sums.clear();
+    sums.resize(cp.len(), S::default());
+    two_phase_in(&cp.slabs, sums, 512 / WIDTH, &task);
+}
+
+/// Add each particle's lane sums (`lane_sums`, one entry per cluster) to its entry of
+/// `out` with `add(entry, cluster sums, lane)`.
+pub fn unpack<S, T, F>(cp: &ClusterPairs, lane_sums: &[S], out: &mut [T], add: F)
+where
+    S: Sync,
+    T: Send,
+    F: Fn(&mut T, &S, usize) + Sync,
+{
+    let start = &cp.start;
+    out.par_chunks_mut(1024).enumerate().for_each(|(k, out)| {
+        let first = k * 1024;
+        // the cluster of the chunk's first particle
+        let mut c = start.partition_point(|&b| b as usize <= first) - 1;
+        for (m, o) in out.iter_mut().enumerate() {
+            let i = first + m;
+            while start[c + 1] as usize <= i {
+                c += 1;
+            }
+            add(o, &lane_sums[c], i - start[c] as usize);
+        }
+    });
+}

@@ -1,0 +1,719 @@
+//! The fine–fine pair terms of the momentum and continuity sweeps on cluster pairs
+//! ([`clusters`](crate::clusters)), a cluster's four particles against one neighbour
+//! at a time on [`Quad`] lanes ([`cluster_lanes`]; issue 45, docs/method.md
+//! §Throughput).
+//!
+//! The terms are those of [`momentum::pair_pass`](super::momentum::pair_pass) (seed 000
+//! Eqs. 16, 18, 20, 23, the hourglass penalty of [`hourglass`](super::hourglass)) with
+//! the continuity sweep's terms without velocity ([`JumpDiffusion`]: Eq. 19's pressure
+//! jump, Eqs. 25–26's diffusion weights), and those of
+//! [`continuity::pair_pass`](super::continuity::pair_pass) (Eqs. 15, 19, 24). They are
+//! taken for the common scene: every soil with one impedance and sound speed
+//! ([`uniform_acoustics`](super::material::uniform_acoustics)), no MUSCL reconstruction
+//! and no artificial stress; other scenes keep the one-pair passes ([`FinePairs`]).
+//!
+//! Each pair is evaluated once, as in the one-pair passes, and the sums run over the
+//! cluster slabs in the two-phase schedule ([`slabs`](crate::slabs)), so they do not
+//! depend on the thread count; the two instruction sets agree bitwise ([`quad`]). The
+//! order of summation differs from the one-pair passes, so the two agree to round-off
+//! (tested below).
+//!
+//! [`quad`]: crate::quad
+
+// the terms loop over components of several lane arrays at once (x, v, σˢ, L, sums)
+#![allow(clippy::needless_range_loop)]
+
+use super::continuity::JumpDiffusion;
+use super::momentum::MomentumParams;
+use super::pair_sums::PairSums;
+use super::source::Source;
+use super::state::FineParticles;
+use crate::cluster_lanes::{
+    at, bc, geometry, lane_indices, run_slabs, separation, unpack, Geometry, FAR, L,
+};
+use crate::clusters::ClusterPairs;
+use crate::kernel::WendlandC2;
+use crate::math::{Real, Vect};
+use crate::periodic::Wrap;
+use crate::quad::{Lanes, Quad, QuadTask, WIDTH};
+use rayon::prelude::*;
+
+/// How the fine–fine pair terms of the two sweeps are taken.
+pub enum FinePairs<'a, const D: usize> {
+    /// One pair at a time over the half lists ([`momentum::pair_pass`],
+    /// [`continuity::pair_pass`]): soils of different impedance, MUSCL, artificial
+    /// stress.
+    ///
+    /// [`momentum::pair_pass`]: super::momentum::pair_pass
+    /// [`continuity::pair_pass`]: super::continuity::pair_pass
+    OnePair,
+    /// Four pairs at a time over the clusters' lists ([`FineLanes`]), on `Lanes`.
+    Lanes(&'a mut FineLanes<D>, &'a ClusterPairs, Lanes),
+}
+
+/// Whether the cluster-pair passes take a sweep's pair terms: one impedance and sound
+/// speed (`uniform`), no MUSCL reconstruction, no artificial stress.
+pub fn lanes_apply<const D: usize>(prm: &MomentumParams<'_, D>) -> bool {
+    prm.uniform && !prm.muscl && prm.artificial.is_none()
+}
+
+/// Components of σˢ the terms read: 2D in-plane xx, yy, the out-of-plane zz and xy;
+/// 3D all six ([`Sym::axpy_in`](crate::math::Sym::axpy_in)).
+const fn dev_parts(d: usize) -> usize {
+    if d == 2 {
+        4
+    } else {
+        6
+    }
+}
+
+/// The state the pair terms read, for the four particles of a cluster.
+#[derive(Clone, Copy, Debug)]
+pub struct Block<const D: usize> {
+    x: [L; D],
+    v: [L; D],
+    /// σˢ, in [`Sym`](crate::math::Sym)'s order.
+    dev: [L; 6],
+    p: L,
+    vol: L,
+    /// The pressure of the continuity's jump: K (ρ/ρ0 − 1) by density, P by stress.
+    pj: L,
+    /// The geostatic pressure gradient of the particle's soil (the jump by stress).
+    pgeo: L,
+    /// Share e of the hourglass penalty kept.
+    kept: L,
+    /// ξ G of the particle's soil (0: no penalty).
+    g: L,
+    /// The velocity gradient L of the last sweep, by row and column.
+    l: [[L; D]; D],
+}
+
+impl<const D: usize> Default for Block<D> {
+    fn default() -> Self {
+        Block {
+            x: [[FAR; WIDTH]; D],
+            v: [[0.0; WIDTH]; D],
+            dev: [[0.0; WIDTH]; 6],
+            p: [0.0; WIDTH],
+            vol: [0.0; WIDTH],
+            pj: [0.0; WIDTH],
+            pgeo: [0.0; WIDTH],
+            kept: [0.0; WIDTH],
+            g: [0.0; WIDTH],
+            l: [[[0.0; WIDTH]; D]; D],
+        }
+    }
+}
+
+/// The momentum pass's sums of the four particles of a cluster.
+#[derive(Clone, Copy, Debug)]
+pub struct MomentumLaneSums<const D: usize> {
+    acc: [L; D],
+    hourglass: [L; D],
+    drho: L,
+    w: L,
+    wz: L,
+    wp: L,
+    wdev: [L; 6],
+}
+
+impl<const D: usize> Default for MomentumLaneSums<D> {
+    fn default() -> Self {
+        MomentumLaneSums {
+            acc: [[0.0; WIDTH]; D],
+            hourglass: [[0.0; WIDTH]; D],
+            drho: [0.0; WIDTH],
+            w: [0.0; WIDTH],
+            wz: [0.0; WIDTH],
+            wp: [0.0; WIDTH],
+            wdev: [[0.0; WIDTH]; 6],
+        }
+    }
+}
+
+/// The continuity pass's sums of the four particles of a cluster.
+#[derive(Clone, Copy, Debug)]
+pub struct ContinuityLaneSums<const D: usize> {
+    drho: L,
+    grad: [[L; D]; D],
+}
+
+impl<const D: usize> Default for ContinuityLaneSums<D> {
+    fn default() -> Self {
+        ContinuityLaneSums {
+            drho: [0.0; WIDTH],
+            grad: [[[0.0; WIDTH]; D]; D],
+        }
+    }
+}
+
+/// The cluster-pair passes' buffers: the packed state and the sums.
+#[derive(Clone, Debug, Default)]
+pub struct FineLanes<const D: usize> {
+    blocks: Vec<Block<D>>,
+    msums: Vec<MomentumLaneSums<D>>,
+    csums: Vec<ContinuityLaneSums<D>>,
+}
+
+/// The scalars of the momentum pass on lanes.
+struct MomentumScalars<const D: usize> {
+    kernel: WendlandC2,
+    wrap: Wrap,
+    /// η/c0 of the limiter (Eq. 23).
+    eta_c: Real,
+    /// Z/2 of P* (Eq. 20) and 1/Z of U* (Eq. 19).
+    half_z: Real,
+    inv_z: Real,
+    hourglass: bool,
+    by_density: bool,
+    diffusion: bool,
+    up: Vect<D>,
+    /// 0.01 h² of Eq. (25).
+    reg: Real,
+}
+
+impl<const D: usize> FineLanes<D> {
+    /// Bytes per particle of the packed state and the two passes' lane sums.
+    pub fn bytes_per_particle() -> usize {
+        use std::mem::size_of;
+        (size_of::<Block<D>>()
+            + size_of::<MomentumLaneSums<D>>()
+            + size_of::<ContinuityLaneSums<D>>())
+            / WIDTH
+    }
+
+    /// Bytes held.
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.blocks.capacity() * size_of::<Block<D>>()
+            + self.msums.capacity() * size_of::<MomentumLaneSums<D>>()
+            + self.csums.capacity() * size_of::<ContinuityLaneSums<D>>()
+    }
+
+    /// Pack the state of every cluster: positions and velocities of `p`, the records
+    /// `src`, and per soil ξ G (`prm.hourglass`) and the geostatic pressure gradient
+    /// of the jump.
+    fn pack(
+        &mut self,
+        cp: &ClusterPairs,
+        (p, src): (&FineParticles<D>, &[Source]),
+        prm: &MomentumParams<'_, D>,
+        jump: &JumpDiffusion<'_, D>,
+    ) {
+        self.blocks.resize(cp.len(), Block::default());
+        let m = dev_parts(D);
+        let by_density = jump.by_density();
+        self.blocks.par_iter_mut().enumerate().for_each(|(c, b)| {
+            *b = Block::default();
+            for (l, i) in cp.members(c).enumerate() {
+                let (s, mat) = (&src[i], p.material[i] as usize);
+                for d in 0..D {
+                    b.x[d][l] = p.pos[i][d];
+                    b.v[d][l] = p.vel[i][d];
+                    for e in 0..D {
+                        b.l[d][e][l] = p.vel_grad[i][(d, e)] as Real;
+                    }
+                }
+                for k in 0..m {
+                    b.dev[k][l] = s.dev.0[k];
+                }
+                b.p[l] = s.p;
+                b.vol[l] = s.vol;
+                b.pj[l] = if by_density { s.p_rho } else { s.p };
+                b.pgeo[l] = jump.pgeo(mat);
+                b.kept[l] = p.hourglass_kept[i] as Real;
+                b.g[l] = prm.hourglass.get(mat).copied().unwrap_or(0.0);
+            }
+        });
+    }
+
+    /// The momentum sweep's fine–fine pair terms, with the continuity sweep's terms
+    /// without velocity, into `sums` (added), on `lanes`; `prm` must satisfy
+    /// [`lanes_apply`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn momentum(
+        &mut self,
+        cp: &ClusterPairs,
+        (p, src): (&FineParticles<D>, &[Source]),
+        prm: &MomentumParams<'_, D>,
+        jump: &JumpDiffusion<'_, D>,
+        lanes: Lanes,
+        sums: &mut [PairSums<D>],
+    ) {
+        assert!(
+            lanes_apply(prm),
+            "the fine cluster-pair pass takes one impedance, no MUSCL and no artificial stress"
+        );
+        self.pack(cp, (p, src), prm, jump);
+        // one impedance and sound speed: those of any soil (none: no fine grains)
+        let Some(mat) = prm.materials.first() else {
+            return;
+        };
+        let z = mat.rho0 * mat.c0;
+        let sc = MomentumScalars {
+            kernel: prm.kernel,
+            wrap: prm.wrap,
+            eta_c: prm.riemann.eta / mat.c0,
+            half_z: 0.5 * z,
+            inv_z: 2.0 * (0.5 / z),
+            hourglass: !prm.hourglass.is_empty(),
+            by_density: jump.by_density(),
+            diffusion: jump.diffusion(),
+            up: jump.up(),
+            reg: jump.reg,
+        };
+        let blocks = &self.blocks;
+        run_slabs(cp, &mut self.msums, |s, win, base| {
+            lanes.run(Momentum {
+                blocks,
+                cp,
+                sc: &sc,
+                slab: s,
+                win,
+                base,
+            })
+        });
+        let m = dev_parts(D);
+        unpack(cp, &self.msums, sums, |o, s, l| {
+            for d in 0..D {
+                o.momentum.acc[d] += s.acc[d][l];
+                o.momentum.hourglass[d] += s.hourglass[d][l];
+            }
+            let c = &mut o.continuity;
+            c.drho += s.drho[l];
+            c.w += s.w[l];
+            c.wz += s.wz[l];
+            c.wp += s.wp[l];
+            for k in 0..m {
+                c.wdev.0[k] += s.wdev[k][l];
+            }
+        });
+    }
+
+    /// The continuity sweep's fine–fine pair terms in v_{n+1} (`vel`) into `sums`
+    /// (added), on `lanes`, after [`momentum`](Self::momentum) packed the state.
+    pub fn continuity(
+        &mut self,
+        cp: &ClusterPairs,
+        (vel, kernel, wrap): (&[Vect<D>], WendlandC2, Wrap),
+        lanes: Lanes,
+        sums: &mut [PairSums<D>],
+    ) {
+        if cp.is_empty() {
+            return;
+        }
+        self.blocks.par_iter_mut().enumerate().for_each(|(c, b)| {
+            for (l, i) in cp.members(c).enumerate() {
+                for d in 0..D {
+                    b.v[d][l] = vel[i][d];
+                }
+            }
+        });
+        let blocks = &self.blocks;
+        run_slabs(cp, &mut self.csums, |s, win, base| {
+            lanes.run(Continuity {
+                blocks,
+                cp,
+                kernel: &kernel,
+                wrap: &wrap,
+                slab: s,
+                win,
+                base,
+            })
+        });
+        unpack(cp, &self.csums, sums, |o, s, l| {
+            let c = &mut o.continuity;
+            c.drho += s.drho[l];
+            for a in 0..D {
+                for b in 0..D {
+                    c.grad[(a, b)] += s.grad[a][b][l];
+                }
+            }
+        });
+    }
+}
+
+/// The lanes of a cluster as the momentum terms read them.
+struct MomentumLanes<Q: Quad, const D: usize> {
+    idx: Q::V,
+    x: [Q::V; D],
+    v: [Q::V; D],
+    dev: [Q::V; 6],
+    p: Q::V,
+    vol: Q::V,
+    pj: Q::V,
+    pgeo: Q::V,
+    kept: Q::V,
+    g: Q::V,
+    l: [[Q::V; D]; D],
+}
+
+/// The slots of a neighbour's momentum sums, in one array for the lane sums: the
+/// acceleration (D), the hourglass increment (D), then the continuity's drho, w, wz,
+/// wp and σˢ weights.
+const fn slots(d: usize) -> usize {
+    2 * d + 4 + dev_parts(d)
+}
+
+/// The momentum terms of the four lanes of a cluster against particle `j` (lane `l`
+/// of block `bj`): what the lanes gain, added into `own` (laid out as [`slots`]),
+/// and what j gains from each lane, to be summed over the lanes, into `tj`. False,
+/// with neither touched, if no lane pairs with j (a list entry beyond the cut-off of
+/// every member, in the lists' skin).
+#[inline(always)]
+fn momentum_term<Q: Quad, const D: usize>(
+    q: Q,
+    sc: &MomentumScalars<D>,
+    i: &MomentumLanes<Q, D>,
+    (bj, l, j): (&Block<D>, usize, usize),
+    own: &mut [Q::V; 16],
+    tj: &mut [Q::V; 16],
+) -> bool {
+    let zero = q.splat(0.0);
+    let (half, one) = (q.splat(0.5), q.splat(1.0));
+    let rij = separation(q, &sc.wrap, &i.x, (&bj.x, l));
+    let Geometry {
+        m,
+        r2,
+        r,
+        inv_r,
+        dw,
+        ..
+    } = geometry(q, &sc.kernel, &rij, (i.idx, j));
+    if !q.any(m) {
+        return false;
+    }
+    // the pairs beyond the cut-off (or with j ≤ i) add nothing: every term is ∝ ∂W/∂r
+    let dw = q.select(m, dw, zero);
+    let (volj, pj) = (bc(q, &bj.vol, l), bc(q, &bj.p, l));
+    let mut e = [zero; D];
+    let mut vij = [zero; D];
+    // v_ij·e = U_R − U_L (U = −v·e)
+    let mut vie = zero;
+    let mut up_r = zero;
+    for d in 0..D {
+        e[d] = q.mul(rij[d], inv_r);
+        vij[d] = q.sub(i.v[d], bc(q, &bj.v[d], l));
+        vie = q.add(vie, q.mul(vij[d], e[d]));
+        up_r = q.add(up_r, q.mul(rij[d], q.splat(sc.up[d])));
+    }
+    // P* = ½ (P_i + P_j) + ½ β Z (U_L − U_R), β = min(η max(U_R − U_L, 0)/c0, 1)
+    // (Riemann::limiter, p_star_uniform)
+    let du = q.sub(zero, vie);
+    let comp = q.select(q.lt(zero, vie), vie, zero);
+    let beta = q.min(q.mul(q.splat(sc.eta_c), comp), one);
+    let mean = q.mul(half, q.add(i.p, pj));
+    let ps = q.add(mean, q.mul(q.mul(beta, q.splat(sc.half_z)), du));
+    // σ*·e = ½ (σˢ_i + σˢ_j)·e − P* e, Eq. (18)
+    let mut a = [zero; 6];
+    for k in 0..dev_parts(D) {
+        a[k] = q.add(i.dev[k], bc(q, &bj.dev[k], l));
+    }
+    let mut t = [zero; D];
+    if D == 2 {
+        t[0] = q.add(q.mul(a[0], e[0]), q.mul(a[3], e[1]));
+        t[1] = q.add(q.mul(a[3], e[0]), q.mul(a[1], e[1]));
+    } else {
+        t[0] = q.add(
+            q.add(q.mul(a[0], e[0]), q.mul(a[3], e[1])),
+            q.mul(a[4], e[2]),
+        );
+        t[1] = q.add(
+            q.add(q.mul(a[3], e[0]), q.mul(a[1], e[1])),
+            q.mul(a[5], e[2]),
+        );
+        t[2] = q.add(
+            q.add(q.mul(a[4], e[0]), q.mul(a[5], e[1])),
+            q.mul(a[2], e[2]),
+        );
+    }
+    let (dvj, dvi) = (q.mul(dw, volj), q.mul(dw, i.vol));
+    for d in 0..D {
+        let td = q.sub(q.mul(t[d], half), q.mul(e[d], ps));
+        own[d] = q.add(own[d], q.mul(td, dvj));
+        // j takes −t (e_ji = −e_ij): subtracted after the lane sum
+        tj[d] = q.mul(td, dvi);
+    }
+    // the hourglass penalty, s_ij ξḠ_ij ṽ_ij ∂W/∂r V / r (hourglass), for both sides
+    // of every pair: the one-pair pass skips a side whose share e is 0, and
+    // `momentum::integrate` drops the increment of such a particle
+    if sc.hourglass {
+        let gp = q.mul(half, q.add(i.g, bc(q, &bj.g, l)));
+        let s = q.mul(q.mul(half, q.add(i.kept, bc(q, &bj.kept, l))), gp);
+        let qq = q.mul(q.mul(s, dw), inv_r);
+        for d in 0..D {
+            // ṽ_ij = v_ij − ½ (L_i + L_j) r_ij
+            let mut lr = zero;
+            for c in 0..D {
+                let lsum = q.add(i.l[d][c], bc(q, &bj.l[d][c], l));
+                lr = q.add(lr, q.mul(lsum, rij[c]));
+            }
+            let vc = q.sub(vij[d], q.mul(lr, half));
+            own[D + d] = q.add(own[D + d], q.mul(vc, q.mul(qq, volj)));
+            tj[D + d] = q.mul(vc, q.mul(qq, i.vol));
+        }
+    }
+    // the jump of Eq. (19), P_L − P_R, into U* − U_L (JumpDiffusion::pair)
+    let k = q.mul(dw, q.splat(sc.inv_z));
+    let pjj = bc(q, &bj.pj, l);
+    let (jump_i, jump_j) = if sc.by_density {
+        (q.sub(i.pj, pjj), q.sub(pjj, i.pj))
+    } else {
+        (
+            q.sub(i.pj, q.sub(pjj, q.mul(up_r, i.pgeo))),
+            q.sub(pjj, q.add(i.pj, q.mul(up_r, bc(q, &bj.pgeo, l)))),
+        )
+    };
+    let o = 2 * D;
+    own[o] = q.add(own[o], q.mul(q.mul(jump_i, k), volj));
+    tj[o] = q.mul(q.mul(jump_j, k), i.vol);
+    // the weights of Eqs. (25)–(26), w = r_ij·∇_i W V/(r² + 0.01h²)
+    if sc.diffusion {
+        let w = q.div(q.mul(r, dw), q.add(r2, q.splat(sc.reg)));
+        let (wi, wj) = (q.mul(w, volj), q.mul(w, i.vol));
+        own[o + 1] = q.add(own[o + 1], wi);
+        own[o + 2] = q.add(own[o + 2], q.mul(wi, up_r));
+        own[o + 3] = q.add(own[o + 3], q.mul(wi, pj));
+        tj[o + 1] = wj;
+        tj[o + 2] = q.sub(zero, q.mul(wj, up_r));
+        tj[o + 3] = q.mul(wj, i.p);
+        for k in 0..dev_parts(D) {
+            own[o + 4 + k] = q.add(own[o + 4 + k], q.mul(wi, bc(q, &bj.dev[k], l)));
+            tj[o + 4 + k] = q.mul(wj, i.dev[k]);
+        }
+    }
+    true
+}
+
+/// The lane sums of the first [`slots`] entries of `t`.
+#[inline(always)]
+fn slot_sums<Q: Quad, const D: usize>(q: Q, t: &[Q::V; 16]) -> [Real; 16] {
+    let mut out = [0.0; 16];
+    if D == 2 {
+        let a: [Q::V; 12] = std::array::from_fn(|k| t[k]);
+        out[..12].copy_from_slice(&q.sums(&a));
+    } else {
+        out = q.sums(t);
+    }
+    out
+}
+
+/// One slab of the momentum pass.
+struct Momentum<'a, const D: usize> {
+    blocks: &'a [Block<D>],
+    cp: &'a ClusterPairs,
+    sc: &'a MomentumScalars<D>,
+    slab: usize,
+    win: &'a mut [MomentumLaneSums<D>],
+    base: usize,
+}
+
+impl<const D: usize> QuadTask for Momentum<'_, D> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<Q: Quad>(self, q: Q) {
+        let Momentum {
+            blocks,
+            cp,
+            sc,
+            slab,
+            win,
+            base,
+        } = self;
+        let zero = q.splat(0.0);
+        let n = slots(D);
+        let dp = dev_parts(D);
+        for ci in cp.slabs[slab] as usize..cp.slabs[slab + 1] as usize {
+            let bi = &blocks[ci];
+            let mut lanes = MomentumLanes::<Q, D> {
+                idx: lane_indices(q, cp, ci),
+                x: [zero; D],
+                v: [zero; D],
+                dev: [zero; 6],
+                p: q.load(&bi.p),
+                vol: q.load(&bi.vol),
+                pj: q.load(&bi.pj),
+                pgeo: q.load(&bi.pgeo),
+                kept: q.load(&bi.kept),
+                g: q.load(&bi.g),
+                l: [[zero; D]; D],
+            };
+            for d in 0..D {
+                lanes.x[d] = q.load(&bi.x[d]);
+                lanes.v[d] = q.load(&bi.v[d]);
+                for c in 0..D {
+                    lanes.l[d][c] = q.load(&bi.l[d][c]);
+                }
+            }
+            for k in 0..dp {
+                lanes.dev[k] = q.load(&bi.dev[k]);
+            }
+            let mut own = [zero; 16];
+            let mut tj = [zero; 16];
+            for &j in cp.of(ci) {
+                let (c, l, j) = at(cp, j);
+                if !momentum_term(q, sc, &lanes, (&blocks[c], l, j), &mut own, &mut tj) {
+                    continue;
+                }
+                let s = slot_sums::<Q, D>(q, &tj);
+                let out = &mut win[c - base];
+                for d in 0..D {
+                    out.acc[d][l] -= s[d];
+                    out.hourglass[d][l] -= s[D + d];
+                }
+                let o = 2 * D;
+                out.drho[l] += s[o];
+                out.w[l] += s[o + 1];
+                out.wz[l] += s[o + 2];
+                out.wp[l] += s[o + 3];
+                for k in 0..dp {
+                    out.wdev[k][l] += s[o + 4 + k];
+                }
+            }
+            debug_assert!(n <= 16);
+            let out = &mut win[ci - base];
+            let add = |a: &mut L, v: Q::V| q.store(a, q.add(q.load(a), v));
+            for d in 0..D {
+                add(&mut out.acc[d], own[d]);
+                add(&mut out.hourglass[d], own[D + d]);
+            }
+            let o = 2 * D;
+            add(&mut out.drho, own[o]);
+            add(&mut out.w, own[o + 1]);
+            add(&mut out.wz, own[o + 2]);
+            add(&mut out.wp, own[o + 3]);
+            for k in 0..dp {
+                add(&mut out.wdev[k], own[o + 4 + k]);
+            }
+        }
+    }
+}
+
+/// The continuity terms of the four lanes against particle `j`: what the lanes gain
+/// (drho, then −v_ij ⊗ e ∂W/∂r V_j by row) into `own`, and what j gains from each
+/// into `tj`, to be summed over the lanes (drho added, the gradient subtracted);
+/// false, with neither touched, if no lane pairs with j.
+#[inline(always)]
+fn continuity_term<Q: Quad, const D: usize>(
+    q: Q,
+    (kernel, wrap): (&WendlandC2, &Wrap),
+    i: &ContinuityLanes<Q, D>,
+    (bj, l, j): (&Block<D>, usize, usize),
+    own: &mut [Q::V; 10],
+    tj: &mut [Q::V; 10],
+) -> bool {
+    let zero = q.splat(0.0);
+    let (x, v, vol) = (&i.x, &i.v, i.vol);
+    let rij = separation(q, wrap, x, (&bj.x, l));
+    let Geometry { m, inv_r, dw, .. } = geometry(q, kernel, &rij, (i.idx, j));
+    if !q.any(m) {
+        return false;
+    }
+    let dw = q.select(m, dw, zero);
+    let volj = bc(q, &bj.vol, l);
+    let mut e = [zero; D];
+    let mut g = [zero; D];
+    let mut s = zero;
+    for d in 0..D {
+        e[d] = q.mul(rij[d], inv_r);
+        // g = v_ij ∂W/∂r, s = g·e: 2 (U* − U_L) of Eq. (15) without the jump
+        g[d] = q.mul(q.sub(v[d], bc(q, &bj.v[d], l)), dw);
+        s = q.add(s, q.mul(g[d], e[d]));
+    }
+    own[0] = q.add(own[0], q.mul(s, volj));
+    tj[0] = q.mul(s, vol);
+    for a in 0..D {
+        let (gi, gj) = (q.mul(g[a], volj), q.mul(g[a], vol));
+        for b in 0..D {
+            let k = 1 + a * D + b;
+            own[k] = q.add(own[k], q.mul(gi, e[b]));
+            tj[k] = q.mul(gj, e[b]);
+        }
+    }
+    true
+}
+
+/// The lanes of a cluster as the continuity terms read them.
+struct ContinuityLanes<Q: Quad, const D: usize> {
+    idx: Q::V,
+    x: [Q::V; D],
+    v: [Q::V; D],
+    vol: Q::V,
+}
+
+/// One slab of the continuity pass.
+struct Continuity<'a, const D: usize> {
+    blocks: &'a [Block<D>],
+    cp: &'a ClusterPairs,
+    kernel: &'a WendlandC2,
+    wrap: &'a Wrap,
+    slab: usize,
+    win: &'a mut [ContinuityLaneSums<D>],
+    base: usize,
+}
+
+impl<const D: usize> QuadTask for Continuity<'_, D> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<Q: Quad>(self, q: Q) {
+        let Continuity {
+            blocks,
+            cp,
+            kernel,
+            wrap,
+            slab,
+            win,
+            base,
+        } = self;
+        let zero = q.splat(0.0);
+        for ci in cp.slabs[slab] as usize..cp.slabs[slab + 1] as usize {
+            let bi = &blocks[ci];
+            let mut lanes = ContinuityLanes::<Q, D> {
+                idx: lane_indices(q, cp, ci),
+                x: [zero; D],
+                v: [zero; D],
+                vol: q.load(&bi.vol),
+            };
+            for d in 0..D {
+                lanes.x[d] = q.load(&bi.x[d]);
+                lanes.v[d] = q.load(&bi.v[d]);
+            }
+            let mut own = [zero; 10];
+            let mut tj = [zero; 10];
+            for &j in cp.of(ci) {
+                let (c, l, j) = at(cp, j);
+                let block = (&blocks[c], l, j);
+                if !continuity_term(q, (kernel, wrap), &lanes, block, &mut own, &mut tj) {
+                    continue;
+                }
+                let s: [Real; 10] = if D == 2 {
+                    let a: [Q::V; 5] = std::array::from_fn(|k| tj[k]);
+                    let mut s = [0.0; 10];
+                    s[..5].copy_from_slice(&q.sums(&a));
+                    s
+                } else {
+                    q.sums(&tj)
+                };
+                let out = &mut win[c - base];
+                out.drho[l] += s[0];
+                for a in 0..D {
+                    for b in 0..D {
+                        out.grad[a][b][l] -= s[1 + a * D + b];
+                    }
+                }
+            }
+            let out = &mut win[ci - base];
+            let add = |a: &mut L, v: Q::V| q.store(a, q.add(q.load(a), v));
+            add(&mut out.drho, own[0]);
+            for a in 0..D {
+                for b in 0..D {
+                    // −v_ij ⊗ e_ij ∂W/∂r V_j, Eq. (24)
+                    let s = q.sub(q.load(&out.grad[a][b]), own[1 + a * D + b]);
+                    q.store(&mut out.grad[a][b], s);
+                }
+            }
+        }
+    }
+}
