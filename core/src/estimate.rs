@@ -19,7 +19,7 @@ use crate::flow_speed::{saturated, water_spec, water_speed, WaterSpeed};
 use crate::geometry::Shape;
 use crate::math::{from3, to3, Real, Sym, Vect};
 use crate::neighbors::BYTES_PER_CELL;
-use crate::quad::WIDTH;
+use crate::pairs::quad::WIDTH;
 use crate::resolution::Resolution;
 use crate::rng::Rng;
 use crate::scene::spec_rotation;

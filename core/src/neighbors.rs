@@ -10,7 +10,7 @@
 //! list radius lies in one slab or two neighbouring ones. The fine–fine lists hold
 //! each pair once, under its lower index (j > i), so a neighbour j of a particle i in
 //! slab s lies in slab s or s + 1: the symmetric sweeps rely on this
-//! ([`slabs`](crate::slabs)).
+//! ([`slabs`](crate::pairs::slabs)).
 
 use crate::math::{Real, Vect};
 use crate::periodic::{Period, Separation};

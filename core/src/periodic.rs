@@ -7,7 +7,7 @@
 //! ([`CellGrid`](crate::neighbors::CellGrid)); the positions are wrapped back into
 //! [lo, lo + L) when the lists are rebuilt, and between builds they stray at most a
 //! skin beyond, which the minimum image absorbs. The periodic axis is never the
-//! grid's slab axis, so the two-phase schedule of [`slabs`](crate::slabs) holds across
+//! grid's slab axis, so the two-phase schedule of [`slabs`](crate::pairs::slabs) holds across
 //! the seam.
 
 use crate::math::{Real, Vect};

@@ -12,7 +12,7 @@
 //! the constitutive update.
 //!
 //! The pair pass evaluates each fine–fine pair once and adds its terms in v_{n+1} to
-//! both particles' [`ContinuitySums`] (two-phase slab schedule, [`slabs`](crate::slabs));
+//! both particles' [`ContinuitySums`] (two-phase slab schedule, [`slabs`](crate::pairs::slabs));
 //! the terms without velocity ([`JumpDiffusion`]) are already there, from the momentum
 //! sweep's pair pass. The particle pass
 //! ([`interactions::continuity_pass`](crate::interactions::continuity_pass)) takes the
@@ -27,11 +27,11 @@ use super::state::FineParticles;
 use crate::kernel::WendlandC2;
 use crate::math::{sub_outer, Real, Sym, Vect};
 use crate::neighbors::NeighborLists;
-use crate::pair_block::{Pair, PairBlock, BLOCK};
+use crate::pairs::block::{Pair, PairBlock, BLOCK};
+use crate::pairs::slabs::two_phase;
 use crate::periodic::{Open, Separation, Wrap};
 use crate::riemann::pair_reciprocals;
 use crate::scene::ContinuityJump;
-use crate::slabs::two_phase;
 use nalgebra::{Matrix3, SMatrix};
 
 /// Inputs of the continuity/stress sweep that are not particle arrays.

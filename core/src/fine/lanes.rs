@@ -1,6 +1,6 @@
 //! The fine–fine pair terms of the momentum and continuity sweeps on cluster pairs
-//! ([`clusters`](crate::clusters)), a cluster's four particles against one neighbour
-//! at a time on [`Quad`] lanes ([`cluster_lanes`]; issue 45, docs/method.md
+//! ([`clusters`](crate::pairs::clusters)), a cluster's four particles against one neighbour
+//! at a time on [`Quad`] lanes ([`cluster_pass`](crate::pairs::cluster_pass); issue 45, docs/method.md
 //! §Throughput).
 //!
 //! The terms are those of [`momentum::pair_pass`](super::momentum::pair_pass) (seed 000
@@ -13,12 +13,12 @@
 //! and no artificial stress; other scenes keep the one-pair passes ([`FinePairs`]).
 //!
 //! Each pair is evaluated once, as in the one-pair passes, and the sums run over the
-//! cluster slabs in the two-phase schedule ([`slabs`](crate::slabs)), so they do not
+//! cluster slabs in the two-phase schedule ([`slabs`](crate::pairs::slabs)), so they do not
 //! depend on the thread count; the two instruction sets agree bitwise ([`quad`]). The
 //! order of summation differs from the one-pair passes, so the two agree to round-off
 //! (tested below).
 //!
-//! [`quad`]: crate::quad
+//! [`quad`]: crate::pairs::quad
 
 // the terms loop over components of several lane arrays at once (x, v, σˢ, L, sums)
 #![allow(clippy::needless_range_loop)]
@@ -28,14 +28,15 @@ use super::momentum::MomentumParams;
 use super::pair_sums::PairSums;
 use super::source::Source;
 use super::state::FineParticles;
-use crate::cluster_lanes::{
-    at, bc, geometry, lane_indices, run_slabs, separation, unpack, Geometry, FAR, L,
-};
-use crate::clusters::ClusterPairs;
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Vect};
+use crate::pairs::cluster_pass::{
+    at, bc, geometry, lane_indices, run_pass, separation, unpack, ClusterPass, Geometry, Window,
+    FAR, L,
+};
+use crate::pairs::clusters::ClusterPairs;
+use crate::pairs::quad::{Lanes, Quad, WIDTH};
 use crate::periodic::Wrap;
-use crate::quad::{Lanes, Quad, QuadTask, WIDTH};
 use rayon::prelude::*;
 
 /// How the fine–fine pair terms of the two sweeps are taken.
@@ -262,17 +263,7 @@ impl<const D: usize> FineLanes<D> {
             up: jump.up(),
             reg: jump.reg,
         };
-        let blocks = &self.blocks;
-        run_slabs(cp, &mut self.msums, |s, win, base| {
-            lanes.run(Momentum {
-                blocks,
-                cp,
-                sc: &sc,
-                slab: s,
-                win,
-                base,
-            })
-        });
+        run_pass(&Momentum(&sc), (&self.blocks, cp), lanes, &mut self.msums);
         let m = dev_parts(D);
         unpack(cp, &self.msums, sums, |o, s, l| {
             for d in 0..D {
@@ -309,18 +300,8 @@ impl<const D: usize> FineLanes<D> {
                 }
             }
         });
-        let blocks = &self.blocks;
-        run_slabs(cp, &mut self.csums, |s, win, base| {
-            lanes.run(Continuity {
-                blocks,
-                cp,
-                kernel: &kernel,
-                wrap: &wrap,
-                slab: s,
-                win,
-                base,
-            })
-        });
+        let pass = Continuity { kernel, wrap };
+        run_pass(&pass, (&self.blocks, cp), lanes, &mut self.csums);
         unpack(cp, &self.csums, sums, |o, s, l| {
             let c = &mut o.continuity;
             c.drho += s.drho[l];
@@ -348,15 +329,9 @@ struct MomentumLanes<Q: Quad, const D: usize> {
     l: [[Q::V; D]; D],
 }
 
-/// The slots of a neighbour's momentum sums, in one array for the lane sums: the
-/// acceleration (D), the hourglass increment (D), then the continuity's drho, w, wz,
-/// wp and σˢ weights.
-const fn slots(d: usize) -> usize {
-    2 * d + 4 + dev_parts(d)
-}
-
 /// The momentum terms of the four lanes of a cluster against particle `j` (lane `l`
-/// of block `bj`): what the lanes gain, added into `own` (laid out as [`slots`]),
+/// of block `bj`): what the lanes gain, added into `own` (the acceleration (D), the hourglass
+/// increment (D), then the continuity's drho, w, wz, wp and σˢ weights),
 /// and what j gains from each lane, to be summed over the lanes, into `tj`. False,
 /// with neither touched, if no lane pairs with j (a list entry beyond the cut-off of
 /// every member, in the lists' skin).
@@ -485,7 +460,8 @@ fn momentum_term<Q: Quad, const D: usize>(
     true
 }
 
-/// The lane sums of the first [`slots`] entries of `t`.
+/// The lane sums of the entries of `t` a neighbour's momentum terms fill (12 in 2D,
+/// 16 in 3D).
 #[inline(always)]
 fn slot_sums<Q: Quad, const D: usize>(q: Q, t: &[Q::V; 16]) -> [Real; 16] {
     let mut out = [0.0; 16];
@@ -498,94 +474,84 @@ fn slot_sums<Q: Quad, const D: usize>(q: Q, t: &[Q::V; 16]) -> [Real; 16] {
     out
 }
 
-/// One slab of the momentum pass.
-struct Momentum<'a, const D: usize> {
-    blocks: &'a [Block<D>],
-    cp: &'a ClusterPairs,
-    sc: &'a MomentumScalars<D>,
-    slab: usize,
-    win: &'a mut [MomentumLaneSums<D>],
-    base: usize,
-}
+/// The momentum pass.
+struct Momentum<'a, const D: usize>(&'a MomentumScalars<D>);
 
-impl<const D: usize> QuadTask for Momentum<'_, D> {
-    type Output = ();
+impl<const D: usize> ClusterPass for Momentum<'_, D> {
+    type Block = Block<D>;
+    type Sums = MomentumLaneSums<D>;
 
     #[inline(always)]
-    fn run<Q: Quad>(self, q: Q) {
-        let Momentum {
-            blocks,
-            cp,
-            sc,
-            slab,
-            win,
-            base,
-        } = self;
+    fn cluster<Q: Quad>(
+        &self,
+        q: Q,
+        (blocks, cp): (&[Block<D>], &ClusterPairs),
+        ci: usize,
+        win: &mut Window<'_, MomentumLaneSums<D>>,
+    ) {
+        let sc = self.0;
         let zero = q.splat(0.0);
-        let n = slots(D);
         let dp = dev_parts(D);
-        for ci in cp.slabs[slab] as usize..cp.slabs[slab + 1] as usize {
-            let bi = &blocks[ci];
-            let mut lanes = MomentumLanes::<Q, D> {
-                idx: lane_indices(q, cp, ci),
-                x: [zero; D],
-                v: [zero; D],
-                dev: [zero; 6],
-                p: q.load(&bi.p),
-                vol: q.load(&bi.vol),
-                pj: q.load(&bi.pj),
-                pgeo: q.load(&bi.pgeo),
-                kept: q.load(&bi.kept),
-                g: q.load(&bi.g),
-                l: [[zero; D]; D],
-            };
+
+        let bi = &blocks[ci];
+        let mut lanes = MomentumLanes::<Q, D> {
+            idx: lane_indices(q, cp, ci),
+            x: [zero; D],
+            v: [zero; D],
+            dev: [zero; 6],
+            p: q.load(&bi.p),
+            vol: q.load(&bi.vol),
+            pj: q.load(&bi.pj),
+            pgeo: q.load(&bi.pgeo),
+            kept: q.load(&bi.kept),
+            g: q.load(&bi.g),
+            l: [[zero; D]; D],
+        };
+        for d in 0..D {
+            lanes.x[d] = q.load(&bi.x[d]);
+            lanes.v[d] = q.load(&bi.v[d]);
+            for c in 0..D {
+                lanes.l[d][c] = q.load(&bi.l[d][c]);
+            }
+        }
+        for k in 0..dp {
+            lanes.dev[k] = q.load(&bi.dev[k]);
+        }
+        let mut own = [zero; 16];
+        let mut tj = [zero; 16];
+        for &j in cp.of(ci) {
+            let (c, l, j) = at(cp, j);
+            if !momentum_term(q, sc, &lanes, (&blocks[c], l, j), &mut own, &mut tj) {
+                continue;
+            }
+            let s = slot_sums::<Q, D>(q, &tj);
+            let out = win.at(c);
             for d in 0..D {
-                lanes.x[d] = q.load(&bi.x[d]);
-                lanes.v[d] = q.load(&bi.v[d]);
-                for c in 0..D {
-                    lanes.l[d][c] = q.load(&bi.l[d][c]);
-                }
-            }
-            for k in 0..dp {
-                lanes.dev[k] = q.load(&bi.dev[k]);
-            }
-            let mut own = [zero; 16];
-            let mut tj = [zero; 16];
-            for &j in cp.of(ci) {
-                let (c, l, j) = at(cp, j);
-                if !momentum_term(q, sc, &lanes, (&blocks[c], l, j), &mut own, &mut tj) {
-                    continue;
-                }
-                let s = slot_sums::<Q, D>(q, &tj);
-                let out = &mut win[c - base];
-                for d in 0..D {
-                    out.acc[d][l] -= s[d];
-                    out.hourglass[d][l] -= s[D + d];
-                }
-                let o = 2 * D;
-                out.drho[l] += s[o];
-                out.w[l] += s[o + 1];
-                out.wz[l] += s[o + 2];
-                out.wp[l] += s[o + 3];
-                for k in 0..dp {
-                    out.wdev[k][l] += s[o + 4 + k];
-                }
-            }
-            debug_assert!(n <= 16);
-            let out = &mut win[ci - base];
-            let add = |a: &mut L, v: Q::V| q.store(a, q.add(q.load(a), v));
-            for d in 0..D {
-                add(&mut out.acc[d], own[d]);
-                add(&mut out.hourglass[d], own[D + d]);
+                out.acc[d][l] -= s[d];
+                out.hourglass[d][l] -= s[D + d];
             }
             let o = 2 * D;
-            add(&mut out.drho, own[o]);
-            add(&mut out.w, own[o + 1]);
-            add(&mut out.wz, own[o + 2]);
-            add(&mut out.wp, own[o + 3]);
+            out.drho[l] += s[o];
+            out.w[l] += s[o + 1];
+            out.wz[l] += s[o + 2];
+            out.wp[l] += s[o + 3];
             for k in 0..dp {
-                add(&mut out.wdev[k], own[o + 4 + k]);
+                out.wdev[k][l] += s[o + 4 + k];
             }
+        }
+        let out = win.at(ci);
+        let add = |a: &mut L, v: Q::V| q.store(a, q.add(q.load(a), v));
+        for d in 0..D {
+            add(&mut out.acc[d], own[d]);
+            add(&mut out.hourglass[d], own[D + d]);
+        }
+        let o = 2 * D;
+        add(&mut out.drho, own[o]);
+        add(&mut out.w, own[o + 1]);
+        add(&mut out.wz, own[o + 2]);
+        add(&mut out.wp, own[o + 3]);
+        for k in 0..dp {
+            add(&mut out.wdev[k], own[o + 4 + k]);
         }
     }
 }
@@ -642,77 +608,70 @@ struct ContinuityLanes<Q: Quad, const D: usize> {
     vol: Q::V,
 }
 
-/// One slab of the continuity pass.
-struct Continuity<'a, const D: usize> {
-    blocks: &'a [Block<D>],
-    cp: &'a ClusterPairs,
-    kernel: &'a WendlandC2,
-    wrap: &'a Wrap,
-    slab: usize,
-    win: &'a mut [ContinuityLaneSums<D>],
-    base: usize,
+/// The continuity pass.
+struct Continuity<const D: usize> {
+    kernel: WendlandC2,
+    wrap: Wrap,
 }
 
-impl<const D: usize> QuadTask for Continuity<'_, D> {
-    type Output = ();
+impl<const D: usize> ClusterPass for Continuity<D> {
+    type Block = Block<D>;
+    type Sums = ContinuityLaneSums<D>;
 
     #[inline(always)]
-    fn run<Q: Quad>(self, q: Q) {
-        let Continuity {
-            blocks,
-            cp,
-            kernel,
-            wrap,
-            slab,
-            win,
-            base,
-        } = self;
+    fn cluster<Q: Quad>(
+        &self,
+        q: Q,
+        (blocks, cp): (&[Block<D>], &ClusterPairs),
+        ci: usize,
+        win: &mut Window<'_, ContinuityLaneSums<D>>,
+    ) {
+        let (kernel, wrap) = (&self.kernel, &self.wrap);
         let zero = q.splat(0.0);
-        for ci in cp.slabs[slab] as usize..cp.slabs[slab + 1] as usize {
-            let bi = &blocks[ci];
-            let mut lanes = ContinuityLanes::<Q, D> {
-                idx: lane_indices(q, cp, ci),
-                x: [zero; D],
-                v: [zero; D],
-                vol: q.load(&bi.vol),
+
+        let bi = &blocks[ci];
+        let mut lanes = ContinuityLanes::<Q, D> {
+            idx: lane_indices(q, cp, ci),
+            x: [zero; D],
+            v: [zero; D],
+            vol: q.load(&bi.vol),
+        };
+        for d in 0..D {
+            lanes.x[d] = q.load(&bi.x[d]);
+            lanes.v[d] = q.load(&bi.v[d]);
+        }
+        let mut own = [zero; 10];
+        let mut tj = [zero; 10];
+        for &j in cp.of(ci) {
+            let (c, l, j) = at(cp, j);
+            let block = (&blocks[c], l, j);
+            if !continuity_term(q, (kernel, wrap), &lanes, block, &mut own, &mut tj) {
+                continue;
+            }
+            let s: [Real; 10] = if D == 2 {
+                let a: [Q::V; 5] = std::array::from_fn(|k| tj[k]);
+                let mut s = [0.0; 10];
+                s[..5].copy_from_slice(&q.sums(&a));
+                s
+            } else {
+                q.sums(&tj)
             };
-            for d in 0..D {
-                lanes.x[d] = q.load(&bi.x[d]);
-                lanes.v[d] = q.load(&bi.v[d]);
-            }
-            let mut own = [zero; 10];
-            let mut tj = [zero; 10];
-            for &j in cp.of(ci) {
-                let (c, l, j) = at(cp, j);
-                let block = (&blocks[c], l, j);
-                if !continuity_term(q, (kernel, wrap), &lanes, block, &mut own, &mut tj) {
-                    continue;
-                }
-                let s: [Real; 10] = if D == 2 {
-                    let a: [Q::V; 5] = std::array::from_fn(|k| tj[k]);
-                    let mut s = [0.0; 10];
-                    s[..5].copy_from_slice(&q.sums(&a));
-                    s
-                } else {
-                    q.sums(&tj)
-                };
-                let out = &mut win[c - base];
-                out.drho[l] += s[0];
-                for a in 0..D {
-                    for b in 0..D {
-                        out.grad[a][b][l] -= s[1 + a * D + b];
-                    }
-                }
-            }
-            let out = &mut win[ci - base];
-            let add = |a: &mut L, v: Q::V| q.store(a, q.add(q.load(a), v));
-            add(&mut out.drho, own[0]);
+            let out = win.at(c);
+            out.drho[l] += s[0];
             for a in 0..D {
                 for b in 0..D {
-                    // −v_ij ⊗ e_ij ∂W/∂r V_j, Eq. (24)
-                    let s = q.sub(q.load(&out.grad[a][b]), own[1 + a * D + b]);
-                    q.store(&mut out.grad[a][b], s);
+                    out.grad[a][b][l] -= s[1 + a * D + b];
                 }
+            }
+        }
+        let out = win.at(ci);
+        let add = |a: &mut L, v: Q::V| q.store(a, q.add(q.load(a), v));
+        add(&mut out.drho, own[0]);
+        for a in 0..D {
+            for b in 0..D {
+                // −v_ij ⊗ e_ij ∂W/∂r V_j, Eq. (24)
+                let s = q.sub(q.load(&out.grad[a][b]), own[1 + a * D + b]);
+                q.store(&mut out.grad[a][b], s);
             }
         }
     }

@@ -7,7 +7,7 @@
 //! fine–fine terms and the update.
 //!
 //! The pair pass evaluates each fine–fine pair once and adds its terms to both
-//! particles' [`MomentumSums`] (two-phase slab schedule, [`slabs`](crate::slabs)):
+//! particles' [`MomentumSums`] (two-phase slab schedule, [`slabs`](crate::pairs::slabs)):
 //! σ̄ˢ_ij, P* and the hourglass weight are symmetric in the pair and e_ji = −e_ij, so j
 //! receives the negated traction weighted by V_i. The same pass takes the continuity
 //! sweep's terms without velocity ([`JumpDiffusion`], [`pair_sums`](super::pair_sums)).
@@ -24,10 +24,10 @@ use super::state::FineParticles;
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Sym, Vect};
 use crate::neighbors::NeighborLists;
-use crate::pair_block::{Pair, PairBlock, BLOCK};
+use crate::pairs::block::{Pair, PairBlock, BLOCK};
+use crate::pairs::slabs::two_phase;
 use crate::periodic::{Open, Separation, Wrap};
 use crate::riemann::{minmod_jump, pair_reciprocals, Riemann, Side};
-use crate::slabs::two_phase;
 use nalgebra::SVector;
 
 /// Artificial-stress settings (cohesive materials only).

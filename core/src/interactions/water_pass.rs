@@ -23,11 +23,11 @@ pub struct WaterCoarse<'a, const D: usize> {
     /// coarse particle, `(coarse particle, force)`.
     pub shares: &'a mut [Vec<(u32, Vect<D>)>],
 }
-use crate::clusters::ClusterPairs;
 use crate::load::Load;
 use crate::math::{Real, Vect};
 use crate::neighbors::{NeighborLists, CHUNK};
-use crate::quad::Lanes;
+use crate::pairs::clusters::ClusterPairs;
+use crate::pairs::quad::Lanes;
 use crate::walls::Walls;
 use crate::water::correction::{self, Corr};
 use crate::water::lanes::WaterLanes;

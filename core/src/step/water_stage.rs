@@ -6,7 +6,6 @@
 use super::family::{Closing, FamilyLists};
 use super::relations::WallRelation;
 use super::soil_water_stage::SeepStep;
-use crate::clusters::ClusterPairs;
 use crate::coarse::body::Body;
 use crate::guard::{Blowup, Family};
 use crate::interactions::fine_coarse::{self, CoarseSource};
@@ -19,7 +18,8 @@ use crate::interactions::water_start::incompressible_start;
 use crate::kernel::WendlandC2;
 use crate::math::{to3, Real, Vect};
 use crate::neighbors::CellGrid;
-use crate::quad::Lanes;
+use crate::pairs::clusters::ClusterPairs;
+use crate::pairs::quad::Lanes;
 use crate::scene::WallSlip;
 use crate::timers::{Stage, StageTimers};
 use crate::water::correction::Corr;

@@ -15,8 +15,8 @@ use super::source::WaterSource;
 use super::state::WaterParticles;
 use crate::math::Vect;
 use crate::neighbors::NeighborLists;
-use crate::pair_block::{Pair, PairBlock, BLOCK};
-use crate::slabs::two_phase;
+use crate::pairs::block::{Pair, PairBlock, BLOCK};
+use crate::pairs::slabs::two_phase;
 
 /// Runs over the water–water relation (`NeighborLists::inner_of`).
 ///

@@ -20,9 +20,9 @@ use super::state::WaterParticles;
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Vect};
 use crate::neighbors::NeighborLists;
-use crate::pair_block::{Pair, PairBlock, BLOCK};
+use crate::pairs::block::{Pair, PairBlock, BLOCK};
+use crate::pairs::slabs::two_phase;
 use crate::periodic::Wrap;
-use crate::slabs::two_phase;
 use nalgebra::SMatrix;
 
 /// D × D correction matrix.

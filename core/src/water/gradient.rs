@@ -13,9 +13,9 @@ use super::state::WaterParticles;
 use crate::kernel::WendlandC2;
 use crate::math::Real;
 use crate::neighbors::NeighborLists;
-use crate::pair_block::{Pair, PairBlock, BLOCK};
+use crate::pairs::block::{Pair, PairBlock, BLOCK};
+use crate::pairs::slabs::two_phase;
 use crate::periodic::Wrap;
-use crate::slabs::two_phase;
 
 /// Runs over the water–water relation (`NeighborLists::inner_of`).
 ///

@@ -1,5 +1,5 @@
 //! The water–water pair terms of the momentum and continuity passes on cluster pairs
-//! ([`clusters`](crate::clusters)), four neighbours at a time on [`Quad`] lanes (issue
+//! ([`clusters`](crate::pairs::clusters)), four neighbours at a time on [`Quad`] lanes (issue
 //! 45, docs/method.md §Throughput).
 //!
 //! The terms are those of [`momentum::pair_pass`](super::momentum::pair_pass) (Zhang,
@@ -11,12 +11,12 @@
 //! against them (its values broadcast), the pairs beyond the cut-off are masked out,
 //! and the neighbour cluster's four sums go back with one vector add per component.
 //! Each pair is evaluated once, as in the one-pair passes, and the sums run over the
-//! cluster slabs in the two-phase schedule ([`slabs`](crate::slabs)), so they do not
+//! cluster slabs in the two-phase schedule ([`slabs`](crate::pairs::slabs)), so they do not
 //! depend on the thread count; the two instruction sets agree bitwise ([`quad`]).
 //! The order of summation differs from the one-pair passes, so the two agree to
 //! round-off (tested below).
 //!
-//! [`quad`]: crate::quad
+//! [`quad`]: crate::pairs::quad
 
 // the terms loop over components of several lane arrays at once (x, v, B, their sums)
 #![allow(clippy::needless_range_loop)]
@@ -25,12 +25,13 @@ use super::correction::Corr;
 use super::momentum::{WaterParams, WaterSums};
 use super::source::WaterSource;
 use super::state::WaterParticles;
-use crate::cluster_lanes::{
-    at, bc, geometry, lane_indices, run_slabs, separation, unpack, Geometry, FAR, L,
-};
-use crate::clusters::ClusterPairs;
 use crate::math::Vect;
-use crate::quad::{Lanes, Quad, QuadTask, WIDTH};
+use crate::pairs::cluster_pass::{
+    at, bc, geometry, lane_indices, run_pass, separation, unpack, ClusterPass, Geometry, Window,
+    FAR, L,
+};
+use crate::pairs::clusters::ClusterPairs;
+use crate::pairs::quad::{Lanes, Quad, WIDTH};
 use rayon::prelude::*;
 
 /// The state the pair terms read, for the four particles of a cluster.
@@ -134,16 +135,7 @@ impl<const D: usize> WaterLanes<D> {
         lanes: Lanes,
         m: &mut [Corr<D>],
     ) {
-        self.run(cp, |blocks, cp, s, win, base| {
-            lanes.run(Moment {
-                blocks,
-                cp,
-                prm,
-                slab: s,
-                win,
-                base,
-            })
-        });
+        run_pass(&Moment(prm), (&self.blocks, cp), lanes, &mut self.sums);
         unpack(cp, &self.sums, m, |o, s, l| {
             for d in 0..D {
                 for e in d..D {
@@ -182,16 +174,7 @@ impl<const D: usize> WaterLanes<D> {
         lanes: Lanes,
         sums: &mut [WaterSums<D>],
     ) {
-        self.run(cp, |blocks, cp, s, win, base| {
-            lanes.run(Momentum {
-                blocks,
-                cp,
-                prm,
-                slab: s,
-                win,
-                base,
-            })
-        });
+        run_pass(&Momentum(prm), (&self.blocks, cp), lanes, &mut self.sums);
         self.unpack(cp, sums, |o, s, l| {
             for d in 0..D {
                 o.acc[d] += s.acc[d][l];
@@ -208,28 +191,8 @@ impl<const D: usize> WaterLanes<D> {
         lanes: Lanes,
         sums: &mut [WaterSums<D>],
     ) {
-        self.run(cp, |blocks, cp, s, win, base| {
-            lanes.run(Continuity {
-                blocks,
-                cp,
-                prm,
-                slab: s,
-                win,
-                base,
-            })
-        });
+        run_pass(&Continuity(prm), (&self.blocks, cp), lanes, &mut self.sums);
         self.unpack(cp, sums, |o, s, l| o.drho += s.drho[l]);
-    }
-
-    /// Zero the lane sums and run `task` on every cluster slab, two-phase.
-    fn run<F>(&mut self, cp: &ClusterPairs, task: F)
-    where
-        F: Fn(&[Block<D>], &ClusterPairs, usize, &mut [LaneSums<D>], usize) + Sync,
-    {
-        let blocks = &self.blocks;
-        run_slabs(cp, &mut self.sums, |s, win, base| {
-            task(blocks, cp, s, win, base)
-        });
     }
 
     /// Add each particle's lane sums to its entry of `sums` with `add`.
@@ -241,90 +204,82 @@ impl<const D: usize> WaterLanes<D> {
     }
 }
 
-/// One slab of the correction's pass: M_i = −Σ_j r ∂W/∂r e⊗e V_j
+/// The correction's pass: M_i = −Σ_j r ∂W/∂r e⊗e V_j
 /// ([`correction`](super::correction)), its upper triangle.
-struct Moment<'a, const D: usize> {
-    blocks: &'a [Block<D>],
-    cp: &'a ClusterPairs,
-    prm: &'a WaterParams<D>,
-    slab: usize,
-    win: &'a mut [LaneSums<D>],
-    base: usize,
-}
+struct Moment<'a, const D: usize>(&'a WaterParams<D>);
 
-impl<const D: usize> QuadTask for Moment<'_, D> {
-    type Output = ();
+impl<const D: usize> ClusterPass for Moment<'_, D> {
+    type Block = Block<D>;
+    type Sums = LaneSums<D>;
 
     #[inline(always)]
-    fn run<Q: Quad>(self, q: Q) {
-        let Moment {
-            blocks,
-            cp,
-            prm,
-            slab,
-            win,
-            base,
-        } = self;
+    fn cluster<Q: Quad>(
+        &self,
+        q: Q,
+        (blocks, cp): (&[Block<D>], &ClusterPairs),
+        ci: usize,
+        win: &mut Window<'_, LaneSums<D>>,
+    ) {
+        let prm = self.0;
         let zero = q.splat(0.0);
-        for ci in cp.slabs[slab] as usize..cp.slabs[slab + 1] as usize {
-            let bi = &blocks[ci];
-            let idx = lane_indices(q, cp, ci);
-            let mut xi = [zero; D];
+
+        let bi = &blocks[ci];
+        let idx = lane_indices(q, cp, ci);
+        let mut xi = [zero; D];
+        for d in 0..D {
+            xi[d] = q.load(&bi.x[d]);
+        }
+        let voli = q.load(&bi.vol);
+        let mut own = [[zero; D]; D];
+        for &j in cp.of(ci) {
+            let j = j as usize;
+            let cj = cp.of[j] as usize;
+            let (bj, l) = (&blocks[cj], j - cp.start[cj] as usize);
+            let rij = separation(q, &prm.wrap, &xi, (&bj.x, l));
+            let Geometry {
+                m, r, inv_r, dw, ..
+            } = geometry(q, &prm.kernel, &rij, (idx, j));
+            if !q.any(m) {
+                // beyond the cut-off of every lane (the lists' skin)
+                continue;
+            }
+            let f = q.select(m, q.sub(zero, q.mul(r, dw)), zero);
+            let volj = bc(q, &bj.vol, l);
+            let mut e = [zero; D];
             for d in 0..D {
-                xi[d] = q.load(&bi.x[d]);
+                e[d] = q.mul(rij[d], inv_r);
             }
-            let voli = q.load(&bi.vol);
-            let mut own = [[zero; D]; D];
-            for &j in cp.of(ci) {
-                let j = j as usize;
-                let cj = cp.of[j] as usize;
-                let (bj, l) = (&blocks[cj], j - cp.start[cj] as usize);
-                let rij = separation(q, &prm.wrap, &xi, (&bj.x, l));
-                let Geometry {
-                    m, r, inv_r, dw, ..
-                } = geometry(q, &prm.kernel, &rij, (idx, j));
-                if !q.any(m) {
-                    // beyond the cut-off of every lane (the lists' skin)
-                    continue;
-                }
-                let f = q.select(m, q.sub(zero, q.mul(r, dw)), zero);
-                let volj = bc(q, &bj.vol, l);
-                let mut e = [zero; D];
-                for d in 0..D {
-                    e[d] = q.mul(rij[d], inv_r);
-                }
-                // the upper triangle, row by row, into one array for the lane sums
-                let mut tj = [zero; 6];
-                let mut k = 0;
-                for d in 0..D {
-                    for c in d..D {
-                        let t = q.mul(q.mul(e[d], e[c]), f);
-                        own[d][c] = q.add(own[d][c], q.mul(t, volj));
-                        tj[k] = q.mul(t, voli);
-                        k += 1;
-                    }
-                }
-                let sums = if D == 2 {
-                    let s = q.sums(&[tj[0], tj[1], tj[2]]);
-                    [s[0], s[1], s[2], 0.0, 0.0, 0.0]
-                } else {
-                    q.sums(&tj)
-                };
-                let out = &mut win[cj - base].m;
-                let mut k = 0;
-                for d in 0..D {
-                    for c in d..D {
-                        out[d][c][l] += sums[k];
-                        k += 1;
-                    }
-                }
-            }
-            let out = &mut win[ci - base].m;
+            // the upper triangle, row by row, into one array for the lane sums
+            let mut tj = [zero; 6];
+            let mut k = 0;
             for d in 0..D {
                 for c in d..D {
-                    let s = q.add(q.load(&out[d][c]), own[d][c]);
-                    q.store(&mut out[d][c], s);
+                    let t = q.mul(q.mul(e[d], e[c]), f);
+                    own[d][c] = q.add(own[d][c], q.mul(t, volj));
+                    tj[k] = q.mul(t, voli);
+                    k += 1;
                 }
+            }
+            let sums = if D == 2 {
+                let s = q.sums(&[tj[0], tj[1], tj[2]]);
+                [s[0], s[1], s[2], 0.0, 0.0, 0.0]
+            } else {
+                q.sums(&tj)
+            };
+            let out = &mut win.at(cj).m;
+            let mut k = 0;
+            for d in 0..D {
+                for c in d..D {
+                    out[d][c][l] += sums[k];
+                    k += 1;
+                }
+            }
+        }
+        let out = &mut win.at(ci).m;
+        for d in 0..D {
+            for c in d..D {
+                let s = q.add(q.load(&out[d][c]), own[d][c]);
+                q.store(&mut out[d][c], s);
             }
         }
     }
@@ -407,65 +362,57 @@ fn momentum_term<Q: Quad, const D: usize>(
     Some((own, tj))
 }
 
-/// One slab of the momentum pass.
-struct Momentum<'a, const D: usize> {
-    blocks: &'a [Block<D>],
-    cp: &'a ClusterPairs,
-    prm: &'a WaterParams<D>,
-    slab: usize,
-    win: &'a mut [LaneSums<D>],
-    base: usize,
-}
+/// The momentum pass.
+struct Momentum<'a, const D: usize>(&'a WaterParams<D>);
 
-impl<const D: usize> QuadTask for Momentum<'_, D> {
-    type Output = ();
+impl<const D: usize> ClusterPass for Momentum<'_, D> {
+    type Block = Block<D>;
+    type Sums = LaneSums<D>;
 
     #[inline(always)]
-    fn run<Q: Quad>(self, q: Q) {
-        let Momentum {
-            blocks,
-            cp,
-            prm,
-            slab,
-            win,
-            base,
-        } = self;
+    fn cluster<Q: Quad>(
+        &self,
+        q: Q,
+        (blocks, cp): (&[Block<D>], &ClusterPairs),
+        ci: usize,
+        win: &mut Window<'_, LaneSums<D>>,
+    ) {
+        let prm = self.0;
         let zero = q.splat(0.0);
-        for ci in cp.slabs[slab] as usize..cp.slabs[slab + 1] as usize {
-            let bi = &blocks[ci];
-            let mut lanes = MomentumLanes::<Q, D> {
-                idx: lane_indices(q, cp, ci),
-                x: [zero; D],
-                v: [zero; D],
-                b: [[zero; D]; D],
-                p: q.load(&bi.p),
-                vol: q.load(&bi.vol),
+
+        let bi = &blocks[ci];
+        let mut lanes = MomentumLanes::<Q, D> {
+            idx: lane_indices(q, cp, ci),
+            x: [zero; D],
+            v: [zero; D],
+            b: [[zero; D]; D],
+            p: q.load(&bi.p),
+            vol: q.load(&bi.vol),
+        };
+        for d in 0..D {
+            lanes.x[d] = q.load(&bi.x[d]);
+            lanes.v[d] = q.load(&bi.v[d]);
+            for c in 0..D {
+                lanes.b[d][c] = q.load(&bi.b[d][c]);
+            }
+        }
+        let mut own = [zero; D];
+        for &j in cp.of(ci) {
+            let (c, l, j) = at(cp, j);
+            let Some((o, t)) = momentum_term(q, prm, &lanes, (&blocks[c], l, j)) else {
+                continue;
             };
             for d in 0..D {
-                lanes.x[d] = q.load(&bi.x[d]);
-                lanes.v[d] = q.load(&bi.v[d]);
-                for c in 0..D {
-                    lanes.b[d][c] = q.load(&bi.b[d][c]);
-                }
+                own[d] = q.add(own[d], o[d]);
             }
-            let mut own = [zero; D];
-            for &j in cp.of(ci) {
-                let (c, l, j) = at(cp, j);
-                let Some((o, t)) = momentum_term(q, prm, &lanes, (&blocks[c], l, j)) else {
-                    continue;
-                };
-                for d in 0..D {
-                    own[d] = q.add(own[d], o[d]);
-                }
-                for (d, s) in q.sums(&t).into_iter().enumerate() {
-                    win[c - base].acc[d][l] -= s;
-                }
+            for (d, s) in q.sums(&t).into_iter().enumerate() {
+                win.at(c).acc[d][l] -= s;
             }
-            let out = &mut win[ci - base].acc;
-            for d in 0..D {
-                let s = q.add(q.load(&out[d]), own[d]);
-                q.store(&mut out[d], s);
-            }
+        }
+        let out = &mut win.at(ci).acc;
+        for d in 0..D {
+            let s = q.add(q.load(&out[d]), own[d]);
+            q.store(&mut out[d], s);
         }
     }
 }
@@ -516,73 +463,64 @@ fn continuity_term<Q: Quad, const D: usize>(
     Some((own, tj))
 }
 
-/// One slab of the continuity pass.
-struct Continuity<'a, const D: usize> {
-    blocks: &'a [Block<D>],
-    cp: &'a ClusterPairs,
-    prm: &'a WaterParams<D>,
-    slab: usize,
-    win: &'a mut [LaneSums<D>],
-    base: usize,
-}
+/// The continuity pass.
+struct Continuity<'a, const D: usize>(&'a WaterParams<D>);
 
-impl<const D: usize> QuadTask for Continuity<'_, D> {
-    type Output = ();
+impl<const D: usize> ClusterPass for Continuity<'_, D> {
+    type Block = Block<D>;
+    type Sums = LaneSums<D>;
 
-    /// The neighbours' lane sums taken four at a time.
     #[inline(always)]
-    fn run<Q: Quad>(self, q: Q) {
-        let Continuity {
-            blocks,
-            cp,
-            prm,
-            slab,
-            win,
-            base,
-        } = self;
+    fn cluster<Q: Quad>(
+        &self,
+        q: Q,
+        (blocks, cp): (&[Block<D>], &ClusterPairs),
+        ci: usize,
+        win: &mut Window<'_, LaneSums<D>>,
+    ) {
+        let prm = self.0;
         let zero = q.splat(0.0);
-        for ci in cp.slabs[slab] as usize..cp.slabs[slab + 1] as usize {
-            let bi = &blocks[ci];
-            let mut lanes = ContinuityLanes::<Q, D> {
-                idx: lane_indices(q, cp, ci),
-                x: [zero; D],
-                v: [zero; D],
-                g: [zero; D],
-                p: q.load(&bi.p),
-                vol: q.load(&bi.vol),
-                rho: q.load(&bi.rho),
-            };
-            for d in 0..D {
-                lanes.x[d] = q.load(&bi.x[d]);
-                lanes.v[d] = q.load(&bi.v[d]);
-                lanes.g[d] = q.load(&bi.g[d]);
-            }
-            let mut own = zero;
-            // the neighbours' terms, four at a time into one lane sum
-            let (mut t, mut to, mut k) = ([zero; 4], [(0, 0); 4], 0);
-            for &j in cp.of(ci) {
-                let (c, l, j) = at(cp, j);
-                let Some((o, tj)) = continuity_term(q, prm, &lanes, (&blocks[c], l, j)) else {
-                    continue;
-                };
-                own = q.add(own, o);
-                (t[k], to[k]) = (tj, (c, l));
-                k += 1;
-                if k == 4 {
-                    for ((c, l), s) in to.into_iter().zip(q.sums(&t)) {
-                        win[c - base].drho[l] += s;
-                    }
-                    k = 0;
-                }
-            }
-            for n in 0..k {
-                let (c, l) = to[n];
-                win[c - base].drho[l] += q.sum(t[n]);
-            }
-            let out = &mut win[ci - base].drho;
-            let s = q.add(q.load(out), own);
-            q.store(out, s);
+
+        let bi = &blocks[ci];
+        let mut lanes = ContinuityLanes::<Q, D> {
+            idx: lane_indices(q, cp, ci),
+            x: [zero; D],
+            v: [zero; D],
+            g: [zero; D],
+            p: q.load(&bi.p),
+            vol: q.load(&bi.vol),
+            rho: q.load(&bi.rho),
+        };
+        for d in 0..D {
+            lanes.x[d] = q.load(&bi.x[d]);
+            lanes.v[d] = q.load(&bi.v[d]);
+            lanes.g[d] = q.load(&bi.g[d]);
         }
+        let mut own = zero;
+        // the neighbours' terms, four at a time into one lane sum
+        let (mut t, mut to, mut k) = ([zero; 4], [(0, 0); 4], 0);
+        for &j in cp.of(ci) {
+            let (c, l, j) = at(cp, j);
+            let Some((o, tj)) = continuity_term(q, prm, &lanes, (&blocks[c], l, j)) else {
+                continue;
+            };
+            own = q.add(own, o);
+            (t[k], to[k]) = (tj, (c, l));
+            k += 1;
+            if k == 4 {
+                for ((c, l), s) in to.into_iter().zip(q.sums(&t)) {
+                    win.at(c).drho[l] += s;
+                }
+                k = 0;
+            }
+        }
+        for n in 0..k {
+            let (c, l) = to[n];
+            win.at(c).drho[l] += q.sum(t[n]);
+        }
+        let out = &mut win.at(ci).drho;
+        let s = q.add(q.load(out), own);
+        q.store(out, s);
     }
 }
 

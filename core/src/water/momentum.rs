@@ -14,7 +14,7 @@
 //! per period at h/50, and a resting tank still settles (docs/method.md §Water).
 //! The viscous term is Morris et al. (1997) Eq. (8).
 //! Each pair is evaluated once and added to both particles with opposite signs
-//! (two-phase slab schedule, [`slabs`](crate::slabs)), so Σ m_i dv_i/dt of the pair
+//! (two-phase slab schedule, [`slabs`](crate::pairs::slabs)), so Σ m_i dv_i/dt of the pair
 //! terms is zero to round-off.
 
 use super::correction::Corr;
@@ -23,9 +23,9 @@ use super::state::WaterParticles;
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Vect};
 use crate::neighbors::NeighborLists;
-use crate::pair_block::{Pair, PairBlock, BLOCK};
+use crate::pairs::block::{Pair, PairBlock, BLOCK};
+use crate::pairs::slabs::two_phase;
 use crate::periodic::Wrap;
-use crate::slabs::two_phase;
 
 /// Constants of the water sweeps for one step.
 #[derive(Clone, Copy, Debug)]

@@ -3,7 +3,7 @@
 //! time, after GROMACS' NxM scheme, Páll & Hess 2013; issue 45, docs/method.md
 //! §Throughput).
 //!
-//! Within each slab of the lists ([`slabs`](crate::slabs)) the particles are cut into
+//! Within each slab of the lists ([`slabs`](crate::pairs::slabs)) the particles are cut into
 //! clusters of [`WIDTH`] in index order, the last of a slab holding what is left, so
 //! that no cluster straddles two slabs. A cluster's list is the union of its members'
 //! half lists, ascending. The half lists hold each pair once under its lower index, so
@@ -13,7 +13,7 @@
 //! does over particles.
 
 use crate::neighbors::NeighborLists;
-use crate::quad::WIDTH;
+use crate::pairs::quad::WIDTH;
 use rayon::prelude::*;
 
 /// Clusters per task of the build.

@@ -3,19 +3,19 @@
 //! neighbour on [`Quad`] lanes, the two-phase schedule over cluster slabs, and the
 //! return of the lane sums to the particles.
 //!
-//! A pass packs the state its terms read per cluster ([`clusters`](crate::clusters)),
+//! A pass packs the state its terms read per cluster ([`clusters`](crate::pairs::clusters)),
 //! one array of four lanes per component, so that a neighbour's values are read from
 //! its cluster's arrays and broadcast; the four particles of a cluster are the lanes.
 //! Pairs beyond the cut-off, or with j ≤ i, are masked out, so each pair is taken once,
 //! as in the one-pair passes; the sums a neighbour gains from the four lanes are added
 //! across the lanes in one fixed order ([`Quad::sums`]).
 
-use crate::clusters::ClusterPairs;
 use crate::kernel::WendlandC2;
 use crate::math::Real;
+use crate::pairs::clusters::ClusterPairs;
+use crate::pairs::quad::{Lanes, Quad, QuadTask, WIDTH};
+use crate::pairs::slabs::two_phase_in;
 use crate::periodic::Wrap;
-use crate::quad::{Quad, WIDTH};
-use crate::slabs::two_phase_in;
 use rayon::prelude::*;
 
 /// Where the lanes of a cluster with fewer than four particles sit: so far that no
@@ -113,16 +113,93 @@ pub fn at(cp: &ClusterPairs, j: u32) -> (usize, usize, usize) {
     (c, j - cp.start[c] as usize, j)
 }
 
-/// Zero `sums` (one entry per cluster) and run `task(slab, window, base)` on every
-/// cluster slab, two-phase ([`two_phase_in`]), as many particles per serial range as
-/// the one-pair passes take.
-pub fn run_slabs<S, F>(cp: &ClusterPairs, sums: &mut Vec<S>, task: F)
-where
-    S: Default + Clone + Send,
-    F: Fn(usize, &mut [S], usize) + Sync,
-{
+/// The sums a slab's task may write: those of its own clusters and of the next slab's
+/// ([`two_phase_in`]), by cluster index.
+pub struct Window<'a, S> {
+    sums: &'a mut [S],
+    /// The cluster of `sums[0]`.
+    base: usize,
+}
+
+impl<S> Window<'_, S> {
+    /// The sums of cluster `c`.
+    #[inline(always)]
+    pub fn at(&mut self, c: usize) -> &mut S {
+        &mut self.sums[c - self.base]
+    }
+}
+
+/// A cluster-pair pass: the state it reads per cluster ([`Block`](Self::Block)), the
+/// sums it adds per cluster ([`Sums`](Self::Sums)), and its terms for one cluster
+/// against every particle of the cluster's list.
+pub trait ClusterPass: Sync {
+    type Block: Sync;
+    type Sums: Default + Clone + Send;
+    /// The terms of cluster `ci`'s four lanes against its list, added into `out`. Must
+    /// be `#[inline(always)]`, as [`QuadTask::run`] must.
+    fn cluster<Q: Quad>(
+        &self,
+        q: Q,
+        state: (&[Self::Block], &ClusterPairs),
+        ci: usize,
+        out: &mut Window<'_, Self::Sums>,
+    );
+}
+
+/// One slab of a pass: its clusters in index order.
+struct Slab<'a, P: ClusterPass> {
+    pass: &'a P,
+    blocks: &'a [P::Block],
+    cp: &'a ClusterPairs,
+    slab: usize,
+    out: Window<'a, P::Sums>,
+}
+
+impl<P: ClusterPass> QuadTask for Slab<'_, P> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<Q: Quad>(self, q: Q) {
+        let Slab {
+            pass,
+            blocks,
+            cp,
+            slab,
+            out: Window { sums, base },
+        } = self;
+        for ci in cp.slabs[slab] as usize..cp.slabs[slab + 1] as usize {
+            // a window per cluster from the slice and base held here, so that the
+            // terms' stores need not reload them
+            let mut out = Window {
+                sums: &mut *sums,
+                base,
+            };
+            pass.cluster(q, (blocks, cp), ci, &mut out);
+        }
+    }
+}
+
+/// Zero `sums` (one entry per cluster) and run `pass` over the clusters of every slab
+/// on `lanes`, two-phase ([`two_phase_in`]), as many particles per serial range as the
+/// one-pair passes take.
+pub fn run_pass<P: ClusterPass>(
+    pass: &P,
+    (blocks, cp): (&[P::Block], &ClusterPairs),
+    lanes: Lanes,
+    sums: &mut Vec<P::Sums>,
+) {
     sums.clear();
-    sums.resize(cp.len(), S::default());
+    sums.resize(cp.len(), P::Sums::default());
+    let task = |slab: usize, sums: &mut [P::Sums], base: usize| {
+        let out = Window { sums, base };
+        lanes.run(Slab {
+            pass,
+            blocks,
+            cp,
+            slab,
+            out,
+        })
+    };
     two_phase_in(&cp.slabs, sums, 512 / WIDTH, &task);
 }
 

@@ -26,7 +26,7 @@ where
 }
 
 /// [`two_phase`] over entries that each stand for several particles (the clusters of
-/// [`clusters`](crate::clusters)): a range of slabs runs on the calling thread below
+/// [`clusters`](crate::pairs::clusters)): a range of slabs runs on the calling thread below
 /// `serial` entries.
 pub fn two_phase_in<T, F>(start: &[u32], acc: &mut [T], serial: usize, task: &F)
 where
