@@ -31,8 +31,8 @@ use super::state::FineParticles;
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Vect};
 use crate::pairs::cluster_pass::{
-    at, bc, geometry, lane_indices, run_pass, separation, unpack, ClusterPass, Geometry, Window,
-    FAR, L,
+    add_lanes, at, gather, geometry, lane_indices, run_pass, separation, sub_lanes, unpack,
+    ClusterPass, Geometry, Window, FAR,
 };
 use crate::pairs::clusters::ClusterPairs;
 use crate::pairs::quad::{Lanes, Quad, WIDTH};
@@ -68,85 +68,94 @@ const fn dev_parts(d: usize) -> usize {
     }
 }
 
-/// The state the pair terms read, for the four particles of a cluster.
+/// The state the pair terms read, for one particle of a cluster.
 #[derive(Clone, Copy, Debug)]
-pub struct Block<const D: usize> {
-    x: [L; D],
-    v: [L; D],
+pub struct Rec<const D: usize> {
+    x: [Real; D],
+    v: [Real; D],
     /// σˢ, in [`Sym`](crate::math::Sym)'s order.
-    dev: [L; 6],
-    p: L,
-    vol: L,
+    dev: [Real; 6],
+    p: Real,
+    vol: Real,
     /// The pressure of the continuity's jump: K (ρ/ρ0 − 1) by density, P by stress.
-    pj: L,
+    pj: Real,
     /// The geostatic pressure gradient of the particle's soil (the jump by stress).
-    pgeo: L,
+    pgeo: Real,
     /// Share e of the hourglass penalty kept.
-    kept: L,
+    kept: Real,
     /// ξ G of the particle's soil (0: no penalty).
-    g: L,
+    g: Real,
     /// The velocity gradient L of the last sweep, by row and column.
-    l: [[L; D]; D],
+    l: [[Real; D]; D],
 }
 
-impl<const D: usize> Default for Block<D> {
+impl<const D: usize> Default for Rec<D> {
     fn default() -> Self {
-        Block {
-            x: [[FAR; WIDTH]; D],
-            v: [[0.0; WIDTH]; D],
-            dev: [[0.0; WIDTH]; 6],
-            p: [0.0; WIDTH],
-            vol: [0.0; WIDTH],
-            pj: [0.0; WIDTH],
-            pgeo: [0.0; WIDTH],
-            kept: [0.0; WIDTH],
-            g: [0.0; WIDTH],
-            l: [[[0.0; WIDTH]; D]; D],
+        Rec {
+            x: [FAR; D],
+            v: [0.0; D],
+            dev: [0.0; 6],
+            p: 0.0,
+            vol: 0.0,
+            pj: 0.0,
+            pgeo: 0.0,
+            kept: 0.0,
+            g: 0.0,
+            l: [[0.0; D]; D],
+        }
+    }
+}
+
+/// The state of the four particles of a cluster, one record each.
+pub type Block<const D: usize> = [Rec<D>; WIDTH];
+
+/// The momentum pass's sums of one particle.
+#[derive(Clone, Copy, Debug)]
+pub struct MomentumSums<const D: usize> {
+    acc: [Real; D],
+    hourglass: [Real; D],
+    drho: Real,
+    w: Real,
+    wz: Real,
+    wp: Real,
+    wdev: [Real; 6],
+}
+
+impl<const D: usize> Default for MomentumSums<D> {
+    fn default() -> Self {
+        MomentumSums {
+            acc: [0.0; D],
+            hourglass: [0.0; D],
+            drho: 0.0,
+            w: 0.0,
+            wz: 0.0,
+            wp: 0.0,
+            wdev: [0.0; 6],
         }
     }
 }
 
 /// The momentum pass's sums of the four particles of a cluster.
+pub type MomentumLaneSums<const D: usize> = [MomentumSums<D>; WIDTH];
+
+/// The continuity pass's sums of one particle.
 #[derive(Clone, Copy, Debug)]
-pub struct MomentumLaneSums<const D: usize> {
-    acc: [L; D],
-    hourglass: [L; D],
-    drho: L,
-    w: L,
-    wz: L,
-    wp: L,
-    wdev: [L; 6],
+pub struct ContinuitySums<const D: usize> {
+    drho: Real,
+    grad: [[Real; D]; D],
 }
 
-impl<const D: usize> Default for MomentumLaneSums<D> {
+impl<const D: usize> Default for ContinuitySums<D> {
     fn default() -> Self {
-        MomentumLaneSums {
-            acc: [[0.0; WIDTH]; D],
-            hourglass: [[0.0; WIDTH]; D],
-            drho: [0.0; WIDTH],
-            w: [0.0; WIDTH],
-            wz: [0.0; WIDTH],
-            wp: [0.0; WIDTH],
-            wdev: [[0.0; WIDTH]; 6],
+        ContinuitySums {
+            drho: 0.0,
+            grad: [[0.0; D]; D],
         }
     }
 }
 
 /// The continuity pass's sums of the four particles of a cluster.
-#[derive(Clone, Copy, Debug)]
-pub struct ContinuityLaneSums<const D: usize> {
-    drho: L,
-    grad: [[L; D]; D],
-}
-
-impl<const D: usize> Default for ContinuityLaneSums<D> {
-    fn default() -> Self {
-        ContinuityLaneSums {
-            drho: [0.0; WIDTH],
-            grad: [[[0.0; WIDTH]; D]; D],
-        }
-    }
-}
+pub type ContinuityLaneSums<const D: usize> = [ContinuitySums<D>; WIDTH];
 
 /// The cluster-pair passes' buffers: the packed state and the sums.
 #[derive(Clone, Debug, Default)]
@@ -209,21 +218,21 @@ impl<const D: usize> FineLanes<D> {
             for (l, i) in cp.members(c).enumerate() {
                 let (s, mat) = (&src[i], p.material[i] as usize);
                 for d in 0..D {
-                    b.x[d][l] = p.pos[i][d];
-                    b.v[d][l] = p.vel[i][d];
+                    b[l].x[d] = p.pos[i][d];
+                    b[l].v[d] = p.vel[i][d];
                     for e in 0..D {
-                        b.l[d][e][l] = p.vel_grad[i][(d, e)] as Real;
+                        b[l].l[d][e] = p.vel_grad[i][(d, e)] as Real;
                     }
                 }
                 for k in 0..m {
-                    b.dev[k][l] = s.dev.0[k];
+                    b[l].dev[k] = s.dev.0[k];
                 }
-                b.p[l] = s.p;
-                b.vol[l] = s.vol;
-                b.pj[l] = if by_density { s.p_rho } else { s.p };
-                b.pgeo[l] = jump.pgeo(mat);
-                b.kept[l] = p.hourglass_kept[i] as Real;
-                b.g[l] = prm.hourglass.get(mat).copied().unwrap_or(0.0);
+                b[l].p = s.p;
+                b[l].vol = s.vol;
+                b[l].pj = if by_density { s.p_rho } else { s.p };
+                b[l].pgeo = jump.pgeo(mat);
+                b[l].kept = p.hourglass_kept[i] as Real;
+                b[l].g = prm.hourglass.get(mat).copied().unwrap_or(0.0);
             }
         });
     }
@@ -267,16 +276,16 @@ impl<const D: usize> FineLanes<D> {
         let m = dev_parts(D);
         unpack(cp, &self.msums, sums, |o, s, l| {
             for d in 0..D {
-                o.momentum.acc[d] += s.acc[d][l];
-                o.momentum.hourglass[d] += s.hourglass[d][l];
+                o.momentum.acc[d] += s[l].acc[d];
+                o.momentum.hourglass[d] += s[l].hourglass[d];
             }
             let c = &mut o.continuity;
-            c.drho += s.drho[l];
-            c.w += s.w[l];
-            c.wz += s.wz[l];
-            c.wp += s.wp[l];
+            c.drho += s[l].drho;
+            c.w += s[l].w;
+            c.wz += s[l].wz;
+            c.wp += s[l].wp;
             for k in 0..m {
-                c.wdev.0[k] += s.wdev[k][l];
+                c.wdev.0[k] += s[l].wdev[k];
             }
         });
     }
@@ -296,7 +305,7 @@ impl<const D: usize> FineLanes<D> {
         self.blocks.par_iter_mut().enumerate().for_each(|(c, b)| {
             for (l, i) in cp.members(c).enumerate() {
                 for d in 0..D {
-                    b.v[d][l] = vel[i][d];
+                    b[l].v[d] = vel[i][d];
                 }
             }
         });
@@ -304,10 +313,10 @@ impl<const D: usize> FineLanes<D> {
         run_pass(&pass, (&self.blocks, cp), lanes, &mut self.csums);
         unpack(cp, &self.csums, sums, |o, s, l| {
             let c = &mut o.continuity;
-            c.drho += s.drho[l];
+            c.drho += s[l].drho;
             for a in 0..D {
                 for b in 0..D {
-                    c.grad[(a, b)] += s.grad[a][b][l];
+                    c.grad[(a, b)] += s[l].grad[a][b];
                 }
             }
         });
@@ -346,7 +355,7 @@ fn momentum_term<Q: Quad, const D: usize>(
 ) -> bool {
     let zero = q.splat(0.0);
     let (half, one) = (q.splat(0.5), q.splat(1.0));
-    let rij = separation(q, &sc.wrap, &i.x, (&bj.x, l));
+    let rij = separation(q, &sc.wrap, &i.x, &bj[l].x);
     let Geometry {
         m,
         r2,
@@ -360,7 +369,7 @@ fn momentum_term<Q: Quad, const D: usize>(
     }
     // the pairs beyond the cut-off (or with j ≤ i) add nothing: every term is ∝ ∂W/∂r
     let dw = q.select(m, dw, zero);
-    let (volj, pj) = (bc(q, &bj.vol, l), bc(q, &bj.p, l));
+    let (volj, pj) = (q.splat(bj[l].vol), q.splat(bj[l].p));
     let mut e = [zero; D];
     let mut vij = [zero; D];
     // v_ij·e = U_R − U_L (U = −v·e)
@@ -368,7 +377,7 @@ fn momentum_term<Q: Quad, const D: usize>(
     let mut up_r = zero;
     for d in 0..D {
         e[d] = q.mul(rij[d], inv_r);
-        vij[d] = q.sub(i.v[d], bc(q, &bj.v[d], l));
+        vij[d] = q.sub(i.v[d], q.splat(bj[l].v[d]));
         vie = q.add(vie, q.mul(vij[d], e[d]));
         up_r = q.add(up_r, q.mul(rij[d], q.splat(sc.up[d])));
     }
@@ -382,7 +391,7 @@ fn momentum_term<Q: Quad, const D: usize>(
     // σ*·e = ½ (σˢ_i + σˢ_j)·e − P* e, Eq. (18)
     let mut a = [zero; 6];
     for k in 0..dev_parts(D) {
-        a[k] = q.add(i.dev[k], bc(q, &bj.dev[k], l));
+        a[k] = q.add(i.dev[k], q.splat(bj[l].dev[k]));
     }
     let mut t = [zero; D];
     if D == 2 {
@@ -413,14 +422,14 @@ fn momentum_term<Q: Quad, const D: usize>(
     // of every pair: the one-pair pass skips a side whose share e is 0, and
     // `momentum::integrate` drops the increment of such a particle
     if sc.hourglass {
-        let gp = q.mul(half, q.add(i.g, bc(q, &bj.g, l)));
-        let s = q.mul(q.mul(half, q.add(i.kept, bc(q, &bj.kept, l))), gp);
+        let gp = q.mul(half, q.add(i.g, q.splat(bj[l].g)));
+        let s = q.mul(q.mul(half, q.add(i.kept, q.splat(bj[l].kept))), gp);
         let qq = q.mul(q.mul(s, dw), inv_r);
         for d in 0..D {
             // ṽ_ij = v_ij − ½ (L_i + L_j) r_ij
             let mut lr = zero;
             for c in 0..D {
-                let lsum = q.add(i.l[d][c], bc(q, &bj.l[d][c], l));
+                let lsum = q.add(i.l[d][c], q.splat(bj[l].l[d][c]));
                 lr = q.add(lr, q.mul(lsum, rij[c]));
             }
             let vc = q.sub(vij[d], q.mul(lr, half));
@@ -430,13 +439,13 @@ fn momentum_term<Q: Quad, const D: usize>(
     }
     // the jump of Eq. (19), P_L − P_R, into U* − U_L (JumpDiffusion::pair)
     let k = q.mul(dw, q.splat(sc.inv_z));
-    let pjj = bc(q, &bj.pj, l);
+    let pjj = q.splat(bj[l].pj);
     let (jump_i, jump_j) = if sc.by_density {
         (q.sub(i.pj, pjj), q.sub(pjj, i.pj))
     } else {
         (
             q.sub(i.pj, q.sub(pjj, q.mul(up_r, i.pgeo))),
-            q.sub(pjj, q.add(i.pj, q.mul(up_r, bc(q, &bj.pgeo, l)))),
+            q.sub(pjj, q.add(i.pj, q.mul(up_r, q.splat(bj[l].pgeo)))),
         )
     };
     let o = 2 * D;
@@ -453,7 +462,7 @@ fn momentum_term<Q: Quad, const D: usize>(
         tj[o + 2] = q.sub(zero, q.mul(wj, up_r));
         tj[o + 3] = q.mul(wj, i.p);
         for k in 0..dev_parts(D) {
-            own[o + 4 + k] = q.add(own[o + 4 + k], q.mul(wi, bc(q, &bj.dev[k], l)));
+            own[o + 4 + k] = q.add(own[o + 4 + k], q.mul(wi, q.splat(bj[l].dev[k])));
             tj[o + 4 + k] = q.mul(wj, i.dev[k]);
         }
     }
@@ -499,23 +508,23 @@ impl<const D: usize> ClusterPass for Momentum<'_, D> {
             x: [zero; D],
             v: [zero; D],
             dev: [zero; 6],
-            p: q.load(&bi.p),
-            vol: q.load(&bi.vol),
-            pj: q.load(&bi.pj),
-            pgeo: q.load(&bi.pgeo),
-            kept: q.load(&bi.kept),
-            g: q.load(&bi.g),
+            p: gather(q, bi, |r| r.p),
+            vol: gather(q, bi, |r| r.vol),
+            pj: gather(q, bi, |r| r.pj),
+            pgeo: gather(q, bi, |r| r.pgeo),
+            kept: gather(q, bi, |r| r.kept),
+            g: gather(q, bi, |r| r.g),
             l: [[zero; D]; D],
         };
         for d in 0..D {
-            lanes.x[d] = q.load(&bi.x[d]);
-            lanes.v[d] = q.load(&bi.v[d]);
+            lanes.x[d] = gather(q, bi, |r| r.x[d]);
+            lanes.v[d] = gather(q, bi, |r| r.v[d]);
             for c in 0..D {
-                lanes.l[d][c] = q.load(&bi.l[d][c]);
+                lanes.l[d][c] = gather(q, bi, |r| r.l[d][c]);
             }
         }
         for k in 0..dp {
-            lanes.dev[k] = q.load(&bi.dev[k]);
+            lanes.dev[k] = gather(q, bi, |r| r.dev[k]);
         }
         let mut own = [zero; 16];
         let mut tj = [zero; 16];
@@ -527,31 +536,30 @@ impl<const D: usize> ClusterPass for Momentum<'_, D> {
             let s = slot_sums::<Q, D>(q, &tj);
             let out = win.at(c);
             for d in 0..D {
-                out.acc[d][l] -= s[d];
-                out.hourglass[d][l] -= s[D + d];
+                out[l].acc[d] -= s[d];
+                out[l].hourglass[d] -= s[D + d];
             }
             let o = 2 * D;
-            out.drho[l] += s[o];
-            out.w[l] += s[o + 1];
-            out.wz[l] += s[o + 2];
-            out.wp[l] += s[o + 3];
+            out[l].drho += s[o];
+            out[l].w += s[o + 1];
+            out[l].wz += s[o + 2];
+            out[l].wp += s[o + 3];
             for k in 0..dp {
-                out.wdev[k][l] += s[o + 4 + k];
+                out[l].wdev[k] += s[o + 4 + k];
             }
         }
         let out = win.at(ci);
-        let add = |a: &mut L, v: Q::V| q.store(a, q.add(q.load(a), v));
         for d in 0..D {
-            add(&mut out.acc[d], own[d]);
-            add(&mut out.hourglass[d], own[D + d]);
+            add_lanes(q, out, own[d], |s| &mut s.acc[d]);
+            add_lanes(q, out, own[D + d], |s| &mut s.hourglass[d]);
         }
         let o = 2 * D;
-        add(&mut out.drho, own[o]);
-        add(&mut out.w, own[o + 1]);
-        add(&mut out.wz, own[o + 2]);
-        add(&mut out.wp, own[o + 3]);
+        add_lanes(q, out, own[o], |s| &mut s.drho);
+        add_lanes(q, out, own[o + 1], |s| &mut s.w);
+        add_lanes(q, out, own[o + 2], |s| &mut s.wz);
+        add_lanes(q, out, own[o + 3], |s| &mut s.wp);
         for k in 0..dp {
-            add(&mut out.wdev[k], own[o + 4 + k]);
+            add_lanes(q, out, own[o + 4 + k], |s| &mut s.wdev[k]);
         }
     }
 }
@@ -571,20 +579,20 @@ fn continuity_term<Q: Quad, const D: usize>(
 ) -> bool {
     let zero = q.splat(0.0);
     let (x, v, vol) = (&i.x, &i.v, i.vol);
-    let rij = separation(q, wrap, x, (&bj.x, l));
+    let rij = separation(q, wrap, x, &bj[l].x);
     let Geometry { m, inv_r, dw, .. } = geometry(q, kernel, &rij, (i.idx, j));
     if !q.any(m) {
         return false;
     }
     let dw = q.select(m, dw, zero);
-    let volj = bc(q, &bj.vol, l);
+    let volj = q.splat(bj[l].vol);
     let mut e = [zero; D];
     let mut g = [zero; D];
     let mut s = zero;
     for d in 0..D {
         e[d] = q.mul(rij[d], inv_r);
         // g = v_ij ∂W/∂r, s = g·e: 2 (U* − U_L) of Eq. (15) without the jump
-        g[d] = q.mul(q.sub(v[d], bc(q, &bj.v[d], l)), dw);
+        g[d] = q.mul(q.sub(v[d], q.splat(bj[l].v[d])), dw);
         s = q.add(s, q.mul(g[d], e[d]));
     }
     own[0] = q.add(own[0], q.mul(s, volj));
@@ -634,11 +642,11 @@ impl<const D: usize> ClusterPass for Continuity<D> {
             idx: lane_indices(q, cp, ci),
             x: [zero; D],
             v: [zero; D],
-            vol: q.load(&bi.vol),
+            vol: gather(q, bi, |r| r.vol),
         };
         for d in 0..D {
-            lanes.x[d] = q.load(&bi.x[d]);
-            lanes.v[d] = q.load(&bi.v[d]);
+            lanes.x[d] = gather(q, bi, |r| r.x[d]);
+            lanes.v[d] = gather(q, bi, |r| r.v[d]);
         }
         let mut own = [zero; 10];
         let mut tj = [zero; 10];
@@ -657,21 +665,19 @@ impl<const D: usize> ClusterPass for Continuity<D> {
                 q.sums(&tj)
             };
             let out = win.at(c);
-            out.drho[l] += s[0];
+            out[l].drho += s[0];
             for a in 0..D {
                 for b in 0..D {
-                    out.grad[a][b][l] -= s[1 + a * D + b];
+                    out[l].grad[a][b] -= s[1 + a * D + b];
                 }
             }
         }
         let out = win.at(ci);
-        let add = |a: &mut L, v: Q::V| q.store(a, q.add(q.load(a), v));
-        add(&mut out.drho, own[0]);
+        add_lanes(q, out, own[0], |s| &mut s.drho);
         for a in 0..D {
             for b in 0..D {
                 // −v_ij ⊗ e_ij ∂W/∂r V_j, Eq. (24)
-                let s = q.sub(q.load(&out.grad[a][b]), own[1 + a * D + b]);
-                q.store(&mut out.grad[a][b], s);
+                sub_lanes(q, out, own[1 + a * D + b], |s| &mut s.grad[a][b]);
             }
         }
     }

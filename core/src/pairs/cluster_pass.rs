@@ -4,8 +4,12 @@
 //! return of the lane sums to the particles.
 //!
 //! A pass packs the state its terms read per cluster ([`clusters`](crate::pairs::clusters)),
-//! one array of four lanes per component, so that a neighbour's values are read from
-//! its cluster's arrays and broadcast; the four particles of a cluster are the lanes.
+//! one record per particle: a neighbour's values are read from its record, a few cache
+//! lines, and broadcast ([`Quad::splat`]); a cluster's own four records are gathered
+//! into the lanes once ([`gather`]). Its sums are kept the same way, one record per
+//! particle, so that a neighbour's sums are written into its record's lines and a
+//! cluster's own are added lane by lane ([`add_lanes`]): the same additions, in the
+//! same order, as into arrays of four lanes per component.
 //! Pairs beyond the cut-off, or with j ≤ i, are masked out, so each pair is taken once,
 //! as in the one-pair passes; the sums a neighbour gains from the four lanes are added
 //! across the lanes in one fixed order ([`Quad::sums`]).
@@ -22,27 +26,18 @@ use rayon::prelude::*;
 /// pair with them is within the cut-off.
 pub const FAR: Real = 1e30;
 
-/// Lanes of one component.
-pub type L = [Real; WIDTH];
-
-/// Lane `l` of `v`, broadcast.
-#[inline(always)]
-pub fn bc<Q: Quad>(q: Q, v: &L, l: usize) -> Q::V {
-    q.splat(v[l])
-}
-
-/// x_i − x_j of the four particles of a cluster (`xi`) against lane `l` of `xj`,
+/// x_i − x_j of the four particles of a cluster (`xi`) against particle j at `xj`,
 /// minimum images across a periodic seam.
 #[inline(always)]
 pub fn separation<Q: Quad, const D: usize>(
     q: Q,
     wrap: &Wrap,
     xi: &[Q::V; D],
-    (xj, l): (&[L; D], usize),
+    xj: &[Real; D],
 ) -> [Q::V; D] {
     let mut r = *xi;
     for d in 0..D {
-        r[d] = q.sub(xi[d], bc(q, &xj[d], l));
+        r[d] = q.sub(xi[d], q.splat(xj[d]));
     }
     if let Some(p) = wrap {
         let a = p.axis;
@@ -52,6 +47,42 @@ pub fn separation<Q: Quad, const D: usize>(
         r[a] = q.add(q.sub(r[a], up), down);
     }
     r
+}
+
+/// Field `f` of a cluster's four records (`recs`, one per particle) on the lanes.
+#[inline(always)]
+pub fn gather<Q: Quad, R>(q: Q, recs: &[R; WIDTH], f: impl Fn(&R) -> Real) -> Q::V {
+    q.load(&[f(&recs[0]), f(&recs[1]), f(&recs[2]), f(&recs[3])])
+}
+
+/// Add lane l of `v` into field `f` of record l of `sums`, for the four lanes.
+#[inline(always)]
+pub fn add_lanes<Q: Quad, S>(
+    q: Q,
+    sums: &mut [S; WIDTH],
+    v: Q::V,
+    f: impl Fn(&mut S) -> &mut Real,
+) {
+    let mut t = [0.0; WIDTH];
+    q.store(&mut t, v);
+    for (s, t) in sums.iter_mut().zip(t) {
+        *f(s) += t;
+    }
+}
+
+/// Subtract lane l of `v` from field `f` of record l of `sums`, for the four lanes.
+#[inline(always)]
+pub fn sub_lanes<Q: Quad, S>(
+    q: Q,
+    sums: &mut [S; WIDTH],
+    v: Q::V,
+    f: impl Fn(&mut S) -> &mut Real,
+) {
+    let mut t = [0.0; WIDTH];
+    q.store(&mut t, v);
+    for (s, t) in sums.iter_mut().zip(t) {
+        *f(s) -= t;
+    }
 }
 
 /// One lane pass's pair geometry: which lanes pair, and r², r, 1/r and ∂W/∂r there.

@@ -25,62 +25,68 @@ use super::correction::Corr;
 use super::momentum::{WaterParams, WaterSums};
 use super::source::WaterSource;
 use super::state::WaterParticles;
-use crate::math::Vect;
+use crate::math::{Real, Vect};
 use crate::pairs::cluster_pass::{
-    at, bc, geometry, lane_indices, run_pass, separation, unpack, ClusterPass, Geometry, Window,
-    FAR, L,
+    add_lanes, at, gather, geometry, lane_indices, run_pass, separation, unpack, ClusterPass,
+    Geometry, Window, FAR,
 };
 use crate::pairs::clusters::ClusterPairs;
 use crate::pairs::quad::{Lanes, Quad, WIDTH};
 use rayon::prelude::*;
 
-/// The state the pair terms read, for the four particles of a cluster.
+/// The state the pair terms read, for one particle of a cluster.
 #[derive(Clone, Copy, Debug)]
-pub struct Block<const D: usize> {
-    x: [L; D],
-    v: [L; D],
-    p: L,
-    vol: L,
-    rho: L,
+pub struct Rec<const D: usize> {
+    x: [Real; D],
+    v: [Real; D],
+    p: Real,
+    vol: Real,
+    rho: Real,
     /// The correction B, by row and column.
-    b: [[L; D]; D],
+    b: [[Real; D]; D],
     /// The gravity the continuity's jump is taken relative to, with the seepage
     /// acceleration.
-    g: [L; D],
+    g: [Real; D],
 }
 
-impl<const D: usize> Default for Block<D> {
+impl<const D: usize> Default for Rec<D> {
     fn default() -> Self {
-        Block {
-            x: [[FAR; WIDTH]; D],
-            v: [[0.0; WIDTH]; D],
-            p: [0.0; WIDTH],
-            vol: [0.0; WIDTH],
-            rho: [0.0; WIDTH],
-            b: [[[0.0; WIDTH]; D]; D],
-            g: [[0.0; WIDTH]; D],
+        Rec {
+            x: [FAR; D],
+            v: [0.0; D],
+            p: 0.0,
+            vol: 0.0,
+            rho: 0.0,
+            b: [[0.0; D]; D],
+            g: [0.0; D],
+        }
+    }
+}
+
+/// The state of the four particles of a cluster, one record each.
+pub type Block<const D: usize> = [Rec<D>; WIDTH];
+
+/// The pair sums of one particle of a cluster.
+#[derive(Clone, Copy, Debug)]
+pub struct Sums<const D: usize> {
+    acc: [Real; D],
+    drho: Real,
+    /// M of the correction, upper triangle (row ≤ column).
+    m: [[Real; D]; D],
+}
+
+impl<const D: usize> Default for Sums<D> {
+    fn default() -> Self {
+        Sums {
+            acc: [0.0; D],
+            drho: 0.0,
+            m: [[0.0; D]; D],
         }
     }
 }
 
 /// The pair sums of the four particles of a cluster.
-#[derive(Clone, Copy, Debug)]
-pub struct LaneSums<const D: usize> {
-    acc: [L; D],
-    drho: L,
-    /// M of the correction, upper triangle (row ≤ column).
-    m: [[L; D]; D],
-}
-
-impl<const D: usize> Default for LaneSums<D> {
-    fn default() -> Self {
-        LaneSums {
-            acc: [[0.0; WIDTH]; D],
-            drho: [0.0; WIDTH],
-            m: [[[0.0; WIDTH]; D]; D],
-        }
-    }
-}
+pub type LaneSums<const D: usize> = [Sums<D>; WIDTH];
 
 /// The cluster-pair passes' buffers: the packed state and the sums.
 #[derive(Clone, Debug, Default)]
@@ -103,12 +109,12 @@ impl<const D: usize> WaterLanes<D> {
             *b = Block::default();
             for (l, i) in cp.members(c).enumerate() {
                 for d in 0..D {
-                    b.x[d][l] = w.pos[i][d];
-                    b.v[d][l] = w.vel[i][d];
+                    b[l].x[d] = w.pos[i][d];
+                    b[l].v[d] = w.vel[i][d];
                 }
-                b.p[l] = src[i].p;
-                b.vol[l] = src[i].vol;
-                b.rho[l] = src[i].rho;
+                b[l].p = src[i].p;
+                b[l].vol = src[i].vol;
+                b[l].rho = src[i].rho;
             }
         });
     }
@@ -119,7 +125,7 @@ impl<const D: usize> WaterLanes<D> {
             for (l, i) in cp.members(c).enumerate() {
                 for d in 0..D {
                     for e in 0..D {
-                        b.b[d][e][l] = corr[i][(d, e)];
+                        b[l].b[d][e] = corr[i][(d, e)];
                     }
                 }
             }
@@ -139,9 +145,9 @@ impl<const D: usize> WaterLanes<D> {
         unpack(cp, &self.sums, m, |o, s, l| {
             for d in 0..D {
                 for e in d..D {
-                    o[(d, e)] += s.m[d][e][l];
+                    o[(d, e)] += s[l].m[d][e];
                     if e != d {
-                        o[(e, d)] += s.m[d][e][l];
+                        o[(e, d)] += s[l].m[d][e];
                     }
                 }
             }
@@ -159,8 +165,8 @@ impl<const D: usize> WaterLanes<D> {
         self.blocks.par_iter_mut().enumerate().for_each(|(c, b)| {
             for (l, i) in cp.members(c).enumerate() {
                 for d in 0..D {
-                    b.v[d][l] = vel[i][d];
-                    b.g[d][l] = hyd[d] + body.get(i).map_or(0.0, |a| a[d]);
+                    b[l].v[d] = vel[i][d];
+                    b[l].g[d] = hyd[d] + body.get(i).map_or(0.0, |a| a[d]);
                 }
             }
         });
@@ -177,7 +183,7 @@ impl<const D: usize> WaterLanes<D> {
         run_pass(&Momentum(prm), (&self.blocks, cp), lanes, &mut self.sums);
         self.unpack(cp, sums, |o, s, l| {
             for d in 0..D {
-                o.acc[d] += s.acc[d][l];
+                o.acc[d] += s[l].acc[d];
             }
         });
     }
@@ -192,7 +198,7 @@ impl<const D: usize> WaterLanes<D> {
         sums: &mut [WaterSums<D>],
     ) {
         run_pass(&Continuity(prm), (&self.blocks, cp), lanes, &mut self.sums);
-        self.unpack(cp, sums, |o, s, l| o.drho += s.drho[l]);
+        self.unpack(cp, sums, |o, s, l| o.drho += s[l].drho);
     }
 
     /// Add each particle's lane sums to its entry of `sums` with `add`.
@@ -227,15 +233,15 @@ impl<const D: usize> ClusterPass for Moment<'_, D> {
         let idx = lane_indices(q, cp, ci);
         let mut xi = [zero; D];
         for d in 0..D {
-            xi[d] = q.load(&bi.x[d]);
+            xi[d] = gather(q, bi, |r| r.x[d]);
         }
-        let voli = q.load(&bi.vol);
+        let voli = gather(q, bi, |r| r.vol);
         let mut own = [[zero; D]; D];
         for &j in cp.of(ci) {
             let j = j as usize;
             let cj = cp.of[j] as usize;
             let (bj, l) = (&blocks[cj], j - cp.start[cj] as usize);
-            let rij = separation(q, &prm.wrap, &xi, (&bj.x, l));
+            let rij = separation(q, &prm.wrap, &xi, &bj[l].x);
             let Geometry {
                 m, r, inv_r, dw, ..
             } = geometry(q, &prm.kernel, &rij, (idx, j));
@@ -244,7 +250,7 @@ impl<const D: usize> ClusterPass for Moment<'_, D> {
                 continue;
             }
             let f = q.select(m, q.sub(zero, q.mul(r, dw)), zero);
-            let volj = bc(q, &bj.vol, l);
+            let volj = q.splat(bj[l].vol);
             let mut e = [zero; D];
             for d in 0..D {
                 e[d] = q.mul(rij[d], inv_r);
@@ -266,20 +272,19 @@ impl<const D: usize> ClusterPass for Moment<'_, D> {
             } else {
                 q.sums(&tj)
             };
-            let out = &mut win.at(cj).m;
+            let out = &mut win.at(cj)[l].m;
             let mut k = 0;
             for d in 0..D {
                 for c in d..D {
-                    out[d][c][l] += sums[k];
+                    out[d][c] += sums[k];
                     k += 1;
                 }
             }
         }
-        let out = &mut win.at(ci).m;
+        let out = win.at(ci);
         for d in 0..D {
             for c in d..D {
-                let s = q.add(q.load(&out[d][c]), own[d][c]);
-                q.store(&mut out[d][c], s);
+                add_lanes(q, out, own[d][c], |s| &mut s.m[d][c]);
             }
         }
     }
@@ -312,7 +317,7 @@ fn momentum_term<Q: Quad, const D: usize>(
 ) -> Option<OwnAndPartner<Q, D>> {
     let zero = q.splat(0.0);
     let (half, one) = (q.splat(0.5), q.splat(1.0));
-    let rij = separation(q, &prm.wrap, &i.x, (&bj.x, l));
+    let rij = separation(q, &prm.wrap, &i.x, &bj[l].x);
     let Geometry { m, inv_r, dw, .. } = geometry(q, &prm.kernel, &rij, (i.idx, j));
     if !q.any(m) {
         return None;
@@ -323,14 +328,14 @@ fn momentum_term<Q: Quad, const D: usize>(
     let mut vie = zero;
     for d in 0..D {
         e[d] = q.mul(rij[d], inv_r);
-        vij[d] = q.sub(i.v[d], bc(q, &bj.v[d], l));
+        vij[d] = q.sub(i.v[d], q.splat(bj[l].v[d]));
         vie = q.add(vie, q.mul(vij[d], e[d]));
     }
     let du = q.sub(zero, vie);
     // β = min(η du/c0, 1) under compression, 0 in expansion (p_star)
     let eta_c = q.splat(prm.eta * prm.inv_c);
     let beta = q.select(q.lt(zero, du), q.min(q.mul(eta_c, du), one), zero);
-    let mean = q.mul(half, q.add(i.p, bc(q, &bj.p, l)));
+    let mean = q.mul(half, q.add(i.p, q.splat(bj[l].p)));
     let ps = q.add(mean, q.mul(q.mul(q.mul(half, beta), q.splat(prm.z)), du));
     // B̄e = ½ (B_i + B_j) e
     let mut eh = [zero; D];
@@ -342,7 +347,7 @@ fn momentum_term<Q: Quad, const D: usize>(
     for d in 0..D {
         let mut s = zero;
         for c in 0..D {
-            let bsum = q.add(i.b[d][c], bc(q, &bj.b[d][c], l));
+            let bsum = q.add(i.b[d][c], q.splat(bj[l].b[d][c]));
             s = q.add(s, q.mul(bsum, eh[c]));
         }
         be[d] = s;
@@ -351,7 +356,7 @@ fn momentum_term<Q: Quad, const D: usize>(
     // Morris' term with the corrected gradient: μ ∂W/∂r e·B̄e / r
     let visc = q.mul(q.mul(q.mul(q.splat(prm.mu), dw), inv_r), ebe);
     let pd = q.mul(q.sub(zero, ps), dw);
-    let volj = bc(q, &bj.vol, l);
+    let volj = q.splat(bj[l].vol);
     let (mut own, mut tj) = ([zero; D], [zero; D]);
     for d in 0..D {
         let t = q.add(q.mul(be[d], pd), q.mul(vij[d], visc));
@@ -386,14 +391,14 @@ impl<const D: usize> ClusterPass for Momentum<'_, D> {
             x: [zero; D],
             v: [zero; D],
             b: [[zero; D]; D],
-            p: q.load(&bi.p),
-            vol: q.load(&bi.vol),
+            p: gather(q, bi, |r| r.p),
+            vol: gather(q, bi, |r| r.vol),
         };
         for d in 0..D {
-            lanes.x[d] = q.load(&bi.x[d]);
-            lanes.v[d] = q.load(&bi.v[d]);
+            lanes.x[d] = gather(q, bi, |r| r.x[d]);
+            lanes.v[d] = gather(q, bi, |r| r.v[d]);
             for c in 0..D {
-                lanes.b[d][c] = q.load(&bi.b[d][c]);
+                lanes.b[d][c] = gather(q, bi, |r| r.b[d][c]);
             }
         }
         let mut own = [zero; D];
@@ -406,13 +411,12 @@ impl<const D: usize> ClusterPass for Momentum<'_, D> {
                 own[d] = q.add(own[d], o[d]);
             }
             for (d, s) in q.sums(&t).into_iter().enumerate() {
-                win.at(c).acc[d][l] -= s;
+                win.at(c)[l].acc[d] -= s;
             }
         }
-        let out = &mut win.at(ci).acc;
+        let out = win.at(ci);
         for d in 0..D {
-            let s = q.add(q.load(&out[d]), own[d]);
-            q.store(&mut out[d], s);
+            add_lanes(q, out, own[d], |s| &mut s.acc[d]);
         }
     }
 }
@@ -440,7 +444,7 @@ fn continuity_term<Q: Quad, const D: usize>(
 ) -> Option<(Q::V, Q::V)> {
     let zero = q.splat(0.0);
     let half = q.splat(0.5);
-    let rij = separation(q, &prm.wrap, &i.x, (&bj.x, l));
+    let rij = separation(q, &prm.wrap, &i.x, &bj[l].x);
     let Geometry { m, inv_r, dw, .. } = geometry(q, &prm.kernel, &rij, (i.idx, j));
     if !q.any(m) {
         return None;
@@ -448,17 +452,17 @@ fn continuity_term<Q: Quad, const D: usize>(
     // u = v_ij·x_ij / r; the jump relative to ρ̄ ḡ·x_ij
     let (mut vx, mut gx) = (zero, zero);
     for d in 0..D {
-        let vij = q.sub(i.v[d], bc(q, &bj.v[d], l));
+        let vij = q.sub(i.v[d], q.splat(bj[l].v[d]));
         vx = q.add(vx, q.mul(vij, rij[d]));
-        let g = q.mul(half, q.add(i.g[d], bc(q, &bj.g[d], l)));
+        let g = q.mul(half, q.add(i.g[d], q.splat(bj[l].g[d])));
         gx = q.add(gx, q.mul(g, rij[d]));
     }
     let u = q.mul(vx, inv_r);
-    let rho = q.mul(half, q.add(i.rho, bc(q, &bj.rho, l)));
-    let dp = q.sub(i.p, bc(q, &bj.p, l));
+    let rho = q.mul(half, q.add(i.rho, q.splat(bj[l].rho)));
+    let dp = q.sub(i.p, q.splat(bj[l].p));
     let jump = q.mul(q.sub(dp, q.mul(rho, gx)), q.splat(1.0 / prm.z));
     let dw = q.select(m, dw, zero);
-    let own = q.mul(q.mul(q.add(u, jump), dw), bc(q, &bj.vol, l));
+    let own = q.mul(q.mul(q.add(u, jump), dw), q.splat(bj[l].vol));
     let tj = q.mul(q.mul(q.sub(u, jump), dw), i.vol);
     Some((own, tj))
 }
@@ -487,14 +491,14 @@ impl<const D: usize> ClusterPass for Continuity<'_, D> {
             x: [zero; D],
             v: [zero; D],
             g: [zero; D],
-            p: q.load(&bi.p),
-            vol: q.load(&bi.vol),
-            rho: q.load(&bi.rho),
+            p: gather(q, bi, |r| r.p),
+            vol: gather(q, bi, |r| r.vol),
+            rho: gather(q, bi, |r| r.rho),
         };
         for d in 0..D {
-            lanes.x[d] = q.load(&bi.x[d]);
-            lanes.v[d] = q.load(&bi.v[d]);
-            lanes.g[d] = q.load(&bi.g[d]);
+            lanes.x[d] = gather(q, bi, |r| r.x[d]);
+            lanes.v[d] = gather(q, bi, |r| r.v[d]);
+            lanes.g[d] = gather(q, bi, |r| r.g[d]);
         }
         let mut own = zero;
         // the neighbours' terms, four at a time into one lane sum
@@ -509,18 +513,16 @@ impl<const D: usize> ClusterPass for Continuity<'_, D> {
             k += 1;
             if k == 4 {
                 for ((c, l), s) in to.into_iter().zip(q.sums(&t)) {
-                    win.at(c).drho[l] += s;
+                    win.at(c)[l].drho += s;
                 }
                 k = 0;
             }
         }
         for n in 0..k {
             let (c, l) = to[n];
-            win.at(c).drho[l] += q.sum(t[n]);
+            win.at(c)[l].drho += q.sum(t[n]);
         }
-        let out = &mut win.at(ci).drho;
-        let s = q.add(q.load(out), own);
-        q.store(out, s);
+        add_lanes(q, win.at(ci), own, |s| &mut s.drho);
     }
 }
 
