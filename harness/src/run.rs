@@ -365,6 +365,7 @@ fn summary_json(
         "memory_bytes": memory,
         "bytes_per_particle": (sph > 0).then(|| memory as f64 / sph as f64),
         "threads": rayon::current_num_threads(),
+        "simd": granmix_core::pairs::quad::Lanes::detect().name(),
         "wall_time_s": wall,
         "particle_steps_per_s": ran.pss,
         "fine_particle_steps_per_s": (n > 0).then_some(ran.fine_pss),
