@@ -31,8 +31,8 @@ use super::state::FineParticles;
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Vect};
 use crate::pairs::cluster_pass::{
-    add_lanes, at, gather, geometry, lane_indices, run_pass, separation, sub_lanes, unpack,
-    ClusterPass, Geometry, Window, FAR,
+    at, each_lane, gather, geometry, lane_indices, run_pass, separation, unpack, ClusterPass,
+    Geometry, Window, FAR,
 };
 use crate::pairs::clusters::ClusterPairs;
 use crate::pairs::quad::{Lanes, Quad, WIDTH};
@@ -550,16 +550,16 @@ impl<const D: usize> ClusterPass for Momentum<'_, D> {
         }
         let out = win.at(ci);
         for d in 0..D {
-            add_lanes(q, out, own[d], |s| &mut s.acc[d]);
-            add_lanes(q, out, own[D + d], |s| &mut s.hourglass[d]);
+            each_lane(q, out, own[d], |s, t| s.acc[d] += t);
+            each_lane(q, out, own[D + d], |s, t| s.hourglass[d] += t);
         }
         let o = 2 * D;
-        add_lanes(q, out, own[o], |s| &mut s.drho);
-        add_lanes(q, out, own[o + 1], |s| &mut s.w);
-        add_lanes(q, out, own[o + 2], |s| &mut s.wz);
-        add_lanes(q, out, own[o + 3], |s| &mut s.wp);
+        each_lane(q, out, own[o], |s, t| s.drho += t);
+        each_lane(q, out, own[o + 1], |s, t| s.w += t);
+        each_lane(q, out, own[o + 2], |s, t| s.wz += t);
+        each_lane(q, out, own[o + 3], |s, t| s.wp += t);
         for k in 0..dp {
-            add_lanes(q, out, own[o + 4 + k], |s| &mut s.wdev[k]);
+            each_lane(q, out, own[o + 4 + k], |s, t| s.wdev[k] += t);
         }
     }
 }
@@ -673,11 +673,11 @@ impl<const D: usize> ClusterPass for Continuity<D> {
             }
         }
         let out = win.at(ci);
-        add_lanes(q, out, own[0], |s| &mut s.drho);
+        each_lane(q, out, own[0], |s, t| s.drho += t);
         for a in 0..D {
             for b in 0..D {
                 // −v_ij ⊗ e_ij ∂W/∂r V_j, Eq. (24)
-                sub_lanes(q, out, own[1 + a * D + b], |s| &mut s.grad[a][b]);
+                each_lane(q, out, own[1 + a * D + b], |s, t| s.grad[a][b] -= t);
             }
         }
     }

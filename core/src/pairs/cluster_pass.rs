@@ -8,7 +8,7 @@
 //! lines, and broadcast ([`Quad::splat`]); a cluster's own four records are gathered
 //! into the lanes once ([`gather`]). Its sums are kept the same way, one record per
 //! particle, so that a neighbour's sums are written into its record's lines and a
-//! cluster's own are added lane by lane ([`add_lanes`]): the same additions, in the
+//! cluster's own are added lane by lane ([`each_lane`]): the same additions, in the
 //! same order, as into arrays of four lanes per component.
 //! Pairs beyond the cut-off, or with j ≤ i, are masked out, so each pair is taken once,
 //! as in the one-pair passes; the sums a neighbour gains from the four lanes are added
@@ -55,33 +55,14 @@ pub fn gather<Q: Quad, R>(q: Q, recs: &[R; WIDTH], f: impl Fn(&R) -> Real) -> Q:
     q.load(&[f(&recs[0]), f(&recs[1]), f(&recs[2]), f(&recs[3])])
 }
 
-/// Add lane l of `v` into field `f` of record l of `sums`, for the four lanes.
+/// `op(record l of sums, lane l of v)` for the four lanes: how a cluster's own lane
+/// sums go back into its records (`|s, t| s.acc[d] += t`).
 #[inline(always)]
-pub fn add_lanes<Q: Quad, S>(
-    q: Q,
-    sums: &mut [S; WIDTH],
-    v: Q::V,
-    f: impl Fn(&mut S) -> &mut Real,
-) {
+pub fn each_lane<Q: Quad, S>(q: Q, sums: &mut [S; WIDTH], v: Q::V, op: impl Fn(&mut S, Real)) {
     let mut t = [0.0; WIDTH];
     q.store(&mut t, v);
     for (s, t) in sums.iter_mut().zip(t) {
-        *f(s) += t;
-    }
-}
-
-/// Subtract lane l of `v` from field `f` of record l of `sums`, for the four lanes.
-#[inline(always)]
-pub fn sub_lanes<Q: Quad, S>(
-    q: Q,
-    sums: &mut [S; WIDTH],
-    v: Q::V,
-    f: impl Fn(&mut S) -> &mut Real,
-) {
-    let mut t = [0.0; WIDTH];
-    q.store(&mut t, v);
-    for (s, t) in sums.iter_mut().zip(t) {
-        *f(s) -= t;
+        op(s, t);
     }
 }
 

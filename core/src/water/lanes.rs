@@ -27,7 +27,7 @@ use super::source::WaterSource;
 use super::state::WaterParticles;
 use crate::math::{Real, Vect};
 use crate::pairs::cluster_pass::{
-    add_lanes, at, gather, geometry, lane_indices, run_pass, separation, unpack, ClusterPass,
+    at, each_lane, gather, geometry, lane_indices, run_pass, separation, unpack, ClusterPass,
     Geometry, Window, FAR,
 };
 use crate::pairs::clusters::ClusterPairs;
@@ -284,7 +284,7 @@ impl<const D: usize> ClusterPass for Moment<'_, D> {
         let out = win.at(ci);
         for d in 0..D {
             for c in d..D {
-                add_lanes(q, out, own[d][c], |s| &mut s.m[d][c]);
+                each_lane(q, out, own[d][c], |s, t| s.m[d][c] += t);
             }
         }
     }
@@ -416,7 +416,7 @@ impl<const D: usize> ClusterPass for Momentum<'_, D> {
         }
         let out = win.at(ci);
         for d in 0..D {
-            add_lanes(q, out, own[d], |s| &mut s.acc[d]);
+            each_lane(q, out, own[d], |s, t| s.acc[d] += t);
         }
     }
 }
@@ -522,7 +522,7 @@ impl<const D: usize> ClusterPass for Continuity<'_, D> {
             let (c, l) = to[n];
             win.at(c)[l].drho += q.sum(t[n]);
         }
-        add_lanes(q, win.at(ci), own, |s| &mut s.drho);
+        each_lane(q, win.at(ci), own, |s, t| s.drho += t);
     }
 }
 
