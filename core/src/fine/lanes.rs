@@ -636,7 +636,6 @@ impl<const D: usize> ClusterPass for Continuity<D> {
     ) {
         let (kernel, wrap) = (&self.kernel, &self.wrap);
         let zero = q.splat(0.0);
-
         let bi = &blocks[ci];
         let mut lanes = ContinuityLanes::<Q, D> {
             idx: lane_indices(q, cp, ci),

@@ -228,7 +228,6 @@ impl<const D: usize> ClusterPass for Moment<'_, D> {
     ) {
         let prm = self.0;
         let zero = q.splat(0.0);
-
         let bi = &blocks[ci];
         let idx = lane_indices(q, cp, ci);
         let mut xi = [zero; D];
@@ -384,7 +383,6 @@ impl<const D: usize> ClusterPass for Momentum<'_, D> {
     ) {
         let prm = self.0;
         let zero = q.splat(0.0);
-
         let bi = &blocks[ci];
         let mut lanes = MomentumLanes::<Q, D> {
             idx: lane_indices(q, cp, ci),
@@ -484,7 +482,6 @@ impl<const D: usize> ClusterPass for Continuity<'_, D> {
     ) {
         let prm = self.0;
         let zero = q.splat(0.0);
-
         let bi = &blocks[ci];
         let mut lanes = ContinuityLanes::<Q, D> {
             idx: lane_indices(q, cp, ci),
