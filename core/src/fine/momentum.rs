@@ -25,6 +25,7 @@ use crate::kernel::WendlandC2;
 use crate::math::{Real, Sym, Vect};
 use crate::neighbors::NeighborLists;
 use crate::pairs::block::{Pair, PairBlock, BLOCK};
+use crate::pairs::quad::Portable;
 use crate::pairs::slabs::two_phase;
 use crate::periodic::{Open, Separation, Wrap};
 use crate::riemann::{minmod_jump, pair_reciprocals, Riemann, Side};
@@ -227,7 +228,8 @@ fn separated_pair_pass<const D: usize, const MUSCL: bool>(
                             // the jump between v_i − ½L_i r e and v_j + ½L_j r e
                             let l = (li + vel_grad[j]).cast::<Real>();
                             let du = ul - ur;
-                            ul = ur + minmod_jump(du, du + 0.5 * r * e.dot(&(l * e)));
+                            let rec = du + 0.5 * r * e.dot(&(l * e));
+                            ul = ur + minmod_jump(Portable, [du; 4], [rec; 4])[0];
                         }
                         let mat_j = material[j] as usize;
                         let (pstar, two_inv_z) = star.p_star(prm, (ul, ur), sj, mat_j);

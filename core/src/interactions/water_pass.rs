@@ -1,5 +1,6 @@
-//! The water sweeps: the water–water pair passes ([`water::momentum`],
-//! [`water::continuity`]), then one particle pass each that adds the walls
+//! The water sweeps: the water–water pair laws on the clusters' lanes
+//! ([`WaterLanes`]: [`water::momentum`], [`water::continuity`], the correction and the
+//! velocity gradient), then one particle pass each that adds the walls
 //! ([`water_wall`](super::water_wall), with their barrier loads,
 //! [`barrier_load`](super::barrier_load)) to the pair sums and integrates.
 //!
@@ -34,85 +35,61 @@ use crate::water::lanes::WaterLanes;
 use crate::water::momentum::{WaterParams, WaterSums};
 use crate::water::source::WaterSource;
 use crate::water::state::WaterParticles;
-use crate::water::{continuity, gradient, momentum};
 use rayon::prelude::*;
 
-/// How the water–water pair terms of the momentum and continuity sweeps are taken.
-pub enum WaterPairs<'a, const D: usize> {
-    /// One pair at a time over the half lists ([`momentum::pair_pass`],
-    /// [`continuity::pair_pass`]): with `water.muscl`, whose reconstruction reads each
-    /// particle's velocity gradient.
-    OnePair,
-    /// Four pairs at a time over the clusters' lists ([`WaterLanes`]), on `Lanes`;
-    /// the buffers hold the state packed at the start of the sub-step
-    /// ([`WaterLanes::pack`]).
-    Lanes(&'a mut WaterLanes<D>, &'a ClusterPairs, Lanes),
-}
+/// The water–water pair laws' executor for one sub-step: the lane buffers holding the
+/// state packed at its start ([`WaterLanes::pack`]), the clusters brought up to the
+/// last list build, and the instruction set ([`Lanes::detect`]).
+pub type WaterPairs<'a, const D: usize> = (&'a mut WaterLanes<D>, &'a ClusterPairs, Lanes);
 
 /// Runs over the water–water relation.
 ///
-/// The momentum sweep's water–water terms into `sums[..].acc` (zero on entry), as
-/// `pairs` says; `corr` holds B, `grad` the velocity gradients with `water.muscl`.
+/// The momentum sweep's water–water terms into `sums[..].acc` (zero on entry); `corr`
+/// holds B, `grad` the velocity gradients with `water.muscl` (empty without).
 pub fn momentum_pairs<const D: usize>(
-    w: &WaterParticles<D>,
-    src: &[WaterSource],
     (corr, grad): (&[Corr<D>], &[Corr<D>]),
-    lists: &NeighborLists,
     prm: &WaterParams<D>,
-    pairs: WaterPairs<'_, D>,
+    (buf, cp, lanes): WaterPairs<'_, D>,
     sums: &mut [WaterSums<D>],
 ) {
-    match pairs {
-        WaterPairs::OnePair => momentum::pair_pass(w, src, (corr, grad), lists, prm, sums),
-        WaterPairs::Lanes(buf, cp, lanes) => {
-            assert!(
-                grad.is_empty(),
-                "the cluster-pair pass takes no MUSCL gradients"
-            );
-            buf.pack_corr(cp, corr);
-            buf.momentum(cp, prm, lanes, sums);
-        }
+    buf.pack_corr(cp, corr);
+    let muscl = !grad.is_empty();
+    if muscl {
+        buf.pack_grad(cp, grad);
     }
+    buf.momentum(cp, (prm, muscl), lanes, sums);
 }
 
 /// Runs over the water–water relation.
 ///
 /// The continuity sweep's water–water terms into `sums[..].drho` (zero on entry), with
-/// the velocities v_{n+1} in `w`, as `pairs` says; `body` holds each particle's
-/// seepage acceleration (empty: none). The cluster-pair form reads the state the
-/// momentum pass packed, with the velocities packed anew.
+/// the velocities v_{n+1} in `w`; `body` holds each particle's seepage acceleration
+/// (empty: none). It reads the state the momentum pass packed, with the velocities
+/// packed anew.
 pub fn continuity_pairs<const D: usize>(
     w: &WaterParticles<D>,
-    src: &[WaterSource],
-    lists: &NeighborLists,
     prm: &WaterParams<D>,
     body: &[Vect<D>],
-    pairs: WaterPairs<'_, D>,
+    (buf, cp, lanes): WaterPairs<'_, D>,
     sums: &mut [WaterSums<D>],
 ) {
-    match pairs {
-        WaterPairs::OnePair => continuity::pair_pass(w, src, lists, prm, body, sums),
-        WaterPairs::Lanes(buf, cp, lanes) => {
-            buf.repack_velocity(cp, &w.vel, (&prm.hydrostatic, body));
-            buf.continuity(cp, prm, lanes, sums);
-        }
-    }
+    buf.repack_velocity(cp, &w.vel, (&prm.hydrostatic, body));
+    buf.continuity(cp, prm, lanes, sums);
 }
 
 /// Runs over the water–water, water–wall and water–coarse relations.
 ///
 /// The kernel gradient correction B of every particle into `corr`: M from the
-/// water–water pairs (as `pairs` says) and the walls, then inverted ([`correction`]);
-/// the identity where `on` is false.
+/// water–water pairs and the walls, then inverted ([`correction`]); the identity where
+/// `on` is false.
 #[allow(clippy::too_many_arguments)]
 pub fn correction_sweep<const D: usize>(
     w: &WaterParticles<D>,
-    src: &[WaterSource],
     walls: &Walls<D>,
     csrc: &[CoarseSource<D>],
     lists: &NeighborLists,
     prm: &WaterParams<D>,
-    (on, pairs): (bool, WaterPairs<'_, D>),
+    (on, (buf, cp, lanes)): (bool, WaterPairs<'_, D>),
     corr: &mut [Corr<D>],
 ) {
     if !on {
@@ -120,12 +97,7 @@ pub fn correction_sweep<const D: usize>(
         return;
     }
     corr.par_iter_mut().for_each(|b| *b = Corr::<D>::zeros());
-    match pairs {
-        WaterPairs::OnePair => {
-            correction::pair_pass(w, |i| src[i].vol, lists, (&prm.kernel, &prm.wrap), corr)
-        }
-        WaterPairs::Lanes(buf, cp, lanes) => buf.correction(cp, prm, lanes, corr),
-    }
+    buf.correction(cp, prm, lanes, corr);
     lists
         .chunks
         .par_iter()
@@ -148,19 +120,18 @@ pub fn correction_sweep<const D: usize>(
 /// Runs over the water–water relation.
 ///
 /// The corrected velocity gradient ∇v_i = L_i B_i of every particle into `grad`
-/// ([`gradient`]), `corr` holding B. Wall and coarse neighbours do not enter L: the
-/// gradient of a particle by a wall is that of its water neighbours, under-estimated
-/// where B is not blended to I, which only leaves more dissipation there.
+/// ([`gradient`](crate::water::gradient)), `corr` holding B. Wall and coarse
+/// neighbours do not enter L: the gradient of a particle by a wall is that of its
+/// water neighbours, under-estimated where B is not blended to I, which only leaves
+/// more dissipation there.
 pub fn gradient_sweep<const D: usize>(
-    w: &WaterParticles<D>,
-    src: &[WaterSource],
-    lists: &NeighborLists,
     prm: &WaterParams<D>,
+    (buf, cp, lanes): WaterPairs<'_, D>,
     corr: &[Corr<D>],
     grad: &mut [Corr<D>],
 ) {
     grad.par_iter_mut().for_each(|g| *g = Corr::<D>::zeros());
-    gradient::pair_pass(w, |i| src[i].vol, lists, (&prm.kernel, &prm.wrap), grad);
+    buf.gradient(cp, prm, lanes, grad);
     grad.par_iter_mut()
         .zip(corr.par_iter())
         .for_each(|(g, b)| *g *= b);

@@ -46,6 +46,12 @@ pub trait Quad: Copy {
         self.select(self.lt(a, b), a, b)
     }
 
+    /// max(a, b) as b < a ? a : b in each lane.
+    #[inline(always)]
+    fn max(self, a: Self::V, b: Self::V) -> Self::V {
+        self.select(self.lt(b, a), a, b)
+    }
+
     /// The four lanes' sum, ((l0 + l1) + (l2 + l3)).
     #[inline(always)]
     fn sum(self, v: Self::V) -> f64 {

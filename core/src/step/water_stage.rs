@@ -12,7 +12,7 @@ use crate::interactions::fine_coarse::{self, CoarseSource};
 use crate::interactions::water_buoyancy::Hydrostatics;
 use crate::interactions::water_pass::{
     continuity_pairs, continuity_sweep, correction_sweep, gradient_sweep, momentum_pairs,
-    momentum_sweep, WaterCoarse, WaterPairs,
+    momentum_sweep, WaterCoarse,
 };
 use crate::interactions::water_start::incompressible_start;
 use crate::kernel::WendlandC2;
@@ -248,44 +248,30 @@ impl<const D: usize> WaterStepper<D> {
                     (&prm, world.resolution.dp),
                 );
             }
-            if use_lanes(mat) {
-                self.clusters.update(lists, n);
-                self.lanes
-                    .pack(&self.clusters, &world.water.particles, &self.src);
-            }
+            self.clusters.update(lists, n);
+            self.lanes
+                .pack(&self.clusters, &world.water.particles, &self.src);
+            let lanes = Lanes::detect();
             correction_sweep(
                 &world.water.particles,
-                &self.src,
                 &world.walls,
                 csrc,
                 lists,
                 &prm,
-                (
-                    mat.correction,
-                    pairs(mat, (&mut self.lanes, &mut self.clusters), lists, n),
-                ),
+                (mat.correction, (&mut self.lanes, &self.clusters, lanes)),
                 &mut self.corr,
             );
             if mat.muscl {
                 self.grad.resize(n, Corr::<D>::zeros());
-                gradient_sweep(
-                    &world.water.particles,
-                    &self.src,
-                    lists,
-                    &prm,
-                    &self.corr,
-                    &mut self.grad,
-                );
+                let pairs = (&mut self.lanes, &self.clusters, lanes);
+                gradient_sweep(&prm, pairs, &self.corr, &mut self.grad);
             } else {
                 self.grad.clear();
             }
             momentum_pairs(
-                &world.water.particles,
-                &self.src,
                 (&self.corr, &self.grad),
-                lists,
                 &prm,
-                pairs(mat, (&mut self.lanes, &mut self.clusters), lists, n),
+                (&mut self.lanes, &self.clusters, lanes),
                 &mut self.sums,
             );
             momentum_sweep(
@@ -317,7 +303,7 @@ impl<const D: usize> WaterStepper<D> {
         }
         std::mem::swap(&mut world.water.particles.vel, &mut self.vel_new);
         self.after_momentum(world, csrc, (t0, dt), (s, k));
-        self.continuity(world, mat, csrc, &prm, t);
+        self.continuity(world, csrc, &prm, t);
     }
 
     /// After the momentum sweep of sub-step `s` of `k` over (`t0`, `t0 + dt`): the
@@ -381,22 +367,18 @@ impl<const D: usize> WaterStepper<D> {
     fn continuity(
         &mut self,
         world: &mut World<D>,
-        mat: &WaterMaterial,
         csrc: &[CoarseSource<D>],
         prm: &WaterParams<D>,
         t: &mut StageTimers,
     ) {
         let mut drho = std::mem::take(&mut world.water.particles.drho);
-        let n = drho.len();
         t.time(Stage::WaterContinuity, || {
             let lists = &self.family.lists;
             continuity_pairs(
                 &world.water.particles,
-                &self.src,
-                lists,
                 prm,
                 &self.body,
-                pairs(mat, (&mut self.lanes, &mut self.clusters), lists, n),
+                (&mut self.lanes, &self.clusters, Lanes::detect()),
                 &mut self.sums,
             );
             continuity_sweep(
@@ -444,28 +426,6 @@ impl<const D: usize> WaterStepper<D> {
         self.family
             .guard(Family::Water, (&w.id, &w.pos), at, max_speed)
     }
-}
-
-/// The water–water pair terms are taken on the clusters' lanes: everywhere but with
-/// `water.muscl`, whose reconstruction the lanes do not take.
-fn use_lanes(mat: &WaterMaterial) -> bool {
-    !mat.muscl
-}
-
-/// The water–water pair terms on the clusters' lanes, on the instruction set this
-/// processor has ([`Lanes::detect`]), with the clusters brought up to the last list
-/// build; one pair at a time where [`use_lanes`] says no.
-fn pairs<'a, const D: usize>(
-    mat: &WaterMaterial,
-    (lanes, clusters): (&'a mut WaterLanes<D>, &'a mut ClusterPairs),
-    lists: &crate::neighbors::NeighborLists,
-    n: usize,
-) -> WaterPairs<'a, D> {
-    if !use_lanes(mat) {
-        return WaterPairs::OnePair;
-    }
-    clusters.update(lists, n);
-    WaterPairs::Lanes(lanes, clusters, Lanes::detect())
 }
 
 /// The water's parameters of a sweep over (`t0`, `t0 + dt`); `confined` water (no

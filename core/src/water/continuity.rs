@@ -9,66 +9,121 @@
 //! Fourtakas et al. (2019) do for δ-SPH and seed 000 Eq. (26) does for the stress:
 //! with the plain jump the diffusion does not vanish at hydrostatic rest near the free
 //! surface and the floor, and keeps a resting tank moving.
+//!
+//! The law is written once, on [`Quad`] lanes, and run by the cluster-pair executor
+//! ([`WaterLanes::continuity`](super::lanes::WaterLanes::continuity)).
 
-use super::momentum::{WaterParams, WaterSums};
-use super::source::WaterSource;
-use super::state::WaterParticles;
-use crate::math::Vect;
-use crate::neighbors::NeighborLists;
-use crate::pairs::block::{Pair, PairBlock, BLOCK};
-use crate::pairs::slabs::two_phase;
+// the terms loop over components of several lane arrays at once (x, v, g)
+#![allow(clippy::needless_range_loop)]
 
-/// Runs over the water–water relation (`NeighborLists::inner_of`).
-///
-/// The water–water continuity terms, each pair once, into `sums[..].drho`. `body`
-/// holds each particle's acceleration from a soil's seepage force (empty: none),
-/// which the equilibrium pressure gradient carries besides gravity:
-/// ∇p = ρ (g + a_seep) under steady seepage, so the jump is taken relative to it.
-pub fn pair_pass<const D: usize>(
-    w: &WaterParticles<D>,
-    src: &[WaterSource],
-    lists: &NeighborLists,
+use super::lanes::{Block, LaneSums};
+use super::momentum::WaterParams;
+use crate::pairs::cluster_pass::{
+    at, each_lane, gather, geometry, lane_indices, separation, ClusterPass, Geometry, Window,
+};
+use crate::pairs::clusters::ClusterPairs;
+use crate::pairs::quad::Quad;
+
+/// The lanes of a cluster as its continuity terms read them.
+struct ContinuityLanes<Q: Quad, const D: usize> {
+    idx: Q::V,
+    x: [Q::V; D],
+    v: [Q::V; D],
+    g: [Q::V; D],
+    p: Q::V,
+    vol: Q::V,
+    rho: Q::V,
+}
+
+/// The continuity term of the four lanes against particle `j`: what the lanes gain
+/// (times V_j) and what j gains from each (times V_i, to be summed over the lanes);
+/// none if no lane pairs with j.
+#[inline(always)]
+fn continuity_term<Q: Quad, const D: usize>(
+    q: Q,
     prm: &WaterParams<D>,
-    body: &[Vect<D>],
-    sums: &mut [WaterSums<D>],
-) {
-    let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
-    let n = w.len();
-    let (pos, vel, src) = (&w.pos[..n], &w.vel[..n], &src[..n]);
-    let inv_z = 1.0 / prm.z;
-    // the hydrostatic gradient ρ̄ g is taken out of the jump
-    let hyd: Vect<D> = prm.hydrostatic;
-    let slabs = &lists.slabs;
-    two_phase(
-        slabs,
-        &mut sums[..n],
-        &|s, win: &mut [WaterSums<D>], base| {
-            let mut block = PairBlock::<D>::default();
-            for i in slabs[s] as usize..slabs[s + 1] as usize {
-                let (xi, vi, si) = (pos[i], vel[i], src[i]);
-                let mut own = 0.0;
+    i: &ContinuityLanes<Q, D>,
+    (bj, l, j): (&Block<D>, usize, usize),
+) -> Option<(Q::V, Q::V)> {
+    let zero = q.splat(0.0);
+    let half = q.splat(0.5);
+    let rij = separation(q, &prm.wrap, &i.x, &bj[l].x);
+    let Geometry { m, inv_r, dw, .. } = geometry(q, &prm.kernel, &rij, (i.idx, j));
+    if !q.any(m) {
+        return None;
+    }
+    // u = v_ij·x_ij / r; the jump relative to ρ̄ ḡ·x_ij
+    let (mut vx, mut gx) = (zero, zero);
+    for d in 0..D {
+        let vij = q.sub(i.v[d], q.splat(bj[l].v[d]));
+        vx = q.add(vx, q.mul(vij, rij[d]));
+        let g = q.mul(half, q.add(i.g[d], q.splat(bj[l].g[d])));
+        gx = q.add(gx, q.mul(g, rij[d]));
+    }
+    let u = q.mul(vx, inv_r);
+    let rho = q.mul(half, q.add(i.rho, q.splat(bj[l].rho)));
+    let dp = q.sub(i.p, q.splat(bj[l].p));
+    let jump = q.mul(q.sub(dp, q.mul(rho, gx)), q.splat(1.0 / prm.z));
+    let dw = q.select(m, dw, zero);
+    let own = q.mul(q.mul(q.add(u, jump), dw), q.splat(bj[l].vol));
+    let tj = q.mul(q.mul(q.sub(u, jump), dw), i.vol);
+    Some((own, tj))
+}
 
-                for js in lists.inner_of(i).chunks(BLOCK) {
-                    block.fill((&xi, js, pos), cut2, 0.0, &prm.wrap);
-                    for Pair {
-                        j, rij, r, inv_r, ..
-                    } in block.pairs(0.0)
-                    {
-                        let sj = src[j];
-                        let dw = prm.kernel.dw_within(r);
-                        let u = (vi - vel[j]).dot(&rij) * inv_r;
-                        let g = if body.is_empty() {
-                            hyd
-                        } else {
-                            hyd + (body[i] + body[j]) * 0.5
-                        };
-                        let jump = (si.p - sj.p - 0.5 * (si.rho + sj.rho) * g.dot(&rij)) * inv_z;
-                        own += (u + jump) * dw * sj.vol;
-                        win[j - base].drho += (u - jump) * dw * si.vol;
-                    }
+/// The continuity pass.
+pub(super) struct Continuity<'a, const D: usize>(pub(super) &'a WaterParams<D>);
+
+impl<const D: usize> ClusterPass for Continuity<'_, D> {
+    type Block = Block<D>;
+    type Sums = LaneSums<D>;
+
+    #[inline(always)]
+    fn cluster<Q: Quad>(
+        &self,
+        q: Q,
+        (blocks, cp): (&[Block<D>], &ClusterPairs),
+        ci: usize,
+        win: &mut Window<'_, LaneSums<D>>,
+    ) {
+        let prm = self.0;
+        let zero = q.splat(0.0);
+        let bi = &blocks[ci];
+        let mut lanes = ContinuityLanes::<Q, D> {
+            idx: lane_indices(q, cp, ci),
+            x: [zero; D],
+            v: [zero; D],
+            g: [zero; D],
+            p: gather(q, bi, |r| r.p),
+            vol: gather(q, bi, |r| r.vol),
+            rho: gather(q, bi, |r| r.rho),
+        };
+        for d in 0..D {
+            lanes.x[d] = gather(q, bi, |r| r.x[d]);
+            lanes.v[d] = gather(q, bi, |r| r.v[d]);
+            lanes.g[d] = gather(q, bi, |r| r.g[d]);
+        }
+        let mut own = zero;
+        // the neighbours' terms, four at a time into one lane sum
+        let (mut t, mut to, mut k) = ([zero; 4], [(0, 0); 4], 0);
+        for &j in cp.of(ci) {
+            let (c, l, j) = at(cp, j);
+            let Some((o, tj)) = continuity_term(q, prm, &lanes, (&blocks[c], l, j)) else {
+                continue;
+            };
+            own = q.add(own, o);
+            (t[k], to[k]) = (tj, (c, l));
+            k += 1;
+            if k == 4 {
+                for ((c, l), s) in to.into_iter().zip(q.sums(&t)) {
+                    win.at(c)[l].drho += s;
                 }
-                win[i - base].drho += own;
+                k = 0;
             }
-        },
-    );
+        }
+        for n in 0..k {
+            let (c, l) = to[n];
+            win.at(c)[l].drho += q.sum(t[n]);
+        }
+        each_lane(q, win.at(ci), own, |s, t| s.drho += t);
+    }
 }

@@ -15,14 +15,22 @@
 //! remaining terms; B_i is blended towards the identity there: with s = det(M)^{1/D}
 //! (0.97 inside, about 0.7 on the surface row), B = w M⁻¹ + (1 − w) I with
 //! w = clamp((s − 0.75)/0.15, 0, 1).
+//!
+//! The water–water sum of M is written once, on [`Quad`] lanes ([`Moment`]), and run
+//! by the cluster-pair executor
+//! ([`WaterLanes::correction`](super::lanes::WaterLanes::correction)).
 
-use super::state::WaterParticles;
-use crate::kernel::WendlandC2;
+// the terms loop over the rows and columns of M
+#![allow(clippy::needless_range_loop)]
+
+use super::lanes::{Block, LaneSums};
+use super::momentum::WaterParams;
 use crate::math::{Real, Vect};
-use crate::neighbors::NeighborLists;
-use crate::pairs::block::{Pair, PairBlock, BLOCK};
-use crate::pairs::slabs::two_phase;
-use crate::periodic::Wrap;
+use crate::pairs::cluster_pass::{
+    each_lane, gather, geometry, lane_indices, separation, ClusterPass, Geometry, Window,
+};
+use crate::pairs::clusters::ClusterPairs;
+use crate::pairs::quad::Quad;
 use nalgebra::SMatrix;
 
 /// D × D correction matrix.
@@ -32,42 +40,6 @@ pub type Corr<const D: usize> = SMatrix<Real, D, D>;
 #[inline(always)]
 pub fn share<const D: usize>(e: &Vect<D>, r: Real, dw: Real, vol: Real) -> Corr<D> {
     e * e.transpose() * (-r * dw * vol)
-}
-
-/// Runs over the water–water relation (`NeighborLists::inner_of`).
-///
-/// The water–water terms of M, each pair once, into `m` (zero on entry).
-pub fn pair_pass<const D: usize>(
-    w: &WaterParticles<D>,
-    vol: impl Fn(usize) -> Real + Sync,
-    lists: &NeighborLists,
-    (kernel, wrap): (&WendlandC2, &Wrap),
-    m: &mut [Corr<D>],
-) {
-    let cut2 = kernel.cutoff * kernel.cutoff;
-    let n = w.len();
-    let pos = &w.pos[..n];
-    let slabs = &lists.slabs;
-    two_phase(slabs, &mut m[..n], &|s, win: &mut [Corr<D>], base| {
-        let mut block = PairBlock::<D>::default();
-        for i in slabs[s] as usize..slabs[s + 1] as usize {
-            let (xi, vi) = (pos[i], vol(i));
-            let mut own = Corr::<D>::zeros();
-            for js in lists.inner_of(i).chunks(BLOCK) {
-                block.fill((&xi, js, pos), cut2, 0.0, wrap);
-                for Pair {
-                    j, rij, r, inv_r, ..
-                } in block.pairs(0.0)
-                {
-                    let e = rij * inv_r;
-                    let q = share(&e, r, kernel.dw_within(r), 1.0);
-                    own += q * vol(j);
-                    win[j - base] += q * vi;
-                }
-            }
-            win[i - base] += own;
-        }
-    });
 }
 
 /// B from M, blended towards I where the neighbourhood is not full (module notes).
@@ -100,9 +72,89 @@ pub fn invert<const D: usize>(m: &Corr<D>) -> Corr<D> {
     }
 }
 
+/// The correction's pass: M_i = −Σ_j r ∂W/∂r e⊗e V_j
+/// ([`correction`](super::correction)), its upper triangle.
+pub(super) struct Moment<'a, const D: usize>(pub(super) &'a WaterParams<D>);
+
+impl<const D: usize> ClusterPass for Moment<'_, D> {
+    type Block = Block<D>;
+    type Sums = LaneSums<D>;
+
+    #[inline(always)]
+    fn cluster<Q: Quad>(
+        &self,
+        q: Q,
+        (blocks, cp): (&[Block<D>], &ClusterPairs),
+        ci: usize,
+        win: &mut Window<'_, LaneSums<D>>,
+    ) {
+        let prm = self.0;
+        let zero = q.splat(0.0);
+        let bi = &blocks[ci];
+        let idx = lane_indices(q, cp, ci);
+        let mut xi = [zero; D];
+        for d in 0..D {
+            xi[d] = gather(q, bi, |r| r.x[d]);
+        }
+        let voli = gather(q, bi, |r| r.vol);
+        let mut own = [[zero; D]; D];
+        for &j in cp.of(ci) {
+            let j = j as usize;
+            let cj = cp.of[j] as usize;
+            let (bj, l) = (&blocks[cj], j - cp.start[cj] as usize);
+            let rij = separation(q, &prm.wrap, &xi, &bj[l].x);
+            let Geometry {
+                m, r, inv_r, dw, ..
+            } = geometry(q, &prm.kernel, &rij, (idx, j));
+            if !q.any(m) {
+                // beyond the cut-off of every lane (the lists' skin)
+                continue;
+            }
+            let f = q.select(m, q.sub(zero, q.mul(r, dw)), zero);
+            let volj = q.splat(bj[l].vol);
+            let mut e = [zero; D];
+            for d in 0..D {
+                e[d] = q.mul(rij[d], inv_r);
+            }
+            // the upper triangle, row by row, into one array for the lane sums
+            let mut tj = [zero; 6];
+            let mut k = 0;
+            for d in 0..D {
+                for c in d..D {
+                    let t = q.mul(q.mul(e[d], e[c]), f);
+                    own[d][c] = q.add(own[d][c], q.mul(t, volj));
+                    tj[k] = q.mul(t, voli);
+                    k += 1;
+                }
+            }
+            let sums = if D == 2 {
+                let s = q.sums(&[tj[0], tj[1], tj[2]]);
+                [s[0], s[1], s[2], 0.0, 0.0, 0.0]
+            } else {
+                q.sums(&tj)
+            };
+            let out = &mut win.at(cj)[l].m;
+            let mut k = 0;
+            for d in 0..D {
+                for c in d..D {
+                    out[d][c] += sums[k];
+                    k += 1;
+                }
+            }
+        }
+        let out = win.at(ci);
+        for d in 0..D {
+            for c in d..D {
+                each_lane(q, out, own[d][c], |s, t| s.m[d][c] += t);
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kernel::WendlandC2;
 
     /// On a regular 2D lattice at h = 1.3 dp, M = κ I with κ = 0.9739 (the lattice
     /// sum of the Wendland C2 kernel), and B M = I.

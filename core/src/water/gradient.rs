@@ -8,47 +8,89 @@
 //! with it, so that the Riemann dissipation acts only on what a linear field does not
 //! explain ([`momentum`](super::momentum)).
 
-use super::correction::Corr;
-use super::state::WaterParticles;
-use crate::kernel::WendlandC2;
-use crate::math::Real;
-use crate::neighbors::NeighborLists;
-use crate::pairs::block::{Pair, PairBlock, BLOCK};
-use crate::pairs::slabs::two_phase;
-use crate::periodic::Wrap;
+//!
+//! The water–water sum of L is written once, on [`Quad`] lanes ([`Gradient`]), and
+//! run by the cluster-pair executor
+//! ([`WaterLanes::gradient`](super::lanes::WaterLanes::gradient)).
 
-/// Runs over the water–water relation (`NeighborLists::inner_of`).
-///
-/// The water–water terms of L, each pair once, into `l` (zero on entry).
-pub fn pair_pass<const D: usize>(
-    w: &WaterParticles<D>,
-    vol: impl Fn(usize) -> Real + Sync,
-    lists: &NeighborLists,
-    (kernel, wrap): (&WendlandC2, &Wrap),
-    l: &mut [Corr<D>],
-) {
-    let cut2 = kernel.cutoff * kernel.cutoff;
-    let n = w.len();
-    let (pos, vel) = (&w.pos[..n], &w.vel[..n]);
-    let slabs = &lists.slabs;
-    two_phase(slabs, &mut l[..n], &|s, win: &mut [Corr<D>], base| {
-        let mut block = PairBlock::<D>::default();
-        for i in slabs[s] as usize..slabs[s + 1] as usize {
-            let (xi, vi, voli) = (pos[i], vel[i], vol(i));
-            let mut own = Corr::<D>::zeros();
-            for js in lists.inner_of(i).chunks(BLOCK) {
-                block.fill((&xi, js, pos), cut2, 0.0, wrap);
-                for Pair {
-                    j, rij, r, inv_r, ..
-                } in block.pairs(0.0)
-                {
-                    // −v_ij ⊗ ∇_i W for i; for j, −v_ji ⊗ ∇_j W is the same tensor
-                    let q = (vi - vel[j]) * (rij * inv_r).transpose() * (-kernel.dw_within(r));
-                    own += q * vol(j);
-                    win[j - base] += q * voli;
+// the terms loop over the rows and columns of L
+#![allow(clippy::needless_range_loop)]
+
+use super::lanes::{Block, LaneSums};
+use super::momentum::WaterParams;
+use crate::pairs::cluster_pass::{
+    at, each_lane, gather, geometry, lane_indices, separation, ClusterPass, Geometry, Window,
+};
+use crate::pairs::clusters::ClusterPairs;
+use crate::pairs::quad::Quad;
+
+/// The velocity gradient's pass: L_i = −Σ_j v_ij ⊗ e_ij ∂W/∂r V_j; for j, −v_ji ⊗
+/// ∇_j W is the same tensor, times V_i.
+pub(super) struct Gradient<'a, const D: usize>(pub(super) &'a WaterParams<D>);
+
+impl<const D: usize> ClusterPass for Gradient<'_, D> {
+    type Block = Block<D>;
+    type Sums = LaneSums<D>;
+
+    #[inline(always)]
+    fn cluster<Q: Quad>(
+        &self,
+        q: Q,
+        (blocks, cp): (&[Block<D>], &ClusterPairs),
+        ci: usize,
+        win: &mut Window<'_, LaneSums<D>>,
+    ) {
+        let prm = self.0;
+        let zero = q.splat(0.0);
+        let bi = &blocks[ci];
+        let idx = lane_indices(q, cp, ci);
+        let (mut xi, mut vi) = ([zero; D], [zero; D]);
+        for d in 0..D {
+            xi[d] = gather(q, bi, |r| r.x[d]);
+            vi[d] = gather(q, bi, |r| r.v[d]);
+        }
+        let voli = gather(q, bi, |r| r.vol);
+        let mut own = [[zero; D]; D];
+        for &j in cp.of(ci) {
+            let (c, l, j) = at(cp, j);
+            let bj = &blocks[c];
+            let rij = separation(q, &prm.wrap, &xi, &bj[l].x);
+            let Geometry { m, inv_r, dw, .. } = geometry(q, &prm.kernel, &rij, (idx, j));
+            if !q.any(m) {
+                continue;
+            }
+            let f = q.select(m, q.sub(zero, dw), zero);
+            let volj = q.splat(bj[l].vol);
+            // −v_ij ⊗ e ∂W/∂r, row by row into one array for the lane sums
+            let mut tj = [zero; 9];
+            for a in 0..D {
+                let g = q.mul(q.sub(vi[a], q.splat(bj[l].v[a])), f);
+                for b in 0..D {
+                    let t = q.mul(g, q.mul(rij[b], inv_r));
+                    own[a][b] = q.add(own[a][b], q.mul(t, volj));
+                    tj[a * D + b] = q.mul(t, voli);
                 }
             }
-            win[i - base] += own;
+            let s = if D == 2 {
+                let s = q.sums(&[tj[0], tj[1], tj[2], tj[3]]);
+                let mut out = [0.0; 9];
+                out[..4].copy_from_slice(&s);
+                out
+            } else {
+                q.sums(&tj)
+            };
+            let out = &mut win.at(c)[l].m;
+            for a in 0..D {
+                for b in 0..D {
+                    out[a][b] += s[a * D + b];
+                }
+            }
         }
-    });
+        let out = win.at(ci);
+        for a in 0..D {
+            for b in 0..D {
+                each_lane(q, out, own[a][b], |s, t| s.m[a][b] += t);
+            }
+        }
+    }
 }

@@ -9,23 +9,28 @@
 //! is optional (`water.limiter`); by default β = 1 under compression, which the resting
 //! tank and the dam break of docs/method.md §Water measured as the better choice.
 //! With `water.muscl` the jump U_L − U_R is taken between the velocities reconstructed
-//! to the pair's midpoint ([`reconstructed_jump`]), so that the dissipation vanishes
+//! to the pair's midpoint ([`momentum_term`]), so that the dissipation vanishes
 //! for a linear velocity field: a standing wave's log decrement falls from 0.63 to 0.12
 //! per period at h/50, and a resting tank still settles (docs/method.md §Water).
 //! The viscous term is Morris et al. (1997) Eq. (8).
-//! Each pair is evaluated once and added to both particles with opposite signs
-//! (two-phase slab schedule, [`slabs`](crate::pairs::slabs)), so Σ m_i dv_i/dt of the pair
-//! terms is zero to round-off.
+//! The law is written once, on [`Quad`] lanes, and run by the cluster-pair executor
+//! ([`WaterLanes::momentum`](super::lanes::WaterLanes::momentum)). Each pair is
+//! evaluated once and added to both particles with opposite signs, so Σ m_i dv_i/dt of
+//! the pair terms is zero to round-off.
 
-use super::correction::Corr;
-use super::source::WaterSource;
-use super::state::WaterParticles;
+// the terms loop over components of several lane arrays at once (x, v, B, ∇v)
+#![allow(clippy::needless_range_loop)]
+
+use super::lanes::{Block, LaneSums};
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Vect};
-use crate::neighbors::NeighborLists;
-use crate::pairs::block::{Pair, PairBlock, BLOCK};
-use crate::pairs::slabs::two_phase;
+use crate::pairs::cluster_pass::{
+    at, each_lane, gather, geometry, lane_indices, separation, ClusterPass, Geometry, Window,
+};
+use crate::pairs::clusters::ClusterPairs;
+use crate::pairs::quad::Quad;
 use crate::periodic::Wrap;
+use crate::riemann::minmod_jump;
 
 /// Constants of the water sweeps for one step.
 #[derive(Clone, Copy, Debug)]
@@ -90,108 +95,158 @@ pub fn p_star<const D: usize>(prm: &WaterParams<D>, pi: Real, pj: Real, du: Real
     0.5 * (pi + pj) + 0.5 * beta * prm.z * du
 }
 
-/// The jump U_L − U_R = `du` of a pair (i, j) at distance `r` along `e` with both
-/// velocities reconstructed to the pair's midpoint by the particles' gradients
-/// (v_i − ½ ∇v_i r e and v_j + ½ ∇v_j r e; MUSCL, van Leer 1979, as Vila (1999) brings
-/// it to SPH), and limited by minmod against the jump itself: zero for a linear field,
-/// the raw jump where the reconstruction would exceed it, zero where the two disagree
-/// in sign.
+/// What the four lanes gain from a neighbour (times V_j) and what it gains from each
+/// of them (times V_i), per component.
+type OwnAndPartner<Q, const D: usize> = ([<Q as Quad>::V; D], [<Q as Quad>::V; D]);
+
+/// The lanes of a cluster as its momentum terms read them.
+struct MomentumLanes<Q: Quad, const D: usize> {
+    idx: Q::V,
+    x: [Q::V; D],
+    v: [Q::V; D],
+    b: [[Q::V; D]; D],
+    /// ∇v, with `MUSCL` only.
+    gv: [[Q::V; D]; D],
+    p: Q::V,
+    vol: Q::V,
+}
+
+/// The momentum term of the four lanes of a cluster against particle `j` (lane `l` of
+/// block `bj`): what the lanes gain (times V_j) and what j gains from each (times
+/// V_i, to be summed over the lanes and subtracted); zero outside the cut-off, and
+/// none if no lane pairs with j. With `MUSCL` the jump U_L − U_R is taken between the
+/// velocities reconstructed to the pair's midpoint, v_i − ½ ∇v_i r e and
+/// v_j + ½ ∇v_j r e (van Leer 1979, as Vila (1999) brings it to SPH), limited by
+/// minmod against the raw jump ([`minmod_jump`]): zero for a linear velocity field.
 #[inline(always)]
-pub fn reconstructed_jump<const D: usize>(
-    du: Real,
-    r: Real,
-    e: &Vect<D>,
-    (gi, gj): (&Corr<D>, &Corr<D>),
-) -> Real {
-    let rec = du + 0.5 * r * e.dot(&((gi + gj) * e));
-    crate::riemann::minmod_jump(du, rec)
-}
-
-/// Runs over the water–water relation (`NeighborLists::inner_of`).
-///
-/// The water–water momentum terms, each pair once, into `sums[..].acc`; `corr` holds
-/// each particle's correction B ([`correction`](super::correction)), the pair's
-/// pressure force taken along ½(B_i + B_j)·∇_i W; `grad` each particle's velocity
-/// gradient ([`gradient`](super::gradient)) with `water.muscl`, empty without.
-pub fn pair_pass<const D: usize>(
-    w: &WaterParticles<D>,
-    src: &[WaterSource],
-    (corr, grad): (&[Corr<D>], &[Corr<D>]),
-    lists: &NeighborLists,
+fn momentum_term<Q: Quad, const D: usize, const MUSCL: bool>(
+    q: Q,
     prm: &WaterParams<D>,
-    sums: &mut [WaterSums<D>],
-) {
-    let muscl = !grad.is_empty();
-    let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
-    // Morris' 0.01h² guards 1/r² at r → 0; the Wendland kernel's ∂W/∂r/r stays finite
-    // there, and the guard would cut the viscous stress by about 1 % at any resolution
-    // (Poiseuille flow, docs/method.md §Water)
-    let reg = 0.0;
-    let n = w.len();
-    let (pos, vel, src, corr) = (&w.pos[..n], &w.vel[..n], &src[..n], &corr[..n]);
-    let slabs = &lists.slabs;
-    two_phase(
-        slabs,
-        &mut sums[..n],
-        &|s, win: &mut [WaterSums<D>], base| {
-            let mut block = PairBlock::<D>::default();
-            for i in slabs[s] as usize..slabs[s + 1] as usize {
-                let (xi, vi, si) = (pos[i], vel[i], src[i]);
-                let mut own = Vect::<D>::zeros();
-                for js in lists.inner_of(i).chunks(BLOCK) {
-                    block.fill((&xi, js, pos), cut2, reg, &prm.wrap);
-                    for Pair {
-                        j,
-                        rij,
-                        r,
-                        inv_r,
-                        inv,
-                    } in block.pairs(reg)
-                    {
-                        let sj = src[j];
-                        let e = rij * inv_r;
-                        let dw = prm.kernel.dw_within(r);
-                        let vij = vi - vel[j];
-                        // U_L − U_R = −v_i·e + v_j·e
-                        let mut du = -vij.dot(&e);
-                        if muscl {
-                            du = reconstructed_jump(du, r, &e, (&grad[i], &grad[j]));
-                        }
-                        let ps = p_star(prm, si.p, sj.p, du);
-                        let be = (corr[i] + corr[j]) * (e * 0.5);
-                        // Morris' x_ij·∇W with the corrected gradient: r ∂W/∂r e·B̄e
-                        let visc = prm.mu * r * r * dw * inv * e.dot(&be);
-                        let t = be * (-ps * dw) + vij * visc;
-                        own += t * sj.vol;
-                        win[j - base].acc -= t * si.vol;
-                    }
-                }
-                win[i - base].acc += own;
+    i: &MomentumLanes<Q, D>,
+    (bj, l, j): (&Block<D>, usize, usize),
+) -> Option<OwnAndPartner<Q, D>> {
+    let zero = q.splat(0.0);
+    let (half, one) = (q.splat(0.5), q.splat(1.0));
+    let rij = separation(q, &prm.wrap, &i.x, &bj[l].x);
+    let Geometry {
+        m, r, inv_r, dw, ..
+    } = geometry(q, &prm.kernel, &rij, (i.idx, j));
+    if !q.any(m) {
+        return None;
+    }
+    let mut e = [zero; D];
+    let mut vij = [zero; D];
+    // U_L − U_R = −v_ij·e
+    let mut vie = zero;
+    for d in 0..D {
+        e[d] = q.mul(rij[d], inv_r);
+        vij[d] = q.sub(i.v[d], q.splat(bj[l].v[d]));
+        vie = q.add(vie, q.mul(vij[d], e[d]));
+    }
+    let mut du = q.sub(zero, vie);
+    if MUSCL {
+        // U_L − U_R of the reconstructed velocities: du + ½ r e·(∇v_i + ∇v_j) e
+        let mut ege = zero;
+        for d in 0..D {
+            let mut s = zero;
+            for c in 0..D {
+                let g = q.add(i.gv[d][c], q.splat(bj[l].gv[d][c]));
+                s = q.add(s, q.mul(g, e[c]));
             }
-        },
-    );
+            ege = q.add(ege, q.mul(e[d], s));
+        }
+        let rec = q.add(du, q.mul(q.mul(half, r), ege));
+        du = minmod_jump(q, du, rec);
+    }
+    // β = min(η du/c0, 1) under compression, 0 in expansion (p_star)
+    let eta_c = q.splat(prm.eta * prm.inv_c);
+    let beta = q.select(q.lt(zero, du), q.min(q.mul(eta_c, du), one), zero);
+    let mean = q.mul(half, q.add(i.p, q.splat(bj[l].p)));
+    let ps = q.add(mean, q.mul(q.mul(q.mul(half, beta), q.splat(prm.z)), du));
+    // B̄e = ½ (B_i + B_j) e
+    let mut eh = [zero; D];
+    for d in 0..D {
+        eh[d] = q.mul(e[d], half);
+    }
+    let mut be = [zero; D];
+    let mut ebe = zero;
+    for d in 0..D {
+        let mut s = zero;
+        for c in 0..D {
+            let bsum = q.add(i.b[d][c], q.splat(bj[l].b[d][c]));
+            s = q.add(s, q.mul(bsum, eh[c]));
+        }
+        be[d] = s;
+        ebe = q.add(ebe, q.mul(e[d], s));
+    }
+    // Morris' term with the corrected gradient: μ ∂W/∂r e·B̄e / r
+    let visc = q.mul(q.mul(q.mul(q.splat(prm.mu), dw), inv_r), ebe);
+    let pd = q.mul(q.sub(zero, ps), dw);
+    let volj = q.splat(bj[l].vol);
+    let (mut own, mut tj) = ([zero; D], [zero; D]);
+    for d in 0..D {
+        let t = q.add(q.mul(be[d], pd), q.mul(vij[d], visc));
+        let t = q.select(m, t, zero);
+        own[d] = q.mul(t, volj);
+        tj[d] = q.mul(t, i.vol);
+    }
+    Some((own, tj))
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+/// The momentum pass, with the jump reconstructed if `MUSCL`.
+pub(super) struct Momentum<'a, const D: usize, const MUSCL: bool>(pub(super) &'a WaterParams<D>);
 
-    /// A linear velocity field leaves no jump to dissipate; a jump the gradients do not
-    /// explain keeps the part they do not, and the raw jump bounds it.
-    #[test]
-    fn reconstruction_removes_the_linear_part() {
-        let g = Corr::<2>::new(0.3, -0.2, 0.5, 0.1);
-        let (e, r) = (Vect::<2>::new(0.6, 0.8), 0.013);
-        // v_i − v_j = G r_ij for a linear field: U_L − U_R = −(G r e)·e
-        let du = -(g * e * r).dot(&e);
-        assert!(reconstructed_jump(du, r, &e, (&g, &g)).abs() < 1e-18);
-        // twice the linear jump: half of it is left
-        let left = reconstructed_jump(2.0 * du, r, &e, (&g, &g));
-        assert!((left - du).abs() < 1e-15, "{left} {du}");
-        // no gradient: the raw jump
-        let z = Corr::<2>::zeros();
-        assert_eq!(reconstructed_jump(du, r, &e, (&z, &z)), du);
-        // gradients that overshoot flip the sign: nothing
-        assert_eq!(reconstructed_jump(du, r, &e, (&(g * 3.0), &(g * 3.0))), 0.0);
+impl<const D: usize, const MUSCL: bool> ClusterPass for Momentum<'_, D, MUSCL> {
+    type Block = Block<D>;
+    type Sums = LaneSums<D>;
+
+    #[inline(always)]
+    fn cluster<Q: Quad>(
+        &self,
+        q: Q,
+        (blocks, cp): (&[Block<D>], &ClusterPairs),
+        ci: usize,
+        win: &mut Window<'_, LaneSums<D>>,
+    ) {
+        let prm = self.0;
+        let zero = q.splat(0.0);
+        let bi = &blocks[ci];
+        let mut lanes = MomentumLanes::<Q, D> {
+            idx: lane_indices(q, cp, ci),
+            x: [zero; D],
+            v: [zero; D],
+            b: [[zero; D]; D],
+            gv: [[zero; D]; D],
+            p: gather(q, bi, |r| r.p),
+            vol: gather(q, bi, |r| r.vol),
+        };
+        for d in 0..D {
+            lanes.x[d] = gather(q, bi, |r| r.x[d]);
+            lanes.v[d] = gather(q, bi, |r| r.v[d]);
+            for c in 0..D {
+                lanes.b[d][c] = gather(q, bi, |r| r.b[d][c]);
+                if MUSCL {
+                    lanes.gv[d][c] = gather(q, bi, |r| r.gv[d][c]);
+                }
+            }
+        }
+        let mut own = [zero; D];
+        for &j in cp.of(ci) {
+            let (c, l, j) = at(cp, j);
+            let Some((o, t)) = momentum_term::<Q, D, MUSCL>(q, prm, &lanes, (&blocks[c], l, j))
+            else {
+                continue;
+            };
+            for d in 0..D {
+                own[d] = q.add(own[d], o[d]);
+            }
+            for (d, s) in q.sums(&t).into_iter().enumerate() {
+                win.at(c)[l].acc[d] -= s;
+            }
+        }
+        let out = win.at(ci);
+        for d in 0..D {
+            each_lane(q, out, own[d], |s, t| s.acc[d] += t);
+        }
     }
 }
