@@ -11,10 +11,10 @@
 //! ([`interactions`](crate::interactions)); this module holds the fine–fine terms and
 //! the constitutive update.
 //!
-//! The pair pass evaluates each fine–fine pair once and adds its terms in v_{n+1} to
-//! both particles' [`ContinuitySums`] (two-phase slab schedule, [`slabs`](crate::pairs::slabs));
-//! the terms without velocity ([`JumpDiffusion`]) are already there, from the momentum
-//! sweep's pair pass. The particle pass
+//! The pair law is written once, on lanes ([`lanes`](super::lanes)): it evaluates each
+//! fine–fine pair once and adds its terms in v_{n+1} to both particles'
+//! [`ContinuitySums`]; the terms without velocity ([`JumpDiffusion`]) are already
+//! there, from the momentum sweep's pair pass. The particle pass
 //! ([`interactions::continuity_pass`](crate::interactions::continuity_pass)) takes the
 //! sums as [`Rates`], adds the interactions and [`Rates::update`]s the stress.
 
@@ -23,14 +23,9 @@ use super::material::FineMaterial;
 use super::pair_sums::{ContinuitySums, PairSums};
 use super::plasticity::constitutive_step;
 use super::source::Source;
-use super::state::FineParticles;
 use crate::kernel::WendlandC2;
-use crate::math::{sub_outer, Real, Sym, Vect};
-use crate::neighbors::NeighborLists;
-use crate::pairs::block::{Pair, PairBlock, BLOCK};
-use crate::pairs::slabs::two_phase;
-use crate::periodic::{Open, Separation, Wrap};
-use crate::riemann::pair_reciprocals;
+use crate::math::{Real, Sym, Vect};
+use crate::periodic::Wrap;
 use crate::scene::ContinuityJump;
 use nalgebra::{Matrix3, SMatrix};
 
@@ -198,140 +193,4 @@ impl<'a, const D: usize> JumpDiffusion<'a, D> {
     pub fn up(&self) -> Vect<D> {
         self.up
     }
-
-    /// Add the terms of pair (i, j) to both particles' sums: `dw` = ∂W/∂r at `r`,
-    /// `inv` = 1/(r (r² + 0.01h²)), `two_inv_z` = 2/(Z_i + Z_j).
-    ///
-    /// Eq. (19) splits U* − U_L into a velocity part, Z_j (U_R − U_L)/(Z_i + Z_j),
-    /// added by the continuity pair pass, and the pressure part (P_L − P_R)/(Z_i + Z_j)
-    /// taken here; for j the states swap (P_L = P_j, P_R = P_i as seen from j).
-    #[allow(clippy::too_many_arguments)]
-    #[inline(always)]
-    pub fn pair(
-        &self,
-        (si, mat_i): (&Source, usize),
-        (sj, mat_j): (&Source, usize),
-        rij: &Vect<D>,
-        (r, dw, inv): (Real, Real, Real),
-        two_inv_z: Real,
-        own: &mut ContinuitySums<D>,
-        aj: &mut ContinuitySums<D>,
-    ) {
-        let up_r = rij.dot(&self.up);
-        // The jump P_L − P_R of Eq. (19) acts here as a pressure Laplacian. granmix
-        // integrates the pressure from the stress, not from the density, so with the
-        // stress's jump (seed 000) nothing feeds a density change back: where the
-        // Laplacian does not vanish at rest (a free surface, a floor, a deposit off the
-        // geostatic state) the density drifts for as long as the run lasts. From the
-        // density, K (ρ/ρ0 − 1), the jump diffuses density towards uniform and vanishes
-        // in a uniform deposit at rest. The stress's jump is taken relative to the
-        // geostatic state, as Eq. (26) does for the stress: seen from i,
-        // P_j + (P^H_i − P^H_j) = P_j − (r_ij·up) pgeo_i.
-        let (jump_i, jump_j) = if self.by_density {
-            (si.p_rho - sj.p_rho, sj.p_rho - si.p_rho)
-        } else {
-            (
-                si.p - (sj.p - up_r * self.pgeo[mat_i]),
-                sj.p - (si.p + up_r * self.pgeo[mat_j]),
-            )
-        };
-        let k = dw * two_inv_z;
-        own.drho += jump_i * k * sj.vol;
-        aj.drho += jump_j * k * si.vol;
-        if self.diffusion {
-            let w = r * r * dw * inv;
-            let (wi, wj) = (w * sj.vol, w * si.vol);
-            own.w += wi;
-            own.wz += wi * up_r;
-            own.wp += wi * sj.p;
-            own.wdev.axpy_in::<D>(wi, &sj.dev);
-            aj.w += wj;
-            aj.wz -= wj * up_r;
-            aj.wp += wj * si.p;
-            aj.wdev.axpy_in::<D>(wj, &si.dev);
-        }
-    }
-}
-
-/// Runs over the fine–fine relation (`NeighborLists::inner_of`).
-///
-/// The fine–fine terms of the sweep in v_{n+1}, each pair evaluated once and added to
-/// both of its particles: the velocity part of 2 (U* − U_L) in Eq. (15),
-/// 2 Z_j (U_R − U_L)/(Z_i + Z_j) with U_R − U_L = v_ij·e_ij (Z_i for j), and
-/// −v_ij ⊗ e_ij of Eq. (24), the same for j (v_ji ⊗ e_ji = v_ij ⊗ e_ij).
-#[inline]
-pub fn pair_pass<const D: usize>(
-    p: &FineParticles<D>,
-    src: &[Source],
-    mats: &[FineMaterial],
-    lists: &NeighborLists,
-    prm: &ContinuityParams<'_, D>,
-    sums: &mut [PairSums<D>],
-) {
-    // one pass per separation, so that the open scene's pair loop has no branch on it
-    match &prm.wrap {
-        None => separated_pair_pass(p, src, mats, lists, prm, sums, &Open),
-        Some(period) => separated_pair_pass(p, src, mats, lists, prm, sums, period),
-    }
-}
-
-#[inline(always)]
-fn separated_pair_pass<const D: usize>(
-    p: &FineParticles<D>,
-    src: &[Source],
-    mats: &[FineMaterial],
-    lists: &NeighborLists,
-    prm: &ContinuityParams<'_, D>,
-    sums: &mut [PairSums<D>],
-    sep: &impl Separation,
-) {
-    let cut2 = prm.kernel.cutoff * prm.kernel.cutoff;
-    let n = p.len();
-    let (pos, vel, src, material) = (&p.pos[..n], &p.vel[..n], &src[..n], &p.material[..n]);
-    let slabs = &lists.slabs;
-    two_phase(
-        slabs,
-        &mut sums[..n],
-        &|s, win: &mut [PairSums<D>], base| {
-            let mut block = PairBlock::<D>::default();
-            for i in slabs[s] as usize..slabs[s + 1] as usize {
-                let mi = &mats[material[i] as usize];
-                let si = &src[i];
-                let (half_inv_z, inv_ci) = si.reciprocals(mi.c0);
-                let (xi, vi, vol_i) = (pos[i], vel[i], si.vol);
-                let mut own = ContinuitySums::<D>::zero();
-                for js in lists.inner_of(i).chunks(BLOCK) {
-                    block.fill((&xi, js, pos), cut2, 0.0, sep);
-                    for Pair {
-                        j, rij, r, inv_r, ..
-                    } in block.pairs(0.0)
-                    {
-                        let e = rij * inv_r;
-                        let dw = prm.kernel.dw_within(r);
-                        let (vol_j, vij) = (src[j].vol, vi - vel[j]);
-                        let g = vij * dw;
-                        let s = g.dot(&e);
-                        let (si_w, sj_w) = if prm.uniform {
-                            (s, s)
-                        } else {
-                            let sj = &src[j];
-                            let cj = mats[material[j] as usize].c0;
-                            let (inv_z, _) =
-                                pair_reciprocals(si.z, sj.z, mi.c0, cj, half_inv_z, inv_ci);
-                            let t = 2.0 * s * inv_z;
-                            (t * sj.z, t * si.z)
-                        };
-                        let aj = &mut win[j - base].continuity;
-                        own.drho += si_w * vol_j;
-                        aj.drho += sj_w * vol_i;
-                        sub_outer(&mut own.grad, &(g * vol_j), &e);
-                        sub_outer(&mut aj.grad, &(g * vol_i), &e);
-                    }
-                }
-                let a = &mut win[i - base].continuity;
-                a.drho += own.drho;
-                a.grad += own.grad;
-            }
-        },
-    );
 }

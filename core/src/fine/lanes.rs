@@ -3,20 +3,20 @@
 //! at a time on [`Quad`] lanes ([`cluster_pass`](crate::pairs::cluster_pass); issue 45, docs/method.md
 //! §Throughput).
 //!
-//! The terms are those of [`momentum::pair_pass`](super::momentum::pair_pass) (seed 000
-//! Eqs. 16, 18, 20, 23, the hourglass penalty of [`hourglass`](super::hourglass)) with
-//! the continuity sweep's terms without velocity ([`JumpDiffusion`]: Eq. 19's pressure
-//! jump, Eqs. 25–26's diffusion weights), and those of
-//! [`continuity::pair_pass`](super::continuity::pair_pass) (Eqs. 15, 19, 24). They are
-//! taken for the common scene: every soil with one impedance and sound speed
-//! ([`uniform_acoustics`](super::material::uniform_acoustics)), no MUSCL reconstruction
-//! and no artificial stress; other scenes keep the one-pair passes ([`FinePairs`]).
+//! The momentum pass takes seed 000 Eqs. (16), (18), (20), (23) and (27) (the Riemann
+//! P*, σˢ, artificial stress), the hourglass penalty of [`hourglass`](super::hourglass)
+//! and, with `numerics.muscl`, the MUSCL reconstruction of the Riemann jump, with the
+//! continuity sweep's terms without velocity ([`JumpDiffusion`]: Eq. 19's pressure
+//! jump, Eqs. 25–26's diffusion weights); the continuity pass takes Eqs. (15), (19) and
+//! (24). Every fine scene runs them: soils of one impedance and sound speed
+//! ([`uniform_acoustics`](super::material::uniform_acoustics)) with the one-impedance
+//! forms of Eqs. (19)–(20), others with the general ones.
 //!
-//! Each pair is evaluated once, as in the one-pair passes, and the sums run over the
+//! Each pair is evaluated once and added to both particles, and the sums run over the
 //! cluster slabs in the two-phase schedule ([`slabs`](crate::pairs::slabs)), so they do not
 //! depend on the thread count; the two instruction sets agree bitwise ([`quad`]). The
-//! order of summation differs from the one-pair passes, so the two agree to round-off
-//! (tested below).
+//! direct evaluation of the equations in `interactions::symmetric_tests` is their
+//! reference.
 //!
 //! [`quad`]: crate::pairs::quad
 
@@ -24,12 +24,12 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::continuity::JumpDiffusion;
-use super::momentum::MomentumParams;
+use super::momentum::{ArtificialStress, MomentumParams};
 use super::pair_sums::PairSums;
 use super::source::Source;
 use super::state::FineParticles;
 use crate::kernel::WendlandC2;
-use crate::math::{Real, Vect};
+use crate::math::{Real, Sym, Vect};
 use crate::pairs::cluster_pass::{
     at, each_lane, gather, geometry, lane_indices, run_pass, separation, unpack, ClusterPass,
     Geometry, Window, FAR,
@@ -37,26 +37,13 @@ use crate::pairs::cluster_pass::{
 use crate::pairs::clusters::ClusterPairs;
 use crate::pairs::quad::{Lanes, Quad, WIDTH};
 use crate::periodic::Wrap;
+use crate::riemann::minmod_jump;
 use rayon::prelude::*;
 
-/// How the fine–fine pair terms of the two sweeps are taken.
-pub enum FinePairs<'a, const D: usize> {
-    /// One pair at a time over the half lists ([`momentum::pair_pass`],
-    /// [`continuity::pair_pass`]): soils of different impedance, MUSCL, artificial
-    /// stress.
-    ///
-    /// [`momentum::pair_pass`]: super::momentum::pair_pass
-    /// [`continuity::pair_pass`]: super::continuity::pair_pass
-    OnePair,
-    /// Four pairs at a time over the clusters' lists ([`FineLanes`]), on `Lanes`.
-    Lanes(&'a mut FineLanes<D>, &'a ClusterPairs, Lanes),
-}
-
-/// Whether the cluster-pair passes take a sweep's pair terms: one impedance and sound
-/// speed (`uniform`), no MUSCL reconstruction, no artificial stress.
-pub fn lanes_apply<const D: usize>(prm: &MomentumParams<'_, D>) -> bool {
-    prm.uniform && !prm.muscl && prm.artificial.is_none()
-}
+/// The fine–fine pair laws' executor for one step: the lane buffers (the state the
+/// momentum pass packs serves the continuity pass), the clusters brought up to the last
+/// list build, and the instruction set ([`Lanes::detect`]).
+pub type FinePairs<'a, const D: usize> = (&'a mut FineLanes<D>, &'a ClusterPairs, Lanes);
 
 /// Components of σˢ the terms read: 2D in-plane xx, yy, the out-of-plane zz and xy;
 /// 3D all six ([`Sym::axpy_in`](crate::math::Sym::axpy_in)).
@@ -87,6 +74,11 @@ pub struct Rec<const D: usize> {
     g: Real,
     /// The velocity gradient L of the last sweep, by row and column.
     l: [[Real; D]; D],
+    /// Acoustic impedance ρ0 c0 and sound speed c0 of the particle's soil.
+    z: Real,
+    c: Real,
+    /// The artificial stress R of Eq. (27), in [`Sym`]'s order (zero without).
+    art: [Real; 6],
 }
 
 impl<const D: usize> Default for Rec<D> {
@@ -102,6 +94,9 @@ impl<const D: usize> Default for Rec<D> {
             kept: 0.0,
             g: 0.0,
             l: [[0.0; D]; D],
+            z: 1.0,
+            c: 1.0,
+            art: [0.0; 6],
         }
     }
 }
@@ -169,11 +164,19 @@ pub struct FineLanes<const D: usize> {
 struct MomentumScalars<const D: usize> {
     kernel: WendlandC2,
     wrap: Wrap,
-    /// η/c0 of the limiter (Eq. 23).
+    /// Every soil has one impedance and sound speed: the one-impedance forms of
+    /// Eqs. (19)–(20), with the three constants below.
+    uniform: bool,
+    /// η of the limiter (Eq. 23), and η/c0 with one sound speed.
+    eta: Real,
     eta_c: Real,
-    /// Z/2 of P* (Eq. 20) and 1/Z of U* (Eq. 19).
+    /// Z/2 of P* (Eq. 20) and 2/(Z + Z) of U* (Eq. 19), with one impedance.
     half_z: Real,
     inv_z: Real,
+    /// The MUSCL reconstruction of the Riemann jump (`numerics.muscl`).
+    muscl: bool,
+    /// Artificial stress (cohesive soils).
+    artificial: Option<ArtificialStress>,
     hourglass: bool,
     by_density: bool,
     diffusion: bool,
@@ -201,12 +204,13 @@ impl<const D: usize> FineLanes<D> {
     }
 
     /// Pack the state of every cluster: positions and velocities of `p`, the records
-    /// `src`, and per soil ξ G (`prm.hourglass`) and the geostatic pressure gradient
-    /// of the jump.
+    /// `src`, the artificial stresses `art` (empty: none), and per soil ξ G
+    /// (`prm.hourglass`), its sound speed and the geostatic pressure gradient of the
+    /// jump.
     fn pack(
         &mut self,
         cp: &ClusterPairs,
-        (p, src): (&FineParticles<D>, &[Source]),
+        (p, src, art): (&FineParticles<D>, &[Source], &[Sym]),
         prm: &MomentumParams<'_, D>,
         jump: &JumpDiffusion<'_, D>,
     ) {
@@ -233,29 +237,31 @@ impl<const D: usize> FineLanes<D> {
                 b[l].pgeo = jump.pgeo(mat);
                 b[l].kept = p.hourglass_kept[i] as Real;
                 b[l].g = prm.hourglass.get(mat).copied().unwrap_or(0.0);
+                b[l].z = s.z;
+                b[l].c = prm.materials[mat].c0;
+                if let Some(r) = art.get(i) {
+                    b[l].art[..m].copy_from_slice(&r.0[..m]);
+                }
             }
         });
     }
 
     /// The momentum sweep's fine–fine pair terms, with the continuity sweep's terms
-    /// without velocity, into `sums` (added), on `lanes`; `prm` must satisfy
-    /// [`lanes_apply`].
+    /// without velocity, into `sums` (added), on `lanes`; `art` holds the artificial
+    /// stresses with `prm.artificial` (empty without).
     #[allow(clippy::too_many_arguments)]
     pub fn momentum(
         &mut self,
         cp: &ClusterPairs,
-        (p, src): (&FineParticles<D>, &[Source]),
+        (p, src, art): (&FineParticles<D>, &[Source], &[Sym]),
         prm: &MomentumParams<'_, D>,
         jump: &JumpDiffusion<'_, D>,
         lanes: Lanes,
         sums: &mut [PairSums<D>],
     ) {
-        assert!(
-            lanes_apply(prm),
-            "the fine cluster-pair pass takes one impedance, no MUSCL and no artificial stress"
-        );
-        self.pack(cp, (p, src), prm, jump);
-        // one impedance and sound speed: those of any soil (none: no fine grains)
+        let art = if prm.artificial.is_some() { art } else { &[] };
+        self.pack(cp, (p, src, art), prm, jump);
+        // with one impedance and sound speed, those of any soil (none: no fine grains)
         let Some(mat) = prm.materials.first() else {
             return;
         };
@@ -263,9 +269,13 @@ impl<const D: usize> FineLanes<D> {
         let sc = MomentumScalars {
             kernel: prm.kernel,
             wrap: prm.wrap,
+            uniform: prm.uniform,
+            eta: prm.riemann.eta,
             eta_c: prm.riemann.eta / mat.c0,
             half_z: 0.5 * z,
             inv_z: 2.0 * (0.5 / z),
+            muscl: prm.muscl,
+            artificial: prm.artificial,
             hourglass: !prm.hourglass.is_empty(),
             by_density: jump.by_density(),
             diffusion: jump.diffusion(),
@@ -291,11 +301,12 @@ impl<const D: usize> FineLanes<D> {
     }
 
     /// The continuity sweep's fine–fine pair terms in v_{n+1} (`vel`) into `sums`
-    /// (added), on `lanes`, after [`momentum`](Self::momentum) packed the state.
+    /// (added), on `lanes`, after [`momentum`](Self::momentum) packed the state; with
+    /// the one-impedance form of Eq. (19) if `uniform`.
     pub fn continuity(
         &mut self,
         cp: &ClusterPairs,
-        (vel, kernel, wrap): (&[Vect<D>], WendlandC2, Wrap),
+        (vel, kernel, wrap, uniform): (&[Vect<D>], WendlandC2, Wrap, bool),
         lanes: Lanes,
         sums: &mut [PairSums<D>],
     ) {
@@ -309,7 +320,11 @@ impl<const D: usize> FineLanes<D> {
                 }
             }
         });
-        let pass = Continuity { kernel, wrap };
+        let pass = Continuity {
+            kernel,
+            wrap,
+            uniform,
+        };
         run_pass(&pass, (&self.blocks, cp), lanes, &mut self.csums);
         unpack(cp, &self.csums, sums, |o, s, l| {
             let c = &mut o.continuity;
@@ -336,6 +351,9 @@ struct MomentumLanes<Q: Quad, const D: usize> {
     kept: Q::V,
     g: Q::V,
     l: [[Q::V; D]; D],
+    z: Q::V,
+    c: Q::V,
+    art: [Q::V; 6],
 }
 
 /// The momentum terms of the four lanes of a cluster against particle `j` (lane `l`
@@ -381,39 +399,66 @@ fn momentum_term<Q: Quad, const D: usize>(
         vie = q.add(vie, q.mul(vij[d], e[d]));
         up_r = q.add(up_r, q.mul(rij[d], q.splat(sc.up[d])));
     }
-    // P* = ½ (P_i + P_j) + ½ β Z (U_L − U_R), β = min(η max(U_R − U_L, 0)/c0, 1)
-    // (Riemann::limiter, p_star_uniform)
-    let du = q.sub(zero, vie);
-    let comp = q.select(q.lt(zero, vie), vie, zero);
-    let beta = q.min(q.mul(q.splat(sc.eta_c), comp), one);
-    let mean = q.mul(half, q.add(i.p, pj));
-    let ps = q.add(mean, q.mul(q.mul(beta, q.splat(sc.half_z)), du));
+    // U_L − U_R, and U_R − U_L for the limiter
+    let mut du = q.sub(zero, vie);
+    let mut sep = vie;
+    if sc.muscl {
+        // between v_i − ½ L_i r e and v_j + ½ L_j r e: du + ½ r e·(L_i + L_j) e,
+        // limited by minmod against du
+        let mut ele = zero;
+        for d in 0..D {
+            let mut s = zero;
+            for c in 0..D {
+                s = q.add(s, q.mul(q.add(i.l[d][c], q.splat(bj[l].l[d][c])), e[c]));
+            }
+            ele = q.add(ele, q.mul(e[d], s));
+        }
+        du = minmod_jump(q, du, q.add(du, q.mul(q.mul(half, r), ele)));
+        sep = q.sub(zero, du);
+    }
+    let comp = q.select(q.lt(zero, sep), sep, zero);
+    let (ps, two_inv_z) = if sc.uniform {
+        // P* = ½ (P_i + P_j) + ½ β Z (U_L − U_R), β = min(η max(U_R − U_L, 0)/c0, 1)
+        // (Riemann::limiter, p_star_uniform)
+        let beta = q.min(q.mul(q.splat(sc.eta_c), comp), one);
+        let mean = q.mul(half, q.add(i.p, pj));
+        let ps = q.add(mean, q.mul(q.mul(beta, q.splat(sc.half_z)), du));
+        (ps, q.splat(sc.inv_z))
+    } else {
+        // Eq. (20), (Z_L P_R + Z_R P_L + β Z_L Z_R (U_L − U_R))/(Z_L + Z_R), with
+        // c̄ = ½ (c_i + c_j) in β (Riemann::p_star)
+        let zj = q.splat(bj[l].z);
+        let inv_zsum = q.div(one, q.add(i.z, zj));
+        let inv_c = q.div(q.splat(2.0), q.add(i.c, q.splat(bj[l].c)));
+        let beta = q.min(q.mul(q.mul(q.splat(sc.eta), comp), inv_c), one);
+        let zz = q.mul(q.mul(beta, i.z), zj);
+        let num = q.add(q.add(q.mul(i.z, pj), q.mul(zj, i.p)), q.mul(zz, du));
+        (q.mul(num, inv_zsum), q.mul(q.splat(2.0), inv_zsum))
+    };
     // σ*·e = ½ (σˢ_i + σˢ_j)·e − P* e, Eq. (18)
     let mut a = [zero; 6];
     for k in 0..dev_parts(D) {
         a[k] = q.add(i.dev[k], q.splat(bj[l].dev[k]));
     }
-    let mut t = [zero; D];
-    if D == 2 {
-        t[0] = q.add(q.mul(a[0], e[0]), q.mul(a[3], e[1]));
-        t[1] = q.add(q.mul(a[3], e[0]), q.mul(a[1], e[1]));
-    } else {
-        t[0] = q.add(
-            q.add(q.mul(a[0], e[0]), q.mul(a[3], e[1])),
-            q.mul(a[4], e[2]),
-        );
-        t[1] = q.add(
-            q.add(q.mul(a[3], e[0]), q.mul(a[1], e[1])),
-            q.mul(a[5], e[2]),
-        );
-        t[2] = q.add(
-            q.add(q.mul(a[4], e[0]), q.mul(a[5], e[1])),
-            q.mul(a[2], e[2]),
-        );
+    let t = sym_dot(q, &a, &e);
+    // the artificial stress of Eq. (27), ½ f^n (R_i + R_j)·e, f = W(r)/W(dp)
+    let mut ra = [zero; D];
+    if let Some(a) = &sc.artificial {
+        let mut rr = [0.0; WIDTH];
+        q.store(&mut rr, r);
+        let fa = q.mul(half, q.load(&rr.map(|r| (sc.kernel.w(r) / a.w_dp).powf(a.exponent))));
+        let mut b = [zero; 6];
+        for k in 0..dev_parts(D) {
+            b[k] = q.mul(q.add(i.art[k], q.splat(bj[l].art[k])), fa);
+        }
+        ra = sym_dot(q, &b, &e);
     }
     let (dvj, dvi) = (q.mul(dw, volj), q.mul(dw, i.vol));
     for d in 0..D {
-        let td = q.sub(q.mul(t[d], half), q.mul(e[d], ps));
+        let mut td = q.sub(q.mul(t[d], half), q.mul(e[d], ps));
+        if sc.artificial.is_some() {
+            td = q.add(td, ra[d]);
+        }
         own[d] = q.add(own[d], q.mul(td, dvj));
         // j takes −t (e_ji = −e_ij): subtracted after the lane sum
         tj[d] = q.mul(td, dvi);
@@ -438,7 +483,7 @@ fn momentum_term<Q: Quad, const D: usize>(
         }
     }
     // the jump of Eq. (19), P_L − P_R, into U* − U_L (JumpDiffusion::pair)
-    let k = q.mul(dw, q.splat(sc.inv_z));
+    let k = q.mul(dw, two_inv_z);
     let pjj = q.splat(bj[l].pj);
     let (jump_i, jump_j) = if sc.by_density {
         (q.sub(i.pj, pjj), q.sub(pjj, i.pj))
@@ -467,6 +512,30 @@ fn momentum_term<Q: Quad, const D: usize>(
         }
     }
     true
+}
+
+/// A symmetric tensor `a` (in [`Sym`]'s order, the in-plane part in 2D) times `e`.
+#[inline(always)]
+fn sym_dot<Q: Quad, const D: usize>(q: Q, a: &[Q::V; 6], e: &[Q::V; D]) -> [Q::V; D] {
+    let mut t = [q.splat(0.0); D];
+    if D == 2 {
+        t[0] = q.add(q.mul(a[0], e[0]), q.mul(a[3], e[1]));
+        t[1] = q.add(q.mul(a[3], e[0]), q.mul(a[1], e[1]));
+    } else {
+        t[0] = q.add(
+            q.add(q.mul(a[0], e[0]), q.mul(a[3], e[1])),
+            q.mul(a[4], e[2]),
+        );
+        t[1] = q.add(
+            q.add(q.mul(a[3], e[0]), q.mul(a[1], e[1])),
+            q.mul(a[5], e[2]),
+        );
+        t[2] = q.add(
+            q.add(q.mul(a[4], e[0]), q.mul(a[5], e[1])),
+            q.mul(a[2], e[2]),
+        );
+    }
+    t
 }
 
 /// The lane sums of the entries of `t` a neighbour's momentum terms fill (12 in 2D,
@@ -515,6 +584,9 @@ impl<const D: usize> ClusterPass for Momentum<'_, D> {
             kept: gather(q, bi, |r| r.kept),
             g: gather(q, bi, |r| r.g),
             l: [[zero; D]; D],
+            z: gather(q, bi, |r| r.z),
+            c: gather(q, bi, |r| r.c),
+            art: [zero; 6],
         };
         for d in 0..D {
             lanes.x[d] = gather(q, bi, |r| r.x[d]);
@@ -525,6 +597,9 @@ impl<const D: usize> ClusterPass for Momentum<'_, D> {
         }
         for k in 0..dp {
             lanes.dev[k] = gather(q, bi, |r| r.dev[k]);
+            if sc.artificial.is_some() {
+                lanes.art[k] = gather(q, bi, |r| r.art[k]);
+            }
         }
         let mut own = [zero; 16];
         let mut tj = [zero; 16];
@@ -571,7 +646,7 @@ impl<const D: usize> ClusterPass for Momentum<'_, D> {
 #[inline(always)]
 fn continuity_term<Q: Quad, const D: usize>(
     q: Q,
-    (kernel, wrap): (&WendlandC2, &Wrap),
+    (kernel, wrap, uniform): (&WendlandC2, &Wrap, bool),
     i: &ContinuityLanes<Q, D>,
     (bj, l, j): (&Block<D>, usize, usize),
     own: &mut [Q::V; 10],
@@ -595,8 +670,16 @@ fn continuity_term<Q: Quad, const D: usize>(
         g[d] = q.mul(q.sub(v[d], q.splat(bj[l].v[d])), dw);
         s = q.add(s, q.mul(g[d], e[d]));
     }
-    own[0] = q.add(own[0], q.mul(s, volj));
-    tj[0] = q.mul(s, vol);
+    if uniform {
+        own[0] = q.add(own[0], q.mul(s, volj));
+        tj[0] = q.mul(s, vol);
+    } else {
+        // 2 Z_j (U_R − U_L)/(Z_i + Z_j), and Z_i for j (Eq. 19)
+        let zj = q.splat(bj[l].z);
+        let t = q.div(q.mul(q.splat(2.0), s), q.add(i.z, zj));
+        own[0] = q.add(own[0], q.mul(q.mul(t, zj), volj));
+        tj[0] = q.mul(q.mul(t, i.z), vol);
+    }
     for a in 0..D {
         let (gi, gj) = (q.mul(g[a], volj), q.mul(g[a], vol));
         for b in 0..D {
@@ -614,12 +697,14 @@ struct ContinuityLanes<Q: Quad, const D: usize> {
     x: [Q::V; D],
     v: [Q::V; D],
     vol: Q::V,
+    z: Q::V,
 }
 
-/// The continuity pass.
+/// The continuity pass, with the one-impedance form of Eq. (19) if `uniform`.
 struct Continuity<const D: usize> {
     kernel: WendlandC2,
     wrap: Wrap,
+    uniform: bool,
 }
 
 impl<const D: usize> ClusterPass for Continuity<D> {
@@ -634,7 +719,7 @@ impl<const D: usize> ClusterPass for Continuity<D> {
         ci: usize,
         win: &mut Window<'_, ContinuityLaneSums<D>>,
     ) {
-        let (kernel, wrap) = (&self.kernel, &self.wrap);
+        let terms = (&self.kernel, &self.wrap, self.uniform);
         let zero = q.splat(0.0);
         let bi = &blocks[ci];
         let mut lanes = ContinuityLanes::<Q, D> {
@@ -642,6 +727,7 @@ impl<const D: usize> ClusterPass for Continuity<D> {
             x: [zero; D],
             v: [zero; D],
             vol: gather(q, bi, |r| r.vol),
+            z: gather(q, bi, |r| r.z),
         };
         for d in 0..D {
             lanes.x[d] = gather(q, bi, |r| r.x[d]);
@@ -652,7 +738,7 @@ impl<const D: usize> ClusterPass for Continuity<D> {
         for &j in cp.of(ci) {
             let (c, l, j) = at(cp, j);
             let block = (&blocks[c], l, j);
-            if !continuity_term(q, (kernel, wrap), &lanes, block, &mut own, &mut tj) {
+            if !continuity_term(q, terms, &lanes, block, &mut own, &mut tj) {
                 continue;
             }
             let s: [Real; 10] = if D == 2 {

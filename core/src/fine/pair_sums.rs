@@ -75,14 +75,4 @@ impl<const D: usize> ContinuitySums<D> {
             wdev: Sym::ZERO,
         }
     }
-
-    #[inline(always)]
-    pub(super) fn add(&mut self, o: &Self) {
-        self.drho += o.drho;
-        self.grad += o.grad;
-        self.w += o.w;
-        self.wz += o.wz;
-        self.wp += o.wp;
-        self.wdev.axpy_in::<D>(1.0, &o.wdev);
-    }
 }

@@ -1,5 +1,6 @@
-//! The fine grains' continuity and stress sweep with v_{n+1}: the fine–fine pair pass
-//! ([`fine::continuity`](crate::fine::continuity)), then one particle pass that adds,
+//! The fine grains' continuity and stress sweep with v_{n+1}: the fine–fine pair law on
+//! the clusters' lanes ([`fine::lanes`](crate::fine::lanes),
+//! [`fine::continuity`](crate::fine::continuity)), then one particle pass that adds,
 //! per fine particle, the walls as no-slip mirrors ([`fine_wall`](super::fine_wall),
 //! Eqs. 32–34) and the coarse grains as free-slip mirrors moving with v̄
 //! ([`fine_coarse`](super::fine_coarse), Eqs. 48, 60) to the pair sums, and updates the
@@ -30,19 +31,13 @@ pub fn continuity_sweep<const D: usize>(
     prm: &ContinuityParams<'_, D>,
     coarse: &[CoarseSource<D>],
     out: ContinuityOut<'_, D>,
-    pairs: FinePairs<'_, D>,
+    (buf, cp, lanes): FinePairs<'_, D>,
 ) {
     // neighbour arrays of one length, so that a neighbour index is bounds-checked once
     let n = p.len();
     let (pos, vel, src, material) = (&p.pos[..n], &p.vel[..n], &src[..n], &p.material[..n]);
-    match pairs {
-        FinePairs::OnePair => {
-            crate::fine::continuity::pair_pass(p, src, mats, lists, prm, &mut *out.sums)
-        }
-        FinePairs::Lanes(buf, cp, lanes) => {
-            buf.continuity(cp, (vel, prm.kernel, prm.wrap), lanes, &mut *out.sums)
-        }
-    }
+    let terms = (vel, prm.kernel, prm.wrap, prm.uniform);
+    buf.continuity(cp, terms, lanes, &mut *out.sums);
     lists
         .chunks
         .par_iter()

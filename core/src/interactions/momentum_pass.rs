@@ -1,5 +1,5 @@
-//! The fine grains' momentum sweep: the fine–fine pair pass
-//! ([`fine::momentum`](crate::fine::momentum)), then one particle pass that adds, per
+//! The fine grains' momentum sweep: the fine–fine pair law on the clusters' lanes
+//! ([`fine::lanes`](crate::fine::lanes), [`fine::momentum`](crate::fine::momentum)), then one particle pass that adds, per
 //! fine particle, the walls ([`fine_wall`](super::fine_wall), Eqs. 32–35, with their
 //! barrier loads, [`barrier_load`](super::barrier_load)) and the coarse grains
 //! ([`fine_coarse`](super::fine_coarse), Eqs. 48–50) to the pair sums and integrates
@@ -12,7 +12,7 @@ use super::fine_coarse::{CoarseSide, FineSide};
 use super::fine_wall::{FineAtWall, WallLaw};
 use crate::fine::continuity::JumpDiffusion;
 use crate::fine::lanes::FinePairs;
-use crate::fine::momentum::{integrate, pair_acceleration, pair_pass, MomentumParams};
+use crate::fine::momentum::{integrate, pair_acceleration, MomentumParams};
 use crate::fine::pair_sums::{MomentumSums, PairSums};
 use crate::fine::source::Source;
 use crate::fine::state::FineParticles;
@@ -46,19 +46,14 @@ pub fn momentum_sweep<const D: usize>(
     jump: &JumpDiffusion<'_, D>,
     sums: &mut [PairSums<D>],
     water: &[Vect<D>],
-    pairs: FinePairs<'_, D>,
+    (buf, cp, lanes): FinePairs<'_, D>,
 ) {
     let (csrc, coupling, tension) = (coarse.src, coarse.coupling, coarse.tension);
     let nbs = walls.load_slots().max(1);
     // neighbour arrays of one length, so that a neighbour index is bounds-checked once
     let n = p.len();
     let (pos, vel, src) = (&p.pos[..n], &p.vel[..n], &src[..n]);
-    match pairs {
-        FinePairs::OnePair => pair_pass(p, src, lists, art, prm, jump, &mut *sums),
-        FinePairs::Lanes(buf, cp, lanes) => {
-            buf.momentum(cp, (p, src), prm, jump, lanes, &mut *sums)
-        }
-    }
+    buf.momentum(cp, (p, src, art), prm, jump, lanes, &mut *sums);
     lists
         .chunks
         .par_iter()

@@ -1,7 +1,8 @@
-//! The symmetric sweeps (each pair once, added to both particles) against a direct
-//! evaluation of Eqs. (15)–(20), (24)–(26) and the hourglass penalty, summed for each
-//! particle over all its neighbours, on a disordered cloud of two soils with moving,
-//! stressed particles: the two agree to round-off.
+//! The fine grains' pair laws on the clusters' lanes (each pair once, added to both
+//! particles) against a direct evaluation of Eqs. (15)–(20), (24)–(27), the hourglass
+//! penalty and the MUSCL reconstruction, summed for each particle over all its
+//! neighbours, on a disordered cloud of one or two soils with moving, stressed
+//! particles: the two agree to round-off, on both instruction sets.
 
 use super::continuity_pass::continuity_sweep;
 use super::fine_coarse::{CoarseSide, Coupling};
@@ -10,6 +11,7 @@ use super::momentum_pass::momentum_sweep;
 use crate::fine::continuity::{ContinuityOut, ContinuityParams, JumpDiffusion};
 use crate::fine::hourglass::{non_affine, pair_weight};
 use crate::fine::lanes::{FineLanes, FinePairs};
+use crate::fine::momentum::ArtificialStress;
 use crate::fine::material::uniform_acoustics;
 use crate::fine::material::FineMaterial;
 use crate::fine::momentum::MomentumParams;
@@ -164,16 +166,16 @@ fn close(a: Real, b: Real, scale: Real, what: &str, i: usize) {
     );
 }
 
-/// How the sweeps take the fine–fine pairs: one at a time, or on the clusters' lanes
-/// (the buffers carry the state the momentum sweep packs to the continuity sweep).
+/// The sweeps' fine–fine pairs on the clusters' lanes (the buffers carry the state the
+/// momentum sweep packs to the continuity sweep).
 struct Pairing<const D: usize> {
-    lanes: Option<Lanes>,
+    lanes: Lanes,
     buf: FineLanes<D>,
     cp: ClusterPairs,
 }
 
 impl<const D: usize> Pairing<D> {
-    fn new(cloud: &Cloud<D>, lanes: Option<Lanes>) -> Self {
+    fn new(cloud: &Cloud<D>, lanes: Lanes) -> Self {
         let mut cp = ClusterPairs::default();
         cp.update(&cloud.lists, cloud.p.len());
         Pairing {
@@ -184,10 +186,7 @@ impl<const D: usize> Pairing<D> {
     }
 
     fn pairs(&mut self) -> FinePairs<'_, D> {
-        match self.lanes {
-            None => FinePairs::OnePair,
-            Some(l) => FinePairs::Lanes(&mut self.buf, &self.cp, l),
-        }
+        (&mut self.buf, &self.cp, self.lanes)
     }
 }
 
@@ -227,6 +226,35 @@ fn geostatic(mats: &[FineMaterial]) -> (Vec<Sym>, Vec<Real>) {
     (geo, pgeo)
 }
 
+/// The optional terms of the momentum law: the MUSCL reconstruction and artificial
+/// stress (Eq. 27, exponent 4, one stress per particle).
+#[derive(Clone, Copy, Default)]
+struct Options {
+    muscl: bool,
+    artificial: bool,
+}
+
+/// The artificial stresses of the cloud's particles, and their settings.
+fn artificial<const D: usize>(cloud: &Cloud<D>) -> (ArtificialStress, Vec<Sym>) {
+    let mut rng = Rng(11);
+    let art = (0..cloud.p.len())
+        .map(|_| {
+            let mut s = Sym::ZERO;
+            for c in 0..6 {
+                if D == 3 || !matches!(c, 4 | 5) {
+                    s.0[c] = 2e3 * rng.next();
+                }
+            }
+            s
+        })
+        .collect();
+    let a = ArtificialStress {
+        exponent: 4.0,
+        w_dp: cloud.kernel.w(0.01),
+    };
+    (a, art)
+}
+
 /// The momentum sweep on the cloud: v_{n+1}, the hourglass acceleration, and the pair
 /// sums it leaves for the continuity sweep.
 fn momentum<const D: usize>(
@@ -234,6 +262,7 @@ fn momentum<const D: usize>(
     src: &[Source],
     cprm: &ContinuityParams<'_, D>,
     how: &mut Pairing<D>,
+    opt: Options,
 ) -> (Vec<Vect<D>>, Vec<SVector<f32, D>>, Vec<PairSums<D>>) {
     let (p, mats, lists, kernel) = (&cloud.p, &cloud.mats, &cloud.lists, cloud.kernel);
     let n = p.len();
@@ -243,18 +272,19 @@ fn momentum<const D: usize>(
     let riemann = Riemann {
         eta: 20.0 * D as Real,
     };
+    let (a, art) = artificial(cloud);
     let prm = MomentumParams {
         kernel,
         riemann,
         gravity: cprm.gravity,
         dt: cprm.dt,
-        artificial: None,
+        artificial: opt.artificial.then_some(a),
         hourglass: &hourglass,
         hourglass_leak: &leak,
         materials: mats,
         uniform: uniform_acoustics(mats),
         wrap: None,
-        muscl: false,
+        muscl: opt.muscl,
     };
     let walls = Walls::<D>::default();
     let mut vel_new = vec![Vect::<D>::zeros(); n];
@@ -288,7 +318,7 @@ fn momentum<const D: usize>(
         src,
         &walls,
         lists,
-        &[],
+        &art,
         &prm,
         &wall,
         &mut vel_new,
@@ -303,7 +333,7 @@ fn momentum<const D: usize>(
     (vel_new, hg, sums)
 }
 
-fn momentum_matches<const D: usize>(two_soils: bool, lanes: Option<Lanes>) {
+fn momentum_matches<const D: usize>(two_soils: bool, lanes: Lanes, opt: Options) {
     let cloud = cloud::<D>(if D == 2 { 30 } else { 11 }, two_soils);
     let (p, mats, kernel) = (&cloud.p, &cloud.mats, cloud.kernel);
     let n = p.len();
@@ -312,7 +342,8 @@ fn momentum_matches<const D: usize>(two_soils: bool, lanes: Option<Lanes>) {
     let (geo, pgeo) = geostatic(mats);
     let cprm = continuity_params::<D>(kernel, ContinuityJump::Stress, mats, &geo, &pgeo);
     let mut how = Pairing::new(&cloud, lanes);
-    let (vel_new, hg, sums) = momentum(&cloud, &src, &cprm, &mut how);
+    let (vel_new, hg, sums) = momentum(&cloud, &src, &cprm, &mut how, opt);
+    let (art_prm, art) = artificial(&cloud);
     let hourglass: Vec<Real> = mats.iter().map(|m| 0.1 * m.shear).collect();
     let riemann = Riemann {
         eta: 20.0 * D as Real,
@@ -336,7 +367,19 @@ fn momentum_matches<const D: usize>(two_soils: bool, lanes: Option<Lanes>) {
             let (sj, mj) = (&src[j], &mats[p.material[j] as usize]);
             let e = rij / r;
             let dw = kernel.dw(r);
-            let (ul, ur) = (-p.vel[i].dot(&e), -p.vel[j].dot(&e));
+            let (mut ul, ur) = (-p.vel[i].dot(&e), -p.vel[j].dot(&e));
+            if opt.muscl {
+                // U_L − U_R between v_i − ½ L_i r e and v_j + ½ L_j r e, minmod-limited
+                let l = p.vel_grad[i].cast::<Real>() + p.vel_grad[j].cast::<Real>();
+                let du = ul - ur;
+                let rec = du + 0.5 * r * e.dot(&(l * e));
+                let m = if du * rec > 0.0 {
+                    du.signum() * du.abs().min(rec.abs())
+                } else {
+                    0.0
+                };
+                ul = ur + m;
+            }
             let pstar = riemann.p_star(
                 Side::new(si.z, ul, si.p),
                 Side::new(sj.z, ur, sj.p),
@@ -345,7 +388,13 @@ fn momentum_matches<const D: usize>(two_soils: bool, lanes: Option<Lanes>) {
             );
             // Eq. (16): (σ̄ˢ_ij − P* I)·∇_i W_ij V_j
             let sbar = si.dev.add(&sj.dev).scale(0.5);
-            acc += (sbar.dot_vec(&e) - e * pstar) * (dw * sj.vol);
+            let mut t = sbar.dot_vec(&e) - e * pstar;
+            if opt.artificial {
+                // Eq. (27): f^n R̄_ij·e, f = W(r)/W(dp)
+                let f = (kernel.w(r) / art_prm.w_dp).powf(art_prm.exponent);
+                t += art[i].add(&art[j]).scale(0.5 * f).dot_vec(&e);
+            }
+            acc += t * (dw * sj.vol);
             if p.hourglass_kept[i] > 0.0 {
                 let s = pair_weight(p.hourglass_kept[i], p.hourglass_kept[j])
                     * 0.5
@@ -376,7 +425,7 @@ fn momentum_matches<const D: usize>(two_soils: bool, lanes: Option<Lanes>) {
     );
 }
 
-fn continuity_matches<const D: usize>(two_soils: bool, jump: ContinuityJump, lanes: Option<Lanes>) {
+fn continuity_matches<const D: usize>(two_soils: bool, jump: ContinuityJump, lanes: Lanes) {
     let cloud = cloud::<D>(if D == 2 { 30 } else { 11 }, two_soils);
     let (p, mats, lists, kernel) = (&cloud.p, &cloud.mats, &cloud.lists, cloud.kernel);
     let n = p.len();
@@ -387,7 +436,7 @@ fn continuity_matches<const D: usize>(two_soils: bool, jump: ContinuityJump, lan
     let (up, dt, zeta) = (prm.up, prm.dt, prm.zeta);
     // the momentum sweep takes the terms without velocity (same positions and σ_n)
     let mut how = Pairing::new(&cloud, lanes);
-    let (_, _, mut sums) = momentum(&cloud, &src, &prm, &mut how);
+    let (_, _, mut sums) = momentum(&cloud, &src, &prm, &mut how, Options::default());
     let walls = Walls::<D>::default();
     let mut drho = vec![0.0; n];
     let mut stress = p.stress.clone();
@@ -469,42 +518,55 @@ fn continuity_matches<const D: usize>(two_soils: bool, jump: ContinuityJump, lan
     }
 }
 
-#[test]
-fn momentum_2d_one_soil() {
-    momentum_matches::<2>(false, None);
+fn levels() -> [Lanes; 2] {
+    [Lanes::portable(), Lanes::best()]
 }
 
 #[test]
-fn momentum_3d_two_soils() {
-    momentum_matches::<3>(true, None);
-}
-
-#[test]
-fn continuity_2d_stress_jump_two_soils() {
-    continuity_matches::<2>(true, ContinuityJump::Stress, None);
-}
-
-#[test]
-fn continuity_3d_density_jump_one_soil() {
-    continuity_matches::<3>(false, ContinuityJump::Density, None);
-}
-
-/// The cluster-pair passes (one soil) against the direct evaluation, on both
-/// instruction sets.
-#[test]
-fn lanes_momentum_2d_and_3d() {
-    for lanes in [Lanes::portable(), Lanes::best()] {
-        momentum_matches::<2>(false, Some(lanes));
-        momentum_matches::<3>(false, Some(lanes));
+fn momentum_one_soil() {
+    for lanes in levels() {
+        momentum_matches::<2>(false, lanes, Options::default());
+        momentum_matches::<3>(false, lanes, Options::default());
     }
 }
 
 #[test]
-fn lanes_continuity_both_jumps() {
-    for lanes in [Lanes::portable(), Lanes::best()] {
-        continuity_matches::<2>(false, ContinuityJump::Stress, Some(lanes));
-        continuity_matches::<2>(false, ContinuityJump::Density, Some(lanes));
-        continuity_matches::<3>(false, ContinuityJump::Stress, Some(lanes));
+fn momentum_two_soils() {
+    for lanes in levels() {
+        momentum_matches::<2>(true, lanes, Options::default());
+        momentum_matches::<3>(true, lanes, Options::default());
+    }
+}
+
+/// The MUSCL reconstruction and artificial stress, each alone and together, with one
+/// soil and two.
+#[test]
+fn momentum_muscl_and_artificial_stress() {
+    for lanes in levels() {
+        for (muscl, artificial) in [(true, false), (false, true), (true, true)] {
+            let opt = Options { muscl, artificial };
+            momentum_matches::<2>(false, lanes, opt);
+            momentum_matches::<2>(true, lanes, opt);
+            momentum_matches::<3>(muscl, lanes, opt);
+        }
+    }
+}
+
+#[test]
+fn continuity_one_soil_both_jumps() {
+    for lanes in levels() {
+        continuity_matches::<2>(false, ContinuityJump::Stress, lanes);
+        continuity_matches::<2>(false, ContinuityJump::Density, lanes);
+        continuity_matches::<3>(false, ContinuityJump::Stress, lanes);
+        continuity_matches::<3>(false, ContinuityJump::Density, lanes);
+    }
+}
+
+#[test]
+fn continuity_two_soils_both_jumps() {
+    for lanes in levels() {
+        continuity_matches::<2>(true, ContinuityJump::Stress, lanes);
+        continuity_matches::<3>(true, ContinuityJump::Density, lanes);
     }
 }
 
@@ -513,7 +575,7 @@ fn lanes_continuity_both_jumps() {
 #[test]
 fn lanes_levels_agree_bitwise() {
     fn bits<const D: usize>(lanes: Lanes) -> Vec<u64> {
-        let cloud = cloud::<D>(if D == 2 { 30 } else { 11 }, false);
+        let cloud = cloud::<D>(if D == 2 { 30 } else { 11 }, D == 3);
         let mut src: Vec<Source> = Vec::new();
         pack(&cloud.p, &cloud.mats, &mut src);
         let (geo, pgeo) = geostatic(&cloud.mats);
@@ -524,8 +586,12 @@ fn lanes_levels_agree_bitwise() {
             &geo,
             &pgeo,
         );
-        let mut how = Pairing::new(&cloud, Some(lanes));
-        let (v, hg, sums) = momentum(&cloud, &src, &prm, &mut how);
+        let mut how = Pairing::new(&cloud, lanes);
+        let opt = Options {
+            muscl: true,
+            artificial: true,
+        };
+        let (v, hg, sums) = momentum(&cloud, &src, &prm, &mut how, opt);
         let mut out: Vec<u64> = v
             .iter()
             .flat_map(|x| x.iter().map(|c| c.to_bits()))

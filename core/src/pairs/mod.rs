@@ -5,14 +5,11 @@
 //! lists, never by the threads or the instruction set.
 //!
 //! - [`slabs`]: the two-phase schedule over the lists' slabs (each pair once, no locks);
-//! - [`block`]: one particle's pairs, their geometry taken a block ahead of the terms
-//!   (the one-pair passes);
 //! - [`clusters`]: clusters of four consecutive particles and their lists;
 //! - [`quad`]: four f64 lanes on the instruction set chosen at run time;
 //! - [`cluster_pass`]: a cluster's four particles against one neighbour at a time on
 //!   those lanes, the skeleton every cluster-pair pass shares.
 
-pub mod block;
 pub mod cluster_pass;
 pub mod clusters;
 pub mod quad;

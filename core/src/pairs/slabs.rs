@@ -10,24 +10,12 @@
 //! preceding slab's, then its own slab's in index order), never by the threads.
 //! Results are bitwise identical at any thread count.
 
-/// Particles below which a range of slabs runs on the calling thread.
-const SERIAL: usize = 512;
-
-/// Call `task(s, window, base)` for every slab s with particles, where `window` is
+/// Call `task(s, window, base)` for every slab s with entries, where `window` is
 /// `acc[start[s]..start[min(s + 2, ns)]]` (the slab and the next one) and
 /// `base = start[s]` is the index of the window's first entry. `start` holds the
-/// `ns + 1` slab boundaries; `acc` one entry per particle.
-pub fn two_phase<T, F>(start: &[u32], acc: &mut [T], task: &F)
-where
-    T: Send,
-    F: Fn(usize, &mut [T], usize) + Sync,
-{
-    two_phase_in(start, acc, SERIAL, task)
-}
-
-/// [`two_phase`] over entries that each stand for several particles (the clusters of
-/// [`clusters`](crate::pairs::clusters)): a range of slabs runs on the calling thread below
-/// `serial` entries.
+/// `ns + 1` slab boundaries; `acc` one entry per particle or per cluster of particles
+/// ([`clusters`](crate::pairs::clusters)). A range of slabs runs on the calling thread
+/// below `serial` entries.
 pub fn two_phase_in<T, F>(start: &[u32], acc: &mut [T], serial: usize, task: &F)
 where
     T: Send,
@@ -94,7 +82,7 @@ mod tests {
         let mut acc = vec![0usize; 2600];
         let calls = AtomicUsize::new(0);
         let odd_seen = AtomicUsize::new(0);
-        two_phase(&start, &mut acc, &|s, w: &mut [usize], base| {
+        two_phase_in(&start, &mut acc, 512, &|s, w: &mut [usize], base| {
             calls.fetch_add(1, Ordering::SeqCst);
             assert_eq!(base, start[s] as usize);
             assert_eq!(w.len(), (start[(s + 2).min(8)] - start[s]) as usize);

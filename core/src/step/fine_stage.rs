@@ -10,7 +10,7 @@ use super::relations::WallRelation;
 use super::soil_water_stage::SoilWater;
 use crate::fine::artificial_stress::gray2001_artificial_stress;
 use crate::fine::continuity::{ContinuityOut, ContinuityParams, JumpDiffusion};
-use crate::fine::lanes::{lanes_apply, FineLanes, FinePairs};
+use crate::fine::lanes::{FineLanes, FinePairs};
 use crate::fine::material::{uniform_acoustics, DensityFloor};
 use crate::fine::momentum::{ArtificialStress, MomentumParams};
 use crate::fine::pair_sums::PairSums;
@@ -79,13 +79,10 @@ pub struct FineStepper<const D: usize> {
     /// build ([`ClusterPairs`]).
     #[serde(skip)]
     clusters: ClusterPairs,
-    /// The cluster-pair passes' packed state and sums.
+    /// The cluster-pair passes' packed state and sums (the continuity sweep reads the
+    /// state the momentum sweep packed).
     #[serde(skip)]
     lanes: FineLanes<D>,
-    /// The momentum sweep of this step took its pairs on the lanes (the continuity
-    /// sweep then does too, on the state it packed).
-    #[serde(skip)]
-    on_lanes: bool,
 }
 
 impl<const D: usize> FineStepper<D> {
@@ -136,7 +133,6 @@ impl<const D: usize> FineStepper<D> {
             },
             clusters: ClusterPairs::default(),
             lanes: FineLanes::default(),
-            on_lanes: false,
         }
     }
 
@@ -293,10 +289,7 @@ impl<const D: usize> FineStepper<D> {
             stress: cx.params.wall_stress,
             wrap: world.periodic,
         };
-        self.on_lanes = lanes_apply(&mprm);
-        if self.on_lanes {
-            self.clusters.update(&self.family.lists, world.fine.len());
-        }
+        self.clusters.update(&self.family.lists, world.fine.len());
         let (lists, chunk_loads, reactions) = self.family.pass_outputs();
         let side = CoarseSide {
             src: cx.csrc,
@@ -328,7 +321,7 @@ impl<const D: usize> FineStepper<D> {
                 &JumpDiffusion::new(&cprm),
                 &mut self.pair_sums,
                 cx.soil_water.map_or(&[], |s| &s.force[..]),
-                pairs(self.on_lanes, &mut self.lanes, &self.clusters),
+                (&mut self.lanes, &self.clusters, Lanes::detect()),
             )
         });
         world.fine.hourglass = hourglass;
@@ -365,7 +358,7 @@ impl<const D: usize> FineStepper<D> {
             cprm: &cprm,
             csrc: cx.csrc,
         };
-        let pairs = pairs(self.on_lanes, &mut self.lanes, &self.clusters);
+        let pairs = (&mut self.lanes, &self.clusters, Lanes::detect());
         timers.time(Stage::ContinuityStress, || {
             sweep.run(world, &mut self.pair_sums, pairs)
         });
@@ -439,19 +432,6 @@ impl<const D: usize> ContinuitySweep<'_, D> {
     }
 }
 
-/// The fine–fine pair terms on the clusters' lanes where `on`, on the instruction set
-/// this processor has ([`Lanes::detect`]); one pair at a time otherwise.
-fn pairs<'a, const D: usize>(
-    on: bool,
-    lanes: &'a mut FineLanes<D>,
-    clusters: &'a ClusterPairs,
-) -> FinePairs<'a, D> {
-    if on {
-        FinePairs::Lanes(lanes, clusters, Lanes::detect())
-    } else {
-        FinePairs::OnePair
-    }
-}
 
 /// The density floor of particles of `material` (per-material `floor`; empty: off).
 fn floor_of<'a>(floor: &'a [Real], material: &'a [u16]) -> Option<DensityFloor<'a>> {
