@@ -74,11 +74,6 @@ pub struct Rec<const D: usize> {
     g: Real,
     /// The velocity gradient L of the last sweep, by row and column.
     l: [[Real; D]; D],
-    /// Acoustic impedance ρ0 c0 and sound speed c0 of the particle's soil.
-    z: Real,
-    c: Real,
-    /// The artificial stress R of Eq. (27), in [`Sym`]'s order (zero without).
-    art: [Real; 6],
 }
 
 impl<const D: usize> Default for Rec<D> {
@@ -94,6 +89,28 @@ impl<const D: usize> Default for Rec<D> {
             kept: 0.0,
             g: 0.0,
             l: [[0.0; D]; D],
+        }
+    }
+}
+
+/// The state of the four particles of a cluster, one record each.
+pub type Block<const D: usize> = [Rec<D>; WIDTH];
+
+/// What the general forms read besides [`Rec`], packed only for a scene that needs
+/// them (so that the common scene's records stay small).
+#[derive(Clone, Copy, Debug)]
+pub struct Extra {
+    /// Acoustic impedance ρ0 c0 and sound speed c0 of the particle's soil (soils of
+    /// several impedances).
+    z: Real,
+    c: Real,
+    /// The artificial stress R of Eq. (27), in [`Sym`]'s order (cohesive soils).
+    art: [Real; 6],
+}
+
+impl Default for Extra {
+    fn default() -> Self {
+        Extra {
             z: 1.0,
             c: 1.0,
             art: [0.0; 6],
@@ -101,8 +118,8 @@ impl<const D: usize> Default for Rec<D> {
     }
 }
 
-/// The state of the four particles of a cluster, one record each.
-pub type Block<const D: usize> = [Rec<D>; WIDTH];
+/// The [`Extra`] records of the four particles of a cluster.
+pub type ExtraBlock = [Extra; WIDTH];
 
 /// The momentum pass's sums of one particle.
 #[derive(Clone, Copy, Debug)]
@@ -156,6 +173,8 @@ pub type ContinuityLaneSums<const D: usize> = [ContinuitySums<D>; WIDTH];
 #[derive(Clone, Debug, Default)]
 pub struct FineLanes<const D: usize> {
     blocks: Vec<Block<D>>,
+    /// Empty for soils of one impedance without artificial stress.
+    extra: Vec<ExtraBlock>,
     msums: Vec<MomentumLaneSums<D>>,
     csums: Vec<ContinuityLaneSums<D>>,
 }
@@ -199,6 +218,7 @@ impl<const D: usize> FineLanes<D> {
     pub fn bytes(&self) -> usize {
         use std::mem::size_of;
         self.blocks.capacity() * size_of::<Block<D>>()
+            + self.extra.capacity() * size_of::<ExtraBlock>()
             + self.msums.capacity() * size_of::<MomentumLaneSums<D>>()
             + self.csums.capacity() * size_of::<ContinuityLaneSums<D>>()
     }
@@ -237,8 +257,18 @@ impl<const D: usize> FineLanes<D> {
                 b[l].pgeo = jump.pgeo(mat);
                 b[l].kept = p.hourglass_kept[i] as Real;
                 b[l].g = prm.hourglass.get(mat).copied().unwrap_or(0.0);
-                b[l].z = s.z;
-                b[l].c = prm.materials[mat].c0;
+            }
+        });
+        if prm.uniform && art.is_empty() {
+            self.extra.clear();
+            return;
+        }
+        self.extra.resize(cp.len(), ExtraBlock::default());
+        self.extra.par_iter_mut().enumerate().for_each(|(c, b)| {
+            *b = ExtraBlock::default();
+            for (l, i) in cp.members(c).enumerate() {
+                b[l].z = src[i].z;
+                b[l].c = prm.materials[p.material[i] as usize].c0;
                 if let Some(r) = art.get(i) {
                     b[l].art[..m].copy_from_slice(&r.0[..m]);
                 }
@@ -282,7 +312,18 @@ impl<const D: usize> FineLanes<D> {
             up: jump.up(),
             reg: jump.reg,
         };
-        run_pass(&Momentum(&sc), (&self.blocks, cp), lanes, &mut self.msums);
+        let blocks = (&self.blocks[..], cp);
+        if sc.uniform && !sc.muscl && sc.artificial.is_none() {
+            run_pass(
+                &Momentum::<D, true>(&sc, &[]),
+                blocks,
+                lanes,
+                &mut self.msums,
+            );
+        } else {
+            let pass = Momentum::<D, false>(&sc, &self.extra);
+            run_pass(&pass, blocks, lanes, &mut self.msums);
+        }
         let m = dev_parts(D);
         unpack(cp, &self.msums, sums, |o, s, l| {
             for d in 0..D {
@@ -320,12 +361,22 @@ impl<const D: usize> FineLanes<D> {
                 }
             }
         });
-        let pass = Continuity {
-            kernel,
-            wrap,
-            uniform,
-        };
-        run_pass(&pass, (&self.blocks, cp), lanes, &mut self.csums);
+        let (blocks, extra) = ((&self.blocks[..], cp), &self.extra[..]);
+        if uniform {
+            let pass = Continuity::<D, true> {
+                kernel,
+                wrap,
+                extra,
+            };
+            run_pass(&pass, blocks, lanes, &mut self.csums);
+        } else {
+            let pass = Continuity::<D, false> {
+                kernel,
+                wrap,
+                extra,
+            };
+            run_pass(&pass, blocks, lanes, &mut self.csums);
+        }
         unpack(cp, &self.csums, sums, |o, s, l| {
             let c = &mut o.continuity;
             c.drho += s[l].drho;
@@ -363,11 +414,11 @@ struct MomentumLanes<Q: Quad, const D: usize> {
 /// with neither touched, if no lane pairs with j (a list entry beyond the cut-off of
 /// every member, in the lists' skin).
 #[inline(always)]
-fn momentum_term<Q: Quad, const D: usize>(
+fn momentum_term<Q: Quad, const D: usize, const PLAIN: bool>(
     q: Q,
     sc: &MomentumScalars<D>,
     i: &MomentumLanes<Q, D>,
-    (bj, l, j): (&Block<D>, usize, usize),
+    (bj, xj, l, j): (&Block<D>, Option<&ExtraBlock>, usize, usize),
     own: &mut [Q::V; 16],
     tj: &mut [Q::V; 16],
 ) -> bool {
@@ -402,7 +453,7 @@ fn momentum_term<Q: Quad, const D: usize>(
     // U_L − U_R, and U_R − U_L for the limiter
     let mut du = q.sub(zero, vie);
     let mut sep = vie;
-    if sc.muscl {
+    if !PLAIN && sc.muscl {
         // between v_i − ½ L_i r e and v_j + ½ L_j r e: du + ½ r e·(L_i + L_j) e,
         // limited by minmod against du
         let mut ele = zero;
@@ -417,7 +468,7 @@ fn momentum_term<Q: Quad, const D: usize>(
         sep = q.sub(zero, du);
     }
     let comp = q.select(q.lt(zero, sep), sep, zero);
-    let (ps, two_inv_z) = if sc.uniform {
+    let (ps, two_inv_z) = if PLAIN || sc.uniform {
         // P* = ½ (P_i + P_j) + ½ β Z (U_L − U_R), β = min(η max(U_R − U_L, 0)/c0, 1)
         // (Riemann::limiter, p_star_uniform)
         let beta = q.min(q.mul(q.splat(sc.eta_c), comp), one);
@@ -427,9 +478,10 @@ fn momentum_term<Q: Quad, const D: usize>(
     } else {
         // Eq. (20), (Z_L P_R + Z_R P_L + β Z_L Z_R (U_L − U_R))/(Z_L + Z_R), with
         // c̄ = ½ (c_i + c_j) in β (Riemann::p_star)
-        let zj = q.splat(bj[l].z);
+        let xj = &xj.expect("the extra records of several impedances")[l];
+        let zj = q.splat(xj.z);
         let inv_zsum = q.div(one, q.add(i.z, zj));
-        let inv_c = q.div(q.splat(2.0), q.add(i.c, q.splat(bj[l].c)));
+        let inv_c = q.div(q.splat(2.0), q.add(i.c, q.splat(xj.c)));
         let beta = q.min(q.mul(q.mul(q.splat(sc.eta), comp), inv_c), one);
         let zz = q.mul(q.mul(beta, i.z), zj);
         let num = q.add(q.add(q.mul(i.z, pj), q.mul(zj, i.p)), q.mul(zz, du));
@@ -443,20 +495,24 @@ fn momentum_term<Q: Quad, const D: usize>(
     let t = sym_dot(q, &a, &e);
     // the artificial stress of Eq. (27), ½ f^n (R_i + R_j)·e, f = W(r)/W(dp)
     let mut ra = [zero; D];
-    if let Some(a) = &sc.artificial {
+    if let (false, Some(a)) = (PLAIN, &sc.artificial) {
         let mut rr = [0.0; WIDTH];
         q.store(&mut rr, r);
-        let fa = q.mul(half, q.load(&rr.map(|r| (sc.kernel.w(r) / a.w_dp).powf(a.exponent))));
+        let fa = q.mul(
+            half,
+            q.load(&rr.map(|r| (sc.kernel.w(r) / a.w_dp).powf(a.exponent))),
+        );
         let mut b = [zero; 6];
         for k in 0..dev_parts(D) {
-            b[k] = q.mul(q.add(i.art[k], q.splat(bj[l].art[k])), fa);
+            let art_j = xj.expect("the extra records of artificial stress")[l].art[k];
+            b[k] = q.mul(q.add(i.art[k], q.splat(art_j)), fa);
         }
         ra = sym_dot(q, &b, &e);
     }
     let (dvj, dvi) = (q.mul(dw, volj), q.mul(dw, i.vol));
     for d in 0..D {
         let mut td = q.sub(q.mul(t[d], half), q.mul(e[d], ps));
-        if sc.artificial.is_some() {
+        if !PLAIN && sc.artificial.is_some() {
             td = q.add(td, ra[d]);
         }
         own[d] = q.add(own[d], q.mul(td, dvj));
@@ -552,10 +608,12 @@ fn slot_sums<Q: Quad, const D: usize>(q: Q, t: &[Q::V; 16]) -> [Real; 16] {
     out
 }
 
-/// The momentum pass.
-struct Momentum<'a, const D: usize>(&'a MomentumScalars<D>);
+/// The momentum pass, with the clusters' [`Extra`] records (empty: not needed);
+/// `PLAIN` for soils of one impedance without MUSCL or artificial stress (the common
+/// scene), whose terms then carry no test for the others.
+struct Momentum<'a, const D: usize, const PLAIN: bool>(&'a MomentumScalars<D>, &'a [ExtraBlock]);
 
-impl<const D: usize> ClusterPass for Momentum<'_, D> {
+impl<const D: usize, const PLAIN: bool> ClusterPass for Momentum<'_, D, PLAIN> {
     type Block = Block<D>;
     type Sums = MomentumLaneSums<D>;
 
@@ -584,10 +642,16 @@ impl<const D: usize> ClusterPass for Momentum<'_, D> {
             kept: gather(q, bi, |r| r.kept),
             g: gather(q, bi, |r| r.g),
             l: [[zero; D]; D],
-            z: gather(q, bi, |r| r.z),
-            c: gather(q, bi, |r| r.c),
+            z: zero,
+            c: zero,
             art: [zero; 6],
         };
+        let extra = self.1;
+        let xi = if PLAIN { None } else { extra.get(ci) };
+        if let Some(xi) = xi {
+            lanes.z = gather(q, xi, |r| r.z);
+            lanes.c = gather(q, xi, |r| r.c);
+        }
         for d in 0..D {
             lanes.x[d] = gather(q, bi, |r| r.x[d]);
             lanes.v[d] = gather(q, bi, |r| r.v[d]);
@@ -597,15 +661,16 @@ impl<const D: usize> ClusterPass for Momentum<'_, D> {
         }
         for k in 0..dp {
             lanes.dev[k] = gather(q, bi, |r| r.dev[k]);
-            if sc.artificial.is_some() {
-                lanes.art[k] = gather(q, bi, |r| r.art[k]);
+            if let (Some(xi), Some(_)) = (xi, &sc.artificial) {
+                lanes.art[k] = gather(q, xi, |r| r.art[k]);
             }
         }
         let mut own = [zero; 16];
         let mut tj = [zero; 16];
         for &j in cp.of(ci) {
             let (c, l, j) = at(cp, j);
-            if !momentum_term(q, sc, &lanes, (&blocks[c], l, j), &mut own, &mut tj) {
+            let nb = (&blocks[c], if PLAIN { None } else { extra.get(c) }, l, j);
+            if !momentum_term::<Q, D, PLAIN>(q, sc, &lanes, nb, &mut own, &mut tj) {
                 continue;
             }
             let s = slot_sums::<Q, D>(q, &tj);
@@ -644,11 +709,11 @@ impl<const D: usize> ClusterPass for Momentum<'_, D> {
 /// into `tj`, to be summed over the lanes (drho added, the gradient subtracted);
 /// false, with neither touched, if no lane pairs with j.
 #[inline(always)]
-fn continuity_term<Q: Quad, const D: usize>(
+fn continuity_term<Q: Quad, const D: usize, const UNIFORM: bool>(
     q: Q,
-    (kernel, wrap, uniform): (&WendlandC2, &Wrap, bool),
+    (kernel, wrap): (&WendlandC2, &Wrap),
     i: &ContinuityLanes<Q, D>,
-    (bj, l, j): (&Block<D>, usize, usize),
+    (bj, xj, l, j): (&Block<D>, Option<&ExtraBlock>, usize, usize),
     own: &mut [Q::V; 10],
     tj: &mut [Q::V; 10],
 ) -> bool {
@@ -670,12 +735,12 @@ fn continuity_term<Q: Quad, const D: usize>(
         g[d] = q.mul(q.sub(v[d], q.splat(bj[l].v[d])), dw);
         s = q.add(s, q.mul(g[d], e[d]));
     }
-    if uniform {
+    if UNIFORM {
         own[0] = q.add(own[0], q.mul(s, volj));
         tj[0] = q.mul(s, vol);
     } else {
         // 2 Z_j (U_R − U_L)/(Z_i + Z_j), and Z_i for j (Eq. 19)
-        let zj = q.splat(bj[l].z);
+        let zj = q.splat(xj.expect("the extra records of several impedances")[l].z);
         let t = q.div(q.mul(q.splat(2.0), s), q.add(i.z, zj));
         own[0] = q.add(own[0], q.mul(q.mul(t, zj), volj));
         tj[0] = q.mul(q.mul(t, i.z), vol);
@@ -700,14 +765,15 @@ struct ContinuityLanes<Q: Quad, const D: usize> {
     z: Q::V,
 }
 
-/// The continuity pass, with the one-impedance form of Eq. (19) if `uniform`.
-struct Continuity<const D: usize> {
+/// The continuity pass, with the one-impedance form of Eq. (19) if `UNIFORM`.
+struct Continuity<'a, const D: usize, const UNIFORM: bool> {
     kernel: WendlandC2,
     wrap: Wrap,
-    uniform: bool,
+    /// The clusters' [`Extra`] records (the impedances without `UNIFORM`).
+    extra: &'a [ExtraBlock],
 }
 
-impl<const D: usize> ClusterPass for Continuity<D> {
+impl<const D: usize, const UNIFORM: bool> ClusterPass for Continuity<'_, D, UNIFORM> {
     type Block = Block<D>;
     type Sums = ContinuityLaneSums<D>;
 
@@ -719,7 +785,7 @@ impl<const D: usize> ClusterPass for Continuity<D> {
         ci: usize,
         win: &mut Window<'_, ContinuityLaneSums<D>>,
     ) {
-        let terms = (&self.kernel, &self.wrap, self.uniform);
+        let terms = (&self.kernel, &self.wrap);
         let zero = q.splat(0.0);
         let bi = &blocks[ci];
         let mut lanes = ContinuityLanes::<Q, D> {
@@ -727,7 +793,10 @@ impl<const D: usize> ClusterPass for Continuity<D> {
             x: [zero; D],
             v: [zero; D],
             vol: gather(q, bi, |r| r.vol),
-            z: gather(q, bi, |r| r.z),
+            z: match (UNIFORM, self.extra.get(ci)) {
+                (false, Some(xi)) => gather(q, xi, |r| r.z),
+                _ => zero,
+            },
         };
         for d in 0..D {
             lanes.x[d] = gather(q, bi, |r| r.x[d]);
@@ -737,8 +806,9 @@ impl<const D: usize> ClusterPass for Continuity<D> {
         let mut tj = [zero; 10];
         for &j in cp.of(ci) {
             let (c, l, j) = at(cp, j);
-            let block = (&blocks[c], l, j);
-            if !continuity_term(q, terms, &lanes, block, &mut own, &mut tj) {
+            let xj = if UNIFORM { None } else { self.extra.get(c) };
+            let block = (&blocks[c], xj, l, j);
+            if !continuity_term::<Q, D, UNIFORM>(q, terms, &lanes, block, &mut own, &mut tj) {
                 continue;
             }
             let s: [Real; 10] = if D == 2 {

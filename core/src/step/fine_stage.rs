@@ -432,7 +432,6 @@ impl<const D: usize> ContinuitySweep<'_, D> {
     }
 }
 
-
 /// The density floor of particles of `material` (per-material `floor`; empty: off).
 fn floor_of<'a>(floor: &'a [Real], material: &'a [u16]) -> Option<DensityFloor<'a>> {
     (!floor.is_empty()).then_some(DensityFloor { material, floor })
