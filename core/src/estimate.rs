@@ -446,10 +446,10 @@ const BODY_FILL_BYTES_PER_DIM: Real = 64.0;
 /// radius (2h + skin; each pair is stored once), 4 bytes each, plus the list offsets,
 /// counted twice: the lists grow by doubling, so they hold up to twice what they use
 /// (and the wall neighbours of particles next to walls are then covered), and the
-/// cluster-pair passes' buffers. This gives 942 (2D) and 1594 (3D) bytes with the
-/// default numerics (588 and 999 without the passes); `docs/scale.md` measures
-/// 494–501 (2D) and 890–925 (3D) in bulk, and `tests/tests/memory_budget.rs` the built
-/// solver's own count.
+/// cluster-pair passes' buffers. This gives 798 (2D) and 1393 (3D) bytes for the
+/// bundled column collapses (their built solvers hold 813 and 1290,
+/// `tests/tests/memory_budget.rs`); `docs/scale.md` measures 494–501 (2D) and 890–925
+/// (3D) in bulk before the passes.
 pub fn fine_bytes_per_particle<const D: usize>(smoothing_ratio: Real, skin: Real) -> Real {
     let state = 2 * size_of::<Vect<D>>()
         + 4 * size_of::<Real>()
@@ -477,12 +477,11 @@ pub fn fine_bytes_per_particle<const D: usize>(smoothing_ratio: Real, skin: Real
 }
 
 /// Bytes per fine particle of the cluster-pair passes ([`FineLanes`]): the packed state
-/// and the lane sums, each particle's cluster, the clusters' bounds and offsets, and
-/// each cluster's pair list, the union of its four members' half lists: about half the
-/// lattice points within the list radius `r` plus half a spacing (the members lie
-/// about that far from their centre), counted twice as the lists are. With the
-/// default numerics this adds 354 (2D) and 595 (3D) bytes; the built solver holds
-/// 370 and 597 more than without the passes (`tests/tests/memory_budget.rs`).
+/// (the passes add their sums straight into the particles' pair sums), each particle's
+/// cluster, the clusters' bounds and offsets, and each cluster's pair list, the union
+/// of its four members' half lists: about half the lattice points within the list
+/// radius `r` plus half a spacing (the members lie about that far from their centre),
+/// counted twice as the lists are.
 ///
 /// [`FineLanes`]: crate::fine::lanes::FineLanes
 fn cluster_bytes_per_particle<const D: usize>(r: Real) -> Real {

@@ -106,7 +106,7 @@ impl<const D: usize> Rates<D> {
         diff.0[2] += dp;
         diff.axpy(-sum.wz, &geo);
         Rates {
-            drho: sum.drho,
+            drho: sum.drho + sum.drho_v,
             grad: sum.grad,
             diff,
         }

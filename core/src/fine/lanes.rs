@@ -31,8 +31,8 @@ use super::state::FineParticles;
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Sym, Vect};
 use crate::pairs::cluster_pass::{
-    at, each_lane, gather, geometry, lane_indices, run_pass, separation, unpack, ClusterPass,
-    Geometry, Window, FAR,
+    at, each_lane, gather, geometry, lane_indices, run_pass, separation, ClusterPass, Geometry,
+    Window, FAR,
 };
 use crate::pairs::clusters::ClusterPairs;
 use crate::pairs::quad::{Lanes, Quad, WIDTH};
@@ -121,62 +121,12 @@ impl Default for Extra {
 /// The [`Extra`] records of the four particles of a cluster.
 pub type ExtraBlock = [Extra; WIDTH];
 
-/// The momentum pass's sums of one particle.
-#[derive(Clone, Copy, Debug)]
-pub struct MomentumSums<const D: usize> {
-    acc: [Real; D],
-    hourglass: [Real; D],
-    drho: Real,
-    w: Real,
-    wz: Real,
-    wp: Real,
-    wdev: [Real; 6],
-}
-
-impl<const D: usize> Default for MomentumSums<D> {
-    fn default() -> Self {
-        MomentumSums {
-            acc: [0.0; D],
-            hourglass: [0.0; D],
-            drho: 0.0,
-            w: 0.0,
-            wz: 0.0,
-            wp: 0.0,
-            wdev: [0.0; 6],
-        }
-    }
-}
-
-/// The momentum pass's sums of the four particles of a cluster.
-pub type MomentumLaneSums<const D: usize> = [MomentumSums<D>; WIDTH];
-
-/// The continuity pass's sums of one particle.
-#[derive(Clone, Copy, Debug)]
-pub struct ContinuitySums<const D: usize> {
-    drho: Real,
-    grad: [[Real; D]; D],
-}
-
-impl<const D: usize> Default for ContinuitySums<D> {
-    fn default() -> Self {
-        ContinuitySums {
-            drho: 0.0,
-            grad: [[0.0; D]; D],
-        }
-    }
-}
-
-/// The continuity pass's sums of the four particles of a cluster.
-pub type ContinuityLaneSums<const D: usize> = [ContinuitySums<D>; WIDTH];
-
-/// The cluster-pair passes' buffers: the packed state and the sums.
+/// The cluster-pair passes' packed state.
 #[derive(Clone, Debug, Default)]
 pub struct FineLanes<const D: usize> {
     blocks: Vec<Block<D>>,
     /// Empty for soils of one impedance without artificial stress.
     extra: Vec<ExtraBlock>,
-    msums: Vec<MomentumLaneSums<D>>,
-    csums: Vec<ContinuityLaneSums<D>>,
 }
 
 /// The scalars of the momentum pass on lanes.
@@ -208,10 +158,7 @@ impl<const D: usize> FineLanes<D> {
     /// Bytes per particle of the packed state and the two passes' lane sums.
     pub fn bytes_per_particle() -> usize {
         use std::mem::size_of;
-        (size_of::<Block<D>>()
-            + size_of::<MomentumLaneSums<D>>()
-            + size_of::<ContinuityLaneSums<D>>())
-            / WIDTH
+        size_of::<Block<D>>() / WIDTH
     }
 
     /// Bytes held.
@@ -219,8 +166,6 @@ impl<const D: usize> FineLanes<D> {
         use std::mem::size_of;
         self.blocks.capacity() * size_of::<Block<D>>()
             + self.extra.capacity() * size_of::<ExtraBlock>()
-            + self.msums.capacity() * size_of::<MomentumLaneSums<D>>()
-            + self.csums.capacity() * size_of::<ContinuityLaneSums<D>>()
     }
 
     /// Pack the state of every cluster: positions and velocities of `p`, the records
@@ -314,31 +259,11 @@ impl<const D: usize> FineLanes<D> {
         };
         let blocks = (&self.blocks[..], cp);
         if sc.uniform && !sc.muscl && sc.artificial.is_none() {
-            run_pass(
-                &Momentum::<D, true>(&sc, &[]),
-                blocks,
-                lanes,
-                &mut self.msums,
-            );
+            run_pass(&Momentum::<D, true>(&sc, &[]), blocks, lanes, sums);
         } else {
             let pass = Momentum::<D, false>(&sc, &self.extra);
-            run_pass(&pass, blocks, lanes, &mut self.msums);
+            run_pass(&pass, blocks, lanes, sums);
         }
-        let m = dev_parts(D);
-        unpack(cp, &self.msums, sums, |o, s, l| {
-            for d in 0..D {
-                o.momentum.acc[d] += s[l].acc[d];
-                o.momentum.hourglass[d] += s[l].hourglass[d];
-            }
-            let c = &mut o.continuity;
-            c.drho += s[l].drho;
-            c.w += s[l].w;
-            c.wz += s[l].wz;
-            c.wp += s[l].wp;
-            for k in 0..m {
-                c.wdev.0[k] += s[l].wdev[k];
-            }
-        });
     }
 
     /// The continuity sweep's fine–fine pair terms in v_{n+1} (`vel`) into `sums`
@@ -368,24 +293,15 @@ impl<const D: usize> FineLanes<D> {
                 wrap,
                 extra,
             };
-            run_pass(&pass, blocks, lanes, &mut self.csums);
+            run_pass(&pass, blocks, lanes, sums);
         } else {
             let pass = Continuity::<D, false> {
                 kernel,
                 wrap,
                 extra,
             };
-            run_pass(&pass, blocks, lanes, &mut self.csums);
+            run_pass(&pass, blocks, lanes, sums);
         }
-        unpack(cp, &self.csums, sums, |o, s, l| {
-            let c = &mut o.continuity;
-            c.drho += s[l].drho;
-            for a in 0..D {
-                for b in 0..D {
-                    c.grad[(a, b)] += s[l].grad[a][b];
-                }
-            }
-        });
     }
 }
 
@@ -615,7 +531,7 @@ struct Momentum<'a, const D: usize, const PLAIN: bool>(&'a MomentumScalars<D>, &
 
 impl<const D: usize, const PLAIN: bool> ClusterPass for Momentum<'_, D, PLAIN> {
     type Block = Block<D>;
-    type Sums = MomentumLaneSums<D>;
+    type Sums = PairSums<D>;
 
     #[inline(always)]
     fn cluster<Q: Quad>(
@@ -623,7 +539,7 @@ impl<const D: usize, const PLAIN: bool> ClusterPass for Momentum<'_, D, PLAIN> {
         q: Q,
         (blocks, cp): (&[Block<D>], &ClusterPairs),
         ci: usize,
-        win: &mut Window<'_, MomentumLaneSums<D>>,
+        win: &mut Window<'_, PairSums<D>>,
     ) {
         let sc = self.0;
         let zero = q.splat(0.0);
@@ -674,32 +590,33 @@ impl<const D: usize, const PLAIN: bool> ClusterPass for Momentum<'_, D, PLAIN> {
                 continue;
             }
             let s = slot_sums::<Q, D>(q, &tj);
-            let out = win.at(c);
+            let out = win.at(j);
             for d in 0..D {
-                out[l].acc[d] -= s[d];
-                out[l].hourglass[d] -= s[D + d];
+                out.momentum.acc[d] -= s[d];
+                out.momentum.hourglass[d] -= s[D + d];
             }
+            let out = &mut out.continuity;
             let o = 2 * D;
-            out[l].drho += s[o];
-            out[l].w += s[o + 1];
-            out[l].wz += s[o + 2];
-            out[l].wp += s[o + 3];
+            out.drho += s[o];
+            out.w += s[o + 1];
+            out.wz += s[o + 2];
+            out.wp += s[o + 3];
             for k in 0..dp {
-                out[l].wdev[k] += s[o + 4 + k];
+                out.wdev.0[k] += s[o + 4 + k];
             }
         }
-        let out = win.at(ci);
+        let out = win.cluster(cp, ci);
         for d in 0..D {
-            each_lane(q, out, own[d], |s, t| s.acc[d] += t);
-            each_lane(q, out, own[D + d], |s, t| s.hourglass[d] += t);
+            each_lane(q, out, own[d], |s, t| s.momentum.acc[d] += t);
+            each_lane(q, out, own[D + d], |s, t| s.momentum.hourglass[d] += t);
         }
         let o = 2 * D;
-        each_lane(q, out, own[o], |s, t| s.drho += t);
-        each_lane(q, out, own[o + 1], |s, t| s.w += t);
-        each_lane(q, out, own[o + 2], |s, t| s.wz += t);
-        each_lane(q, out, own[o + 3], |s, t| s.wp += t);
+        each_lane(q, out, own[o], |s, t| s.continuity.drho += t);
+        each_lane(q, out, own[o + 1], |s, t| s.continuity.w += t);
+        each_lane(q, out, own[o + 2], |s, t| s.continuity.wz += t);
+        each_lane(q, out, own[o + 3], |s, t| s.continuity.wp += t);
         for k in 0..dp {
-            each_lane(q, out, own[o + 4 + k], |s, t| s.wdev[k] += t);
+            each_lane(q, out, own[o + 4 + k], |s, t| s.continuity.wdev.0[k] += t);
         }
     }
 }
@@ -775,7 +692,7 @@ struct Continuity<'a, const D: usize, const UNIFORM: bool> {
 
 impl<const D: usize, const UNIFORM: bool> ClusterPass for Continuity<'_, D, UNIFORM> {
     type Block = Block<D>;
-    type Sums = ContinuityLaneSums<D>;
+    type Sums = PairSums<D>;
 
     #[inline(always)]
     fn cluster<Q: Quad>(
@@ -783,7 +700,7 @@ impl<const D: usize, const UNIFORM: bool> ClusterPass for Continuity<'_, D, UNIF
         q: Q,
         (blocks, cp): (&[Block<D>], &ClusterPairs),
         ci: usize,
-        win: &mut Window<'_, ContinuityLaneSums<D>>,
+        win: &mut Window<'_, PairSums<D>>,
     ) {
         let terms = (&self.kernel, &self.wrap);
         let zero = q.splat(0.0);
@@ -819,20 +736,22 @@ impl<const D: usize, const UNIFORM: bool> ClusterPass for Continuity<'_, D, UNIF
             } else {
                 q.sums(&tj)
             };
-            let out = win.at(c);
-            out[l].drho += s[0];
+            let out = &mut win.at(j).continuity;
+            out.drho_v += s[0];
             for a in 0..D {
                 for b in 0..D {
-                    out[l].grad[a][b] -= s[1 + a * D + b];
+                    out.grad[(a, b)] -= s[1 + a * D + b];
                 }
             }
         }
-        let out = win.at(ci);
-        each_lane(q, out, own[0], |s, t| s.drho += t);
+        let out = win.cluster(cp, ci);
+        each_lane(q, out, own[0], |s, t| s.continuity.drho_v += t);
         for a in 0..D {
             for b in 0..D {
                 // −v_ij ⊗ e_ij ∂W/∂r V_j, Eq. (24)
-                each_lane(q, out, own[1 + a * D + b], |s, t| s.grad[a][b] -= t);
+                each_lane(q, out, own[1 + a * D + b], |s, t| {
+                    s.continuity.grad[(a, b)] -= t
+                });
             }
         }
     }

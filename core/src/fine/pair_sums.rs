@@ -50,10 +50,12 @@ impl<const D: usize> MomentumSums<D> {
 /// of each pair.
 #[derive(Clone, Copy, Debug)]
 pub struct ContinuitySums<const D: usize> {
-    /// Σ_j 2 (U* − U_L) ∂W/∂r V_j of Eq. (15) (times ρ_i gives dρ_i/dt); its pressure
-    /// part from [`JumpDiffusion`](super::continuity::JumpDiffusion), its velocity part
-    /// from the pair pass.
+    /// Σ_j 2 (U* − U_L) ∂W/∂r V_j of Eq. (15) (times ρ_i gives dρ_i/dt) is
+    /// `drho + drho_v`: its pressure part from the momentum sweep's pair pass
+    /// ([`JumpDiffusion`](super::continuity::JumpDiffusion)), its velocity part from the
+    /// continuity sweep's.
     pub drho: Real,
+    pub drho_v: Real,
     /// Σ_j −v_ij ⊗ e_ij ∂W/∂r V_j, Eq. (24).
     pub grad: SMatrix<Real, D, D>,
     /// Σ w, Σ w (r_ij·up), Σ w P_j and Σ w σˢ_j of Eq. (26), with
@@ -68,6 +70,7 @@ impl<const D: usize> ContinuitySums<D> {
     pub fn zero() -> Self {
         ContinuitySums {
             drho: 0.0,
+            drho_v: 0.0,
             grad: SMatrix::zeros(),
             w: 0.0,
             wz: 0.0,

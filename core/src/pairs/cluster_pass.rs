@@ -6,10 +6,9 @@
 //! A pass packs the state its terms read per cluster ([`clusters`](crate::pairs::clusters)),
 //! one record per particle: a neighbour's values are read from its record, a few cache
 //! lines, and broadcast ([`Quad::splat`]); a cluster's own four records are gathered
-//! into the lanes once ([`gather`]). Its sums are kept the same way, one record per
-//! particle, so that a neighbour's sums are written into its record's lines and a
-//! cluster's own are added lane by lane ([`each_lane`]): the same additions, in the
-//! same order, as into arrays of four lanes per component.
+//! into the lanes once ([`gather`]). Its sums go straight into the family's sums, one
+//! entry per particle: a neighbour's are added to its entry, a cluster's own lane by
+//! lane ([`each_lane`]).
 //! Pairs beyond the cut-off, or with j ≤ i, are masked out, so each pair is taken once,
 //! as in the one-pair passes; the sums a neighbour gains from the four lanes are added
 //! across the lanes in one fixed order ([`Quad::sums`]).
@@ -20,7 +19,6 @@ use crate::pairs::clusters::ClusterPairs;
 use crate::pairs::quad::{Lanes, Quad, QuadTask, WIDTH};
 use crate::pairs::slabs::two_phase_in;
 use crate::periodic::Wrap;
-use rayon::prelude::*;
 
 /// Where the lanes of a cluster with fewer than four particles sit: so far that no
 /// pair with them is within the cut-off.
@@ -55,10 +53,11 @@ pub fn gather<Q: Quad, R>(q: Q, recs: &[R; WIDTH], f: impl Fn(&R) -> Real) -> Q:
     q.load(&[f(&recs[0]), f(&recs[1]), f(&recs[2]), f(&recs[3])])
 }
 
-/// `op(record l of sums, lane l of v)` for the four lanes: how a cluster's own lane
-/// sums go back into its records (`|s, t| s.acc[d] += t`).
+/// `op(sums of lane l, lane l of v)` for the lanes of a cluster (`sums` holds its
+/// particles' sums, at most four): how a cluster's own lane sums go back to its
+/// particles (`|s, t| s.acc[d] += t`).
 #[inline(always)]
-pub fn each_lane<Q: Quad, S>(q: Q, sums: &mut [S; WIDTH], v: Q::V, op: impl Fn(&mut S, Real)) {
+pub fn each_lane<Q: Quad, S>(q: Q, sums: &mut [S], v: Q::V, op: impl Fn(&mut S, Real)) {
     let mut t = [0.0; WIDTH];
     q.store(&mut t, v);
     for (s, t) in sums.iter_mut().zip(t) {
@@ -125,28 +124,35 @@ pub fn at(cp: &ClusterPairs, j: u32) -> (usize, usize, usize) {
     (c, j - cp.start[c] as usize, j)
 }
 
-/// The sums a slab's task may write: those of its own clusters and of the next slab's
-/// ([`two_phase_in`]), by cluster index.
+/// The sums a slab's task may write, one per particle: those of its own particles and
+/// of the next slab's ([`two_phase_in`]).
 pub struct Window<'a, S> {
     sums: &'a mut [S],
-    /// The cluster of `sums[0]`.
+    /// The particle of `sums[0]`.
     base: usize,
 }
 
 impl<S> Window<'_, S> {
-    /// The sums of cluster `c`.
+    /// The sums of particle `j`.
     #[inline(always)]
-    pub fn at(&mut self, c: usize) -> &mut S {
-        &mut self.sums[c - self.base]
+    pub fn at(&mut self, j: usize) -> &mut S {
+        &mut self.sums[j - self.base]
+    }
+
+    /// The sums of the particles of cluster `c`, in lane order.
+    #[inline(always)]
+    pub fn cluster(&mut self, cp: &ClusterPairs, c: usize) -> &mut [S] {
+        let (a, b) = (cp.start[c] as usize, cp.start[c + 1] as usize);
+        &mut self.sums[a - self.base..b - self.base]
     }
 }
 
 /// A cluster-pair pass: the state it reads per cluster ([`Block`](Self::Block)), the
-/// sums it adds per cluster ([`Sums`](Self::Sums)), and its terms for one cluster
+/// sums it adds per particle ([`Sums`](Self::Sums)), and its terms for one cluster
 /// against every particle of the cluster's list.
 pub trait ClusterPass: Sync {
     type Block: Sync;
-    type Sums: Default + Clone + Send;
+    type Sums: Send;
     /// The terms of cluster `ci`'s four lanes against its list, added into `out`. Must
     /// be `#[inline(always)]`, as [`QuadTask::run`] must.
     fn cluster<Q: Quad>(
@@ -191,17 +197,14 @@ impl<P: ClusterPass> QuadTask for Slab<'_, P> {
     }
 }
 
-/// Zero `sums` (one entry per cluster) and run `pass` over the clusters of every slab
-/// on `lanes`, two-phase ([`two_phase_in`]), as many particles per serial range as the
-/// one-pair passes take.
+/// Run `pass` over the clusters of every slab on `lanes`, two-phase
+/// ([`two_phase_in`]), its terms added into `sums` (one entry per particle).
 pub fn run_pass<P: ClusterPass>(
     pass: &P,
     (blocks, cp): (&[P::Block], &ClusterPairs),
     lanes: Lanes,
-    sums: &mut Vec<P::Sums>,
+    sums: &mut [P::Sums],
 ) {
-    sums.clear();
-    sums.resize(cp.len(), P::Sums::default());
     let task = |slab: usize, sums: &mut [P::Sums], base: usize| {
         let out = Window { sums, base };
         lanes.run(Slab {
@@ -212,28 +215,5 @@ pub fn run_pass<P: ClusterPass>(
             out,
         })
     };
-    two_phase_in(&cp.slabs, sums, 512 / WIDTH, &task);
-}
-
-/// Add each particle's lane sums (`lane_sums`, one entry per cluster) to its entry of
-/// `out` with `add(entry, cluster sums, lane)`.
-pub fn unpack<S, T, F>(cp: &ClusterPairs, lane_sums: &[S], out: &mut [T], add: F)
-where
-    S: Sync,
-    T: Send,
-    F: Fn(&mut T, &S, usize) + Sync,
-{
-    let start = &cp.start;
-    out.par_chunks_mut(1024).enumerate().for_each(|(k, out)| {
-        let first = k * 1024;
-        // the cluster of the chunk's first particle
-        let mut c = start.partition_point(|&b| b as usize <= first) - 1;
-        for (m, o) in out.iter_mut().enumerate() {
-            let i = first + m;
-            while start[c + 1] as usize <= i {
-                c += 1;
-            }
-            add(o, &lane_sums[c], i - start[c] as usize);
-        }
-    });
+    two_phase_in(&cp.particle_slabs, &mut sums[..cp.particles()], 512, &task);
 }

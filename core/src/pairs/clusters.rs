@@ -29,6 +29,8 @@ pub struct ClusterPairs {
     pub start: Vec<u32>,
     /// Slab s holds clusters `slabs[s]..slabs[s + 1]`.
     pub slabs: Vec<u32>,
+    /// Slab s holds particles `particle_slabs[s]..particle_slabs[s + 1]`.
+    pub particle_slabs: Vec<u32>,
     /// The cluster of each particle.
     pub of: Vec<u32>,
     /// `js[off[c]..off[c + 1]]`: the particles the members of c pair with, ascending.
@@ -53,6 +55,10 @@ impl ClusterPairs {
         }
         self.slabs.push(self.start.len() as u32);
         self.start.push(n as u32);
+        self.particle_slabs.clear();
+        let start = &self.start;
+        self.particle_slabs
+            .extend(self.slabs.iter().map(|&c| start[c as usize]));
         let nc = self.start.len() - 1;
         self.of.clear();
         self.of.resize(n, 0);
@@ -104,6 +110,11 @@ impl ClusterPairs {
         }
     }
 
+    /// Particles in the clusters.
+    pub fn particles(&self) -> usize {
+        self.start.last().map_or(0, |&n| n as usize)
+    }
+
     /// Number of clusters.
     pub fn len(&self) -> usize {
         self.start.len().saturating_sub(1)
@@ -134,6 +145,7 @@ impl ClusterPairs {
     pub fn bytes(&self) -> usize {
         4 * (self.start.capacity()
             + self.slabs.capacity()
+            + self.particle_slabs.capacity()
             + self.of.capacity()
             + self.off.capacity()
             + self.js.capacity())

@@ -16,8 +16,8 @@
 // the terms loop over components of several lane arrays at once (x, v, g)
 #![allow(clippy::needless_range_loop)]
 
-use super::lanes::{Block, LaneSums};
-use super::momentum::WaterParams;
+use super::lanes::Block;
+use super::momentum::{WaterParams, WaterSums};
 use crate::pairs::cluster_pass::{
     at, each_lane, gather, geometry, lane_indices, separation, ClusterPass, Geometry, Window,
 };
@@ -75,7 +75,7 @@ pub(super) struct Continuity<'a, const D: usize>(pub(super) &'a WaterParams<D>);
 
 impl<const D: usize> ClusterPass for Continuity<'_, D> {
     type Block = Block<D>;
-    type Sums = LaneSums<D>;
+    type Sums = WaterSums<D>;
 
     #[inline(always)]
     fn cluster<Q: Quad>(
@@ -83,7 +83,7 @@ impl<const D: usize> ClusterPass for Continuity<'_, D> {
         q: Q,
         (blocks, cp): (&[Block<D>], &ClusterPairs),
         ci: usize,
-        win: &mut Window<'_, LaneSums<D>>,
+        win: &mut Window<'_, WaterSums<D>>,
     ) {
         let prm = self.0;
         let zero = q.splat(0.0);
@@ -104,26 +104,25 @@ impl<const D: usize> ClusterPass for Continuity<'_, D> {
         }
         let mut own = zero;
         // the neighbours' terms, four at a time into one lane sum
-        let (mut t, mut to, mut k) = ([zero; 4], [(0, 0); 4], 0);
+        let (mut t, mut to, mut k) = ([zero; 4], [0; 4], 0);
         for &j in cp.of(ci) {
             let (c, l, j) = at(cp, j);
             let Some((o, tj)) = continuity_term(q, prm, &lanes, (&blocks[c], l, j)) else {
                 continue;
             };
             own = q.add(own, o);
-            (t[k], to[k]) = (tj, (c, l));
+            (t[k], to[k]) = (tj, j);
             k += 1;
             if k == 4 {
-                for ((c, l), s) in to.into_iter().zip(q.sums(&t)) {
-                    win.at(c)[l].drho += s;
+                for (j, s) in to.into_iter().zip(q.sums(&t)) {
+                    win.at(j).drho += s;
                 }
                 k = 0;
             }
         }
         for n in 0..k {
-            let (c, l) = to[n];
-            win.at(c)[l].drho += q.sum(t[n]);
+            win.at(to[n]).drho += q.sum(t[n]);
         }
-        each_lane(q, win.at(ci), own, |s, t| s.drho += t);
+        each_lane(q, win.cluster(cp, ci), own, |s, t| s.drho += t);
     }
 }

@@ -23,7 +23,7 @@
 // the terms loop over the rows and columns of M
 #![allow(clippy::needless_range_loop)]
 
-use super::lanes::{Block, LaneSums};
+use super::lanes::Block;
 use super::momentum::WaterParams;
 use crate::math::{Real, Vect};
 use crate::pairs::cluster_pass::{
@@ -78,7 +78,7 @@ pub(super) struct Moment<'a, const D: usize>(pub(super) &'a WaterParams<D>);
 
 impl<const D: usize> ClusterPass for Moment<'_, D> {
     type Block = Block<D>;
-    type Sums = LaneSums<D>;
+    type Sums = Corr<D>;
 
     #[inline(always)]
     fn cluster<Q: Quad>(
@@ -86,7 +86,7 @@ impl<const D: usize> ClusterPass for Moment<'_, D> {
         q: Q,
         (blocks, cp): (&[Block<D>], &ClusterPairs),
         ci: usize,
-        win: &mut Window<'_, LaneSums<D>>,
+        win: &mut Window<'_, Corr<D>>,
     ) {
         let prm = self.0;
         let zero = q.splat(0.0);
@@ -133,19 +133,27 @@ impl<const D: usize> ClusterPass for Moment<'_, D> {
             } else {
                 q.sums(&tj)
             };
-            let out = &mut win.at(cj)[l].m;
+            let out = win.at(j);
             let mut k = 0;
             for d in 0..D {
                 for c in d..D {
-                    out[d][c] += sums[k];
+                    out[(d, c)] += sums[k];
+                    if c != d {
+                        out[(c, d)] += sums[k];
+                    }
                     k += 1;
                 }
             }
         }
-        let out = win.at(ci);
+        let out = win.cluster(cp, ci);
         for d in 0..D {
             for c in d..D {
-                each_lane(q, out, own[d][c], |s, t| s.m[d][c] += t);
+                each_lane(q, out, own[d][c], |m, t| {
+                    m[(d, c)] += t;
+                    if c != d {
+                        m[(c, d)] += t;
+                    }
+                });
             }
         }
     }

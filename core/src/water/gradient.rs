@@ -16,7 +16,8 @@
 // the terms loop over the rows and columns of L
 #![allow(clippy::needless_range_loop)]
 
-use super::lanes::{Block, LaneSums};
+use super::correction::Corr;
+use super::lanes::Block;
 use super::momentum::WaterParams;
 use crate::pairs::cluster_pass::{
     at, each_lane, gather, geometry, lane_indices, separation, ClusterPass, Geometry, Window,
@@ -30,7 +31,7 @@ pub(super) struct Gradient<'a, const D: usize>(pub(super) &'a WaterParams<D>);
 
 impl<const D: usize> ClusterPass for Gradient<'_, D> {
     type Block = Block<D>;
-    type Sums = LaneSums<D>;
+    type Sums = Corr<D>;
 
     #[inline(always)]
     fn cluster<Q: Quad>(
@@ -38,7 +39,7 @@ impl<const D: usize> ClusterPass for Gradient<'_, D> {
         q: Q,
         (blocks, cp): (&[Block<D>], &ClusterPairs),
         ci: usize,
-        win: &mut Window<'_, LaneSums<D>>,
+        win: &mut Window<'_, Corr<D>>,
     ) {
         let prm = self.0;
         let zero = q.splat(0.0);
@@ -79,17 +80,17 @@ impl<const D: usize> ClusterPass for Gradient<'_, D> {
             } else {
                 q.sums(&tj)
             };
-            let out = &mut win.at(c)[l].m;
+            let out = win.at(j);
             for a in 0..D {
                 for b in 0..D {
-                    out[a][b] += s[a * D + b];
+                    out[(a, b)] += s[a * D + b];
                 }
             }
         }
-        let out = win.at(ci);
+        let out = win.cluster(cp, ci);
         for a in 0..D {
             for b in 0..D {
-                each_lane(q, out, own[a][b], |s, t| s.m[a][b] += t);
+                each_lane(q, out, own[a][b], |m, t| m[(a, b)] += t);
             }
         }
     }

@@ -1,6 +1,6 @@
 //! The lane layout of the water–water pair laws: the state they read, packed per
 //! cluster of four particles ([`clusters`](crate::pairs::clusters)), one record per
-//! particle ([`Block`]), their sums per cluster ([`LaneSums`]), and the passes that run
+//! particle ([`Block`]), and the passes that run
 //! each law on the cluster-pair executor
 //! ([`cluster_pass`](crate::pairs::cluster_pass); docs/method.md §Throughput):
 //!
@@ -26,7 +26,7 @@ use super::momentum::{Momentum, WaterParams, WaterSums};
 use super::source::WaterSource;
 use super::state::WaterParticles;
 use crate::math::{Real, Vect};
-use crate::pairs::cluster_pass::{run_pass, unpack, FAR};
+use crate::pairs::cluster_pass::{run_pass, FAR};
 use crate::pairs::clusters::ClusterPairs;
 use crate::pairs::quad::{Lanes, WIDTH};
 use rayon::prelude::*;
@@ -67,41 +67,16 @@ impl<const D: usize> Default for Rec<D> {
 /// The state of the four particles of a cluster, one record each.
 pub type Block<const D: usize> = [Rec<D>; WIDTH];
 
-/// The pair sums of one particle of a cluster.
-#[derive(Clone, Copy, Debug)]
-pub struct Sums<const D: usize> {
-    pub(super) acc: [Real; D],
-    pub(super) drho: Real,
-    /// M of the correction, upper triangle (row ≤ column); or L of the velocity
-    /// gradient, whole.
-    pub(super) m: [[Real; D]; D],
-}
-
-impl<const D: usize> Default for Sums<D> {
-    fn default() -> Self {
-        Sums {
-            acc: [0.0; D],
-            drho: 0.0,
-            m: [[0.0; D]; D],
-        }
-    }
-}
-
-/// The pair sums of the four particles of a cluster.
-pub type LaneSums<const D: usize> = [Sums<D>; WIDTH];
-
-/// The cluster-pair passes' buffers: the packed state and the sums.
+/// The cluster-pair passes' packed state.
 #[derive(Clone, Debug, Default)]
 pub struct WaterLanes<const D: usize> {
     blocks: Vec<Block<D>>,
-    sums: Vec<LaneSums<D>>,
 }
 
 impl<const D: usize> WaterLanes<D> {
     /// Bytes held.
     pub fn bytes(&self) -> usize {
         self.blocks.capacity() * std::mem::size_of::<Block<D>>()
-            + self.sums.capacity() * std::mem::size_of::<LaneSums<D>>()
     }
 
     /// Pack positions, velocities, pressure, volume and density of every cluster.
@@ -157,14 +132,7 @@ impl<const D: usize> WaterLanes<D> {
         lanes: Lanes,
         l: &mut [Corr<D>],
     ) {
-        run_pass(&Gradient(prm), (&self.blocks, cp), lanes, &mut self.sums);
-        unpack(cp, &self.sums, l, |o, s, k| {
-            for d in 0..D {
-                for e in 0..D {
-                    o[(d, e)] += s[k].m[d][e];
-                }
-            }
-        });
+        run_pass(&Gradient(prm), (&self.blocks, cp), lanes, l);
     }
 
     /// The correction's water–water sums of M into `m` (added), on `lanes`, after
@@ -176,17 +144,7 @@ impl<const D: usize> WaterLanes<D> {
         lanes: Lanes,
         m: &mut [Corr<D>],
     ) {
-        run_pass(&Moment(prm), (&self.blocks, cp), lanes, &mut self.sums);
-        unpack(cp, &self.sums, m, |o, s, l| {
-            for d in 0..D {
-                for e in d..D {
-                    o[(d, e)] += s[l].m[d][e];
-                    if e != d {
-                        o[(e, d)] += s[l].m[d][e];
-                    }
-                }
-            }
-        });
+        run_pass(&Moment(prm), (&self.blocks, cp), lanes, m);
     }
 
     /// Replace the velocities by `vel` and set the continuity's gravity: `hyd`, plus
@@ -217,26 +175,12 @@ impl<const D: usize> WaterLanes<D> {
         lanes: Lanes,
         sums: &mut [WaterSums<D>],
     ) {
+        let blocks = (&self.blocks[..], cp);
         if muscl {
-            run_pass(
-                &Momentum::<D, true>(prm),
-                (&self.blocks, cp),
-                lanes,
-                &mut self.sums,
-            );
+            run_pass(&Momentum::<D, true>(prm), blocks, lanes, sums);
         } else {
-            run_pass(
-                &Momentum::<D, false>(prm),
-                (&self.blocks, cp),
-                lanes,
-                &mut self.sums,
-            );
+            run_pass(&Momentum::<D, false>(prm), blocks, lanes, sums);
         }
-        self.unpack(cp, sums, |o, s, l| {
-            for d in 0..D {
-                o.acc[d] += s[l].acc[d];
-            }
-        });
     }
 
     /// The continuity pass's water–water sums into `sums[..].drho` (added), on
@@ -248,16 +192,7 @@ impl<const D: usize> WaterLanes<D> {
         lanes: Lanes,
         sums: &mut [WaterSums<D>],
     ) {
-        run_pass(&Continuity(prm), (&self.blocks, cp), lanes, &mut self.sums);
-        self.unpack(cp, sums, |o, s, l| o.drho += s[l].drho);
-    }
-
-    /// Add each particle's lane sums to its entry of `sums` with `add`.
-    fn unpack<F>(&self, cp: &ClusterPairs, sums: &mut [WaterSums<D>], add: F)
-    where
-        F: Fn(&mut WaterSums<D>, &LaneSums<D>, usize) + Sync,
-    {
-        unpack(cp, &self.sums, sums, add);
+        run_pass(&Continuity(prm), (&self.blocks, cp), lanes, sums);
     }
 }
 

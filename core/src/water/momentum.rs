@@ -21,7 +21,7 @@
 // the terms loop over components of several lane arrays at once (x, v, B, ∇v)
 #![allow(clippy::needless_range_loop)]
 
-use super::lanes::{Block, LaneSums};
+use super::lanes::Block;
 use crate::kernel::WendlandC2;
 use crate::math::{Real, Vect};
 use crate::pairs::cluster_pass::{
@@ -198,7 +198,7 @@ pub(super) struct Momentum<'a, const D: usize, const MUSCL: bool>(pub(super) &'a
 
 impl<const D: usize, const MUSCL: bool> ClusterPass for Momentum<'_, D, MUSCL> {
     type Block = Block<D>;
-    type Sums = LaneSums<D>;
+    type Sums = WaterSums<D>;
 
     #[inline(always)]
     fn cluster<Q: Quad>(
@@ -206,7 +206,7 @@ impl<const D: usize, const MUSCL: bool> ClusterPass for Momentum<'_, D, MUSCL> {
         q: Q,
         (blocks, cp): (&[Block<D>], &ClusterPairs),
         ci: usize,
-        win: &mut Window<'_, LaneSums<D>>,
+        win: &mut Window<'_, WaterSums<D>>,
     ) {
         let prm = self.0;
         let zero = q.splat(0.0);
@@ -241,10 +241,10 @@ impl<const D: usize, const MUSCL: bool> ClusterPass for Momentum<'_, D, MUSCL> {
                 own[d] = q.add(own[d], o[d]);
             }
             for (d, s) in q.sums(&t).into_iter().enumerate() {
-                win.at(c)[l].acc[d] -= s;
+                win.at(j).acc[d] -= s;
             }
         }
-        let out = win.at(ci);
+        let out = win.cluster(cp, ci);
         for d in 0..D {
             each_lane(q, out, own[d], |s, t| s.acc[d] += t);
         }
