@@ -16,7 +16,7 @@
 //! runs); the medians and their ratio are printed. Run with
 //! `cargo run --release -p granmix-core --example cluster_pairs`.
 
-use granmix_core::rng::Rng;
+use granmix_core::numerics::rng::Rng;
 use pulp::{Simd, WithSimd};
 use std::time::Instant;
 

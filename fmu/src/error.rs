@@ -16,7 +16,7 @@ use crate::envelope::EnvelopeError;
 use crate::state::State;
 use crate::variables::LookupError;
 use fmi_sys::fmi2::fmi2StatusKind;
-use granmix_core::cosim::DriveError;
+use granmix_core::run::cosim::DriveError;
 use granmix_core::scene::SceneError;
 use granmix_core::Blowup;
 use granmix_core::{SetupError, StateMismatch};

@@ -519,8 +519,8 @@ fn compare(records: &[Value]) -> Vec<Value> {
 
 /// §6 blocks: arrival, topple and landing times and β(t) of block 2, as JSON and a line
 /// of text next to seed 000's figures.
-fn block_json(samples: &[granmix_core::simulation::Sample]) -> Value {
-    let e = granmix_core::observe::block_events(samples, "block1", "block2");
+fn block_json(samples: &[granmix_core::run::simulation::Sample]) -> Value {
+    let e = granmix_core::run::observe::block_events(samples, "block1", "block2");
     let t = |x: Option<f64>| x.map(|v| format!("{v:.3} s")).unwrap_or("never".into());
     println!(
         "{:<27} flow reaches block 1 at {} (seed ≈ 0.25 s); block 2 starts to topple at {}, \

@@ -1,13 +1,13 @@
 //! `granmix check`: validate a scene, estimate its particles, memory and cost without
-//! building it (core/src/estimate.rs), and refuse it when it exceeds the memory budget.
+//! building it (core/src/estimate/mod.rs), and refuse it when it exceeds the memory budget.
 //! `--exact` builds it and prints the exact counts.
 
 use crate::run::load;
 use anyhow::{bail, Result};
-use granmix_core::budget::{budget, human_bytes, over_budget, passes};
+use granmix_core::estimate::budget::{budget, human_bytes, over_budget, passes};
 use granmix_core::estimate::{estimate, rest_dt, RestDt};
 use granmix_core::input::LoadedScene;
-use granmix_core::resolution::Resolution;
+use granmix_core::scene::resolution::Resolution;
 use granmix_core::scene::KeyError;
 use granmix_core::AnySimulation;
 use std::path::Path;

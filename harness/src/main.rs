@@ -142,8 +142,8 @@ fn main() -> ExitCode {
 /// Stack of the pool's threads, which run the whole command (the main thread's size).
 const WORKER_STACK: usize = 8 << 20;
 
-fn parse_size(text: &str) -> Result<f64, granmix_core::budget::SizeError> {
-    granmix_core::budget::parse_bytes(text)
+fn parse_size(text: &str) -> Result<f64, granmix_core::estimate::budget::SizeError> {
+    granmix_core::estimate::budget::parse_bytes(text)
 }
 
 /// The scene overrides with the memory budget, if given, as `simulation.memory_budget`.

@@ -111,7 +111,7 @@ pub(crate) const DISC_IN_TANK_CA: f64 = 1.046765;
 /// The mean acceleration of the first body over its first `radius`/10 of travel from
 /// rest, 2 (R/10)/t² with t interpolated between samples; None if it never got there.
 pub(crate) fn starting_acceleration(
-    samples: &[granmix_core::simulation::Sample],
+    samples: &[granmix_core::run::simulation::Sample],
     radius: f64,
 ) -> Option<f64> {
     let path: Vec<(f64, f64)> = samples
@@ -165,7 +165,7 @@ impl PoiseuilleRef {
 
     /// Largest relative error of the probe `centre`'s water velocity against
     /// [`velocity`](Self::velocity) at y = H/2, at t = 5, 10, 20 s and the last sample.
-    pub(crate) fn error(&self, samples: &[granmix_core::simulation::Sample]) -> Option<f64> {
+    pub(crate) fn error(&self, samples: &[granmix_core::run::simulation::Sample]) -> Option<f64> {
         let end = samples.last()?.time;
         let mut worst: Option<f64> = None;
         for t in [5.0, 10.0, 20.0, end].into_iter().filter(|&t| t <= end) {
@@ -204,7 +204,10 @@ pub(crate) const MARTIN_MOYCE: [(f64, f64); 13] = [
 
 /// Largest relative error of the water front of `samples` against [`MARTIN_MOYCE`]
 /// (front interpolated linearly between samples); None if the run ended first.
-pub(crate) fn dam_front_error(samples: &[granmix_core::simulation::Sample], a: f64) -> Option<f64> {
+pub(crate) fn dam_front_error(
+    samples: &[granmix_core::run::simulation::Sample],
+    a: f64,
+) -> Option<f64> {
     let scale = (2.0 * 9.81 / a).sqrt();
     let pts: Vec<(f64, f64)> = samples
         .iter()
@@ -262,7 +265,10 @@ impl BagnoldRef {
     }
 
     /// The layer's depth-averaged velocity over the last second of `samples`.
-    pub(crate) fn measured(&self, samples: &[granmix_core::simulation::Sample]) -> Option<f64> {
+    pub(crate) fn measured(
+        &self,
+        samples: &[granmix_core::run::simulation::Sample],
+    ) -> Option<f64> {
         let end = samples.last()?.time;
         let mass = self.solid_fraction * self.grain_density * self.depth * self.period;
         let tail: Vec<f64> = samples
@@ -312,7 +318,7 @@ impl Metric {
             ),
             Metric::Speed => (None, None),
             Metric::BlockLanding(r) => (
-                granmix_core::observe::block_events(&rep.samples, "block1", "block2").landing,
+                granmix_core::run::observe::block_events(&rep.samples, "block1", "block2").landing,
                 Some(r),
             ),
             Metric::Slide(r) => {
@@ -602,8 +608,8 @@ fn force_history(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use granmix_core::sample::BarrierSample;
-    use granmix_core::simulation::Sample;
+    use granmix_core::run::sample::BarrierSample;
+    use granmix_core::run::simulation::Sample;
 
     /// A report whose barrier `wall` carries `loads` (N along x) at t = 0, 0.5, 1, ….
     fn report(loads: &[f64]) -> crate::run::RunReport {

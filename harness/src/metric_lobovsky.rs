@@ -15,7 +15,7 @@
 //! - each sensor's mean pressure over 3 ≤ t* ≤ 6 and its peak, beside the data's.
 
 use anyhow::{anyhow, Context, Result};
-use granmix_core::simulation::Sample;
+use granmix_core::run::simulation::Sample;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 

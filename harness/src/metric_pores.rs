@@ -1,7 +1,7 @@
 //! References of the saturated-soil benchmarks (VALIDATION §12): Darcy's law through
 //! the seepage column and Terzaghi's consolidation of a loaded layer.
 
-use granmix_core::simulation::Sample;
+use granmix_core::run::simulation::Sample;
 
 const RHO_W: f64 = 1000.0;
 const G: f64 = 9.81;

@@ -19,7 +19,7 @@
 
 use crate::metric_lobovsky::Series;
 use anyhow::Result;
-use granmix_core::simulation::Sample;
+use granmix_core::run::simulation::Sample;
 use serde_json::{json, Value};
 use std::path::Path;
 

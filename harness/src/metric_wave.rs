@@ -8,8 +8,8 @@
 //! incoherent motion of the particles (a resting tank's jitter) averages out of it:
 //! its zero crossings give the period and its extrema between them the decay.
 
-use granmix_core::oscillation::{damped, Oscillation};
-use granmix_core::simulation::Sample;
+use granmix_core::run::oscillation::{damped, Oscillation};
+use granmix_core::run::simulation::Sample;
 use serde_json::{json, Value};
 
 /// A standing wave of the first mode in a 2D tank `length` long, water `depth` deep,

@@ -8,7 +8,7 @@
 use crate::plot::{self, Curve, Panel};
 use crate::series::{self, Layout, Unit};
 use anyhow::Result;
-use granmix_core::simulation::Sample;
+use granmix_core::run::simulation::Sample;
 use std::path::Path;
 
 /// |v| of the first `dim` components.
@@ -91,7 +91,7 @@ fn fronts(l: &Layout, samples: &[Sample]) -> Vec<Curve> {
 
 /// The fine grains' ρ/ρ0: median, 10th percentile and minimum (empty without them).
 fn densities(samples: &[Sample]) -> Vec<Curve> {
-    type Pick = fn(&granmix_core::sample::DensityRatio) -> f64;
+    type Pick = fn(&granmix_core::run::sample::DensityRatio) -> f64;
     let picks: [(&str, Pick); 3] = [
         ("median", |d| d.median),
         ("10th percentile", |d| d.p10),

@@ -4,10 +4,10 @@ use crate::series::{self, CsvSeries, Layout};
 use crate::vtk::VtkSeries;
 use anyhow::{bail, Context, Result};
 use granmix_core::input::{load_scene_file, LoadedScene};
-use granmix_core::runner::{self, RunEnd};
-use granmix_core::sample::BodySample;
+use granmix_core::run::runner::{self, RunEnd};
+use granmix_core::run::sample::BodySample;
+use granmix_core::run::simulation::Sample;
 use granmix_core::scene::SimulationSpec;
-use granmix_core::simulation::Sample;
 use granmix_core::AnySimulation;
 use granmix_core::Blowup;
 use granmix_core::Stage;
@@ -365,7 +365,7 @@ fn summary_json(
         "memory_bytes": memory,
         "bytes_per_particle": (sph > 0).then(|| memory as f64 / sph as f64),
         "threads": rayon::current_num_threads(),
-        "simd": granmix_core::pairs::quad::Lanes::detect().name(),
+        "simd": granmix_core::numerics::pairs::quad::Lanes::detect().name(),
         "wall_time_s": wall,
         "particle_steps_per_s": ran.pss,
         "fine_particle_steps_per_s": (n > 0).then_some(ran.fine_pss),

@@ -4,7 +4,7 @@
 //! Counts (steps, κ, contacts, water particles) are written as integers, everything
 //! else as `{:.9e}`. docs/scenes.md lists every column with its definition.
 
-use granmix_core::simulation::Sample;
+use granmix_core::run::simulation::Sample;
 use granmix_core::AnySimulation;
 use granmix_ipc::{Sink, SinkError};
 use std::io::Write;
@@ -164,7 +164,7 @@ const S: Unit = Unit::Fixed("s");
 const M: Unit = Unit::Fixed("m");
 const MS: Unit = Unit::Fixed("m/s");
 const PA: Unit = Unit::Fixed("Pa");
-/// The summaries of the fine grains' ρ/ρ0 (`granmix_core::sample::DensityRatio`).
+/// The summaries of the fine grains' ρ/ρ0 (`granmix_core::run::sample::DensityRatio`).
 const DENSITY_RATIO: [&str; 3] = ["median", "p10", "min"];
 
 /// Columns for a scene of this layout, in row order.
@@ -435,7 +435,7 @@ impl Sink for CsvSeries {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use granmix_core::sample::{BarrierSample, WaterSample};
+    use granmix_core::run::sample::{BarrierSample, WaterSample};
 
     fn layout(dim: usize, water: bool) -> Layout {
         Layout {

@@ -7,7 +7,7 @@
 
 use crate::run::load;
 use anyhow::Result;
-use granmix_core::simulation::Sample;
+use granmix_core::run::simulation::Sample;
 use granmix_core::AnySimulation;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{json, Value};

@@ -3,7 +3,7 @@
 //! water) and the walls, whose particles carry their pressure at each snapshot.
 //! docs/scenes.md lists every array with its unit.
 
-use granmix_core::simulation::{Frame, Sample};
+use granmix_core::run::simulation::{Frame, Sample};
 use granmix_core::AnySimulation;
 use granmix_ipc::{Sink, SinkError};
 use std::fmt::Write as _;

@@ -82,7 +82,7 @@ fn root() -> PathBuf {
 fn run_case(scene: &str, (end, set): (f64, &[&str]), simd: &str, out: &Path) -> (String, String) {
     let path = root().join("../models/scenes").join(scene);
     let mut cmd = Command::new(BIN);
-    cmd.env(granmix_core::pairs::quad::ENV, simd);
+    cmd.env(granmix_core::numerics::pairs::quad::ENV, simd);
     cmd.arg("run")
         .arg(&path)
         .args(["--quiet", "--no-vtk", "--out"])

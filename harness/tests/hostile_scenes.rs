@@ -362,7 +362,7 @@ fn a_sparse_domain_is_priced_with_its_cell_grids() {
     .map(|s| s.to_string())
     .collect();
     let loaded = granmix_core::input::load_scene_file(&scene, &set).unwrap();
-    let res = granmix_core::resolution::Resolution::of_scene(&loaded.scene);
+    let res = granmix_core::scene::resolution::Resolution::of_scene(&loaded.scene);
     let e = granmix_core::estimate::estimate(&loaded.scene, &res);
     let mut args = vec!["run".to_string(), scene.to_string_lossy().into_owned()];
     for s in &set {

@@ -1,15 +1,15 @@
 //! The `/geometry` topic's `foxglove.SceneUpdate`: each wall object (wall, terrain,
 //! barrier, container face) as one `SceneEntity` of solid primitives that Foxglove's
 //! 3D panel draws, in the particles' frame `world`. The solids come from
-//! [`granmix_core::solids`]; a moving object's primitives are shifted by its current
+//! [`granmix_core::geometry::solids`]; a moving object's primitives are shifted by its current
 //! offset, so that re-sending its entity (same `id`, its name) moves it.
 
 use foxglove::messages::{
     Color, CubePrimitive, CylinderPrimitive, KeyValuePair, Point3, Pose, Quaternion, SceneEntity,
     SceneUpdate, SpherePrimitive, Timestamp, TriangleListPrimitive, Vector3,
 };
-use granmix_core::solids::{Primitive, WallSolid};
-use granmix_core::walls::WallKind;
+use granmix_core::geometry::solids::{Primitive, WallSolid};
+use granmix_core::geometry::walls::WallKind;
 
 /// Frame id of the simulation's coordinates.
 pub const WORLD_FRAME: &str = "world";

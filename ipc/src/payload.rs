@@ -10,8 +10,8 @@ pub const SCHEMA_VERSION: u32 = 4;
 
 /// One particle: 56 bytes, fine particles first, then coarse-grain particles, then
 /// water; the one particle record of granmix
-/// ([`granmix_core::sample::ParticleRecord`]), its family in `family`.
-pub use granmix_core::sample::{ParticleRecord, FAMILY_COARSE, FAMILY_FINE, FAMILY_WATER};
+/// ([`granmix_core::run::sample::ParticleRecord`]), its family in `family`.
+pub use granmix_core::run::sample::{ParticleRecord, FAMILY_COARSE, FAMILY_FINE, FAMILY_WATER};
 
 /// Per-frame header: 56 bytes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]

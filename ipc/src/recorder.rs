@@ -16,7 +16,7 @@
 //! `id` its name, frame `world`, metadata `object`, `kind` and `moving`: boxes as
 //! cubes, spheres and cylinders as such, polygons, rings, polyhedra, meshes and terrain
 //! as triangle lists, 2D solids extruded along z into a slab
-//! [`SLAB_SPACINGS`](granmix_core::solids::SLAB_SPACINGS) dp thick
+//! [`SLAB_SPACINGS`](granmix_core::geometry::solids::SLAB_SPACINGS) dp thick
 //! ([`geometry`](crate::geometry)). The scene goes in as the attachment `scene.toml` and
 //! the metadata record `granmix`. The protobuf schemas are foxglove's own descriptors
 //! (from the `foxglove` crate).
@@ -30,8 +30,8 @@ use foxglove::messages::{
     Timestamp, Vector3,
 };
 use foxglove::Encode;
-use granmix_core::simulation::Sample;
-use granmix_core::solids::WallSolid;
+use granmix_core::geometry::solids::WallSolid;
+use granmix_core::run::simulation::Sample;
 use granmix_core::AnySimulation;
 use serde_json::json;
 use std::collections::BTreeMap;

@@ -6,7 +6,7 @@
 
 use crate::publisher::FramePublisher;
 use crate::recorder::Recorder;
-use granmix_core::sample::Sample;
+use granmix_core::run::sample::Sample;
 use granmix_core::AnySimulation;
 use serde_json::{json, Value};
 use std::time::Instant;

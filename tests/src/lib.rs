@@ -2,8 +2,8 @@
 //! scenes written in the test, and run them through the same run loop as the CLI.
 
 use granmix_core::input::{load_scene_file, load_scene_str, LoadedScene};
-use granmix_core::runner::{self, RunEnd};
-use granmix_core::simulation::Sample;
+use granmix_core::run::runner::{self, RunEnd};
+use granmix_core::run::simulation::Sample;
 use granmix_core::AnySimulation;
 use std::path::PathBuf;
 

@@ -1,7 +1,7 @@
 //! The added mass of a body released in still water (issue 42): its own module, whose
 //! name sorts first, so that one of the longer water tests starts with the suite.
 
-use granmix_core::simulation::Sample;
+use granmix_core::run::simulation::Sample;
 use granmix_tests::run;
 
 const RHO: f64 = 1000.0;

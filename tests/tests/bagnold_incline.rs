@@ -14,7 +14,7 @@
 //! wall that scaled a μ(I) particle's shear to the static cone let the layer slide on
 //! its bed; both fail the first test. μ_s = 0.34 fails the second.
 
-use granmix_core::simulation::Sample;
+use granmix_core::run::simulation::Sample;
 use granmix_tests::{rel, run};
 
 const G: f64 = 9.81;

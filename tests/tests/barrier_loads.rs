@@ -2,7 +2,7 @@
 //! retained layer at rest (built slowly and loaded at once), and the active pressure
 //! behind a yielding barrier.
 
-use granmix_core::runner::RunEnd;
+use granmix_core::run::runner::RunEnd;
 use granmix_tests::run;
 
 /// granular_barrier_2d: zero load before the front arrives, a peak after arrival, and a
@@ -63,7 +63,7 @@ const RETAINED_UNIT: f64 = 0.5 * 2040.0 * 9.81 * 0.15 * 0.15;
 
 /// The barrier load of the last sample as K = F / (½ ρ g H²), after checking that it
 /// is steady: every sample of the last `window` seconds within `band` of it.
-fn settled_k(s: &[granmix_core::simulation::Sample], window: f64, band: f64) -> f64 {
+fn settled_k(s: &[granmix_core::run::simulation::Sample], window: f64, band: f64) -> f64 {
     let last = s.last().expect("samples");
     let kf = last.barriers[0].force[0] / RETAINED_UNIT;
     for x in s.iter().filter(|x| x.time >= last.time - window) {

@@ -4,7 +4,7 @@
 //! Eqs. 4–6), per unit area of contact. fmu_barrier_2d at its own dp = 10 mm: a layer
 //! H = 0.1 m high from the K0 geostatic stress, the barrier driven as the FMU drives it.
 
-use granmix_core::simulation::Simulation;
+use granmix_core::run::simulation::Simulation;
 use granmix_tests::load;
 
 /// fmu_barrier_2d with `set`, settled against the fixed barrier for 20 ms.

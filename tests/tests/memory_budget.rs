@@ -1,10 +1,10 @@
 //! The memory budget: particle counts and memory estimated without building a particle
-//! (core/src/estimate.rs), checked against the built scenes; a scene over the budget is
+//! (core/src/estimate/mod.rs), checked against the built scenes; a scene over the budget is
 //! refused before any allocation.
 
 use granmix_core::estimate::{estimate, fine_bytes_per_particle};
 use granmix_core::input::load_scene_file;
-use granmix_core::resolution::Resolution;
+use granmix_core::scene::resolution::Resolution;
 use granmix_core::AnySimulation;
 use std::path::PathBuf;
 use std::time::Instant;

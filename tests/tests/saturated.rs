@@ -3,7 +3,7 @@
 //! submerged layer at rest against a barrier (`submerged_layer.toml`), and refused
 //! pore keys.
 
-use granmix_core::simulation::Sample;
+use granmix_core::run::simulation::Sample;
 use granmix_tests::{refusal, rel, run, with_mutations};
 
 const G: f64 = 9.81;
@@ -18,7 +18,7 @@ const W: f64 = 0.27;
 /// The piezometers' spacing.
 const DZ: f64 = 0.12;
 
-fn probe<'a>(s: &'a Sample, name: &str) -> &'a granmix_core::sample::ProbeValue {
+fn probe<'a>(s: &'a Sample, name: &str) -> &'a granmix_core::run::sample::ProbeValue {
     &s.probes.iter().find(|p| p.0 == name).unwrap().1
 }
 
@@ -42,7 +42,7 @@ fn discharge(s: &Sample) -> f64 {
 fn column(set: &[&str]) -> Vec<Sample> {
     let (samples, end, _) = run("seepage_column.toml", set);
     assert!(
-        !matches!(end, granmix_core::runner::RunEnd::Blowup(_)),
+        !matches!(end, granmix_core::run::runner::RunEnd::Blowup(_)),
         "{end:?}"
     );
     samples.into_iter().filter(|s| s.time >= 0.3).collect()
@@ -374,10 +374,15 @@ fn terzaghi_consolidation() {
 /// within three spacings of its surface, on its upstream side (against its velocity)
 /// and its downstream side, and the boulder's speed less the ring's mean velocity
 /// along the boulder's direction.
-fn ring_pressures(f: &granmix_core::sample::Frame, b: u32, r: f64, dp: f64) -> (f64, f64, f64) {
+fn ring_pressures(
+    f: &granmix_core::run::sample::Frame,
+    b: u32,
+    r: f64,
+    dp: f64,
+) -> (f64, f64, f64) {
     let parts: Vec<_> = f.coarse.iter().filter(|p| p.group == b).collect();
     let n = parts.len() as f64;
-    let mean = |k: fn(&granmix_core::sample::ParticleRecord) -> [f32; 3]| {
+    let mean = |k: fn(&granmix_core::run::sample::ParticleRecord) -> [f32; 3]| {
         let mut m = [0.0f64; 2];
         for p in &parts {
             let v = k(p);
@@ -438,7 +443,7 @@ fn saturated_debris_flow_runs_to_rest() {
     }
     let (mut peak_ke, mut grains, mut water) = (0.0f64, 0.0f64, 0.0f64);
     let mut last = None;
-    let end = granmix_core::runner::run(
+    let end = granmix_core::run::runner::run(
         &mut sim,
         &loaded.scene.simulation,
         |_, s| {
@@ -459,7 +464,7 @@ fn saturated_debris_flow_runs_to_rest() {
         |_| {},
     );
     assert!(
-        !matches!(end, granmix_core::runner::RunEnd::Blowup(_)),
+        !matches!(end, granmix_core::run::runner::RunEnd::Blowup(_)),
         "{end:?}"
     );
     let last = last.unwrap();
@@ -569,7 +574,7 @@ shape = {{ type = "box", min = [0.0, 0.0], max = [0.1, 0.1] }}
 /// The mean velocities along x of the sand and of the water.
 fn stream_state(sim: &mut granmix_core::AnySimulation) -> (f64, f64) {
     let f = sim.frame();
-    let mean = |ps: &[granmix_core::sample::ParticleRecord]| {
+    let mean = |ps: &[granmix_core::run::sample::ParticleRecord]| {
         ps.iter().map(|p| p.velocity[0] as f64).sum::<f64>() / ps.len() as f64
     };
     (mean(&f.fine), mean(&f.water))

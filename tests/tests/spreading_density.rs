@@ -9,8 +9,8 @@
 //! `GranularBody_TotalMechanicalEnergy.xml`): Σ m (½ v² + g y) falls from 19.992 J/m to
 //! 13.7905 J/m at 0.80 s there.
 
-use granmix_core::runner::RunEnd;
-use granmix_core::simulation::Sample;
+use granmix_core::run::runner::RunEnd;
+use granmix_core::run::simulation::Sample;
 use granmix_tests::run;
 
 /// SPHinXsys's mechanical energy at 0.80 s (J/m), the last sample of its record.

@@ -1,6 +1,6 @@
 //! The stability guard stops a run with a diagnostic instead of producing NaNs.
 
-use granmix_core::runner::{self, RunEnd};
+use granmix_core::run::runner::{self, RunEnd};
 use granmix_core::AnySimulation;
 use granmix_tests::load;
 
@@ -51,7 +51,7 @@ fn non_finite_state_stops_with_diagnostic() {
             let known = ["velocity", "position", "density", "stress", "speed"];
             assert!(
                 known.contains(&b.quantity.as_str())
-                    || b.quantity == granmix_core::guard::DENSITY_CHANGE,
+                    || b.quantity == granmix_core::numerics::guard::DENSITY_CHANGE,
                 "{b}"
             )
         }

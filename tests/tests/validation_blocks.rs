@@ -4,8 +4,8 @@
 //! 0°) about when seed 000 reports it: arrival ≈ 0.25 s, landing ≈ 0.4–0.45 s (±0.02 s
 //! read off the figure, widened here by one coarse output interval).
 
-use granmix_core::observe::block_events;
-use granmix_core::simulation::Sample;
+use granmix_core::run::observe::block_events;
+use granmix_core::run::simulation::Sample;
 use granmix_tests::run_until;
 
 /// The first time block 2 lies on its side (β < 10°).

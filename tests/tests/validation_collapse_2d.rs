@@ -12,7 +12,7 @@ fn collapse_2d_runout_height_and_energy() {
         &["simulation.dp=0.004", "materials.0.friction_angle=30.0"],
     );
     assert!(
-        !matches!(end, granmix_core::runner::RunEnd::Blowup(_)),
+        !matches!(end, granmix_core::run::runner::RunEnd::Blowup(_)),
         "{end:?}"
     );
     let (l0, a) = (0.2, 0.5);

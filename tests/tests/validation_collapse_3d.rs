@@ -17,7 +17,7 @@ fn collapse(a: f64, per_radius: f64) -> f64 {
     let dp = format!("simulation.dp={}", r0 / per_radius);
     let (samples, end, _) = run("column_collapse_3d.toml", &[&dp, &h]);
     assert!(
-        !matches!(end, granmix_core::runner::RunEnd::Blowup(_)),
+        !matches!(end, granmix_core::run::runner::RunEnd::Blowup(_)),
         "{end:?}"
     );
     samples.last().unwrap().runout

@@ -14,7 +14,7 @@ fn geostatic_layer_stress_and_base_reaction() {
         &["simulation.dp=0.01", "simulation.end_time=1.0"],
     );
     assert!(
-        !matches!(end, granmix_core::runner::RunEnd::Blowup(_)),
+        !matches!(end, granmix_core::run::runner::RunEnd::Blowup(_)),
         "{end:?}"
     );
     let ke_max = |t0: f64, t1: f64| {

@@ -2,7 +2,7 @@
 //! s(t) = ½ g (sin θ − μ cos θ) t², v(t) = g (sin θ − μ cos θ) t within 1 %; no creep
 //! when μ ≥ tan θ.
 
-use granmix_core::simulation::Sample;
+use granmix_core::run::simulation::Sample;
 use granmix_tests::{rel, run};
 
 const THETA_DEG: f64 = 30.0;

@@ -10,13 +10,13 @@ fn rubber_rings_conserve_momentum_and_never_gain_energy() {
     // dp = 1 mm (4.4 k particles) instead of 0.5 mm
     let (samples, end, sim) = run("rubber_rings.toml", &["simulation.dp=0.001"]);
     assert!(
-        !matches!(end, granmix_core::runner::RunEnd::Blowup(_)),
+        !matches!(end, granmix_core::run::runner::RunEnd::Blowup(_)),
         "{end:?}"
     );
     let first = &samples[0];
     let ring_p = first.bodies[0].velocity[0].abs() * first.coarse_kinetic_energy
         / first.bodies[0].velocity[0].powi(2); // = M_ring |v| (both rings alike)
-    let energy = |s: &granmix_core::simulation::Sample| {
+    let energy = |s: &granmix_core::run::simulation::Sample| {
         s.coarse_kinetic_energy + s.strain_energy + s.contact_energy
     };
     let e0 = energy(first);

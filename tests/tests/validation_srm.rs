@@ -10,7 +10,7 @@
 //! at 6 s, 80 / 59 at the scene's 10 s). Stopping at 3.5 s keeps a 21 % gap (the test
 //! asks for 10 %) in 70 s; the 10 s deposits are `granmix run srm_slope.toml`'s.
 
-use granmix_core::runner::RunEnd;
+use granmix_core::run::runner::RunEnd;
 use granmix_tests::run;
 
 fn runout(mu_cf: f64) -> f64 {

@@ -124,7 +124,7 @@ fn standing_wave_keeps_its_energy_with_muscl() {
             .iter()
             .map(|s| (s.time, s.water.as_ref().unwrap().momentum[0]))
             .collect();
-        let o = granmix_core::oscillation::damped(&p).expect("an oscillation");
+        let o = granmix_core::run::oscillation::damped(&p).expect("an oscillation");
         if muscl {
             assert!(
                 rel(o.period, period) < 0.01,
@@ -358,7 +358,7 @@ fn lobovsky_levels_and_no_pulls() {
 
 /// No face of a tank reads a pull from the water at any sample: the water pushes the
 /// left face to −x, the right to +x, the bottom to −y, the top to +y.
-fn no_pulls(samples: &[granmix_core::sample::Sample]) {
+fn no_pulls(samples: &[granmix_core::run::sample::Sample]) {
     for s in samples {
         for b in &s.barriers {
             let (axis, sign) = match b.name.rsplit('.').next() {

@@ -3,7 +3,7 @@
 //! Body-level vectors are 3D in both dimensions (z = 0 in 2D, rotation about z only),
 //! so one rigid-body code serves 2D and 3D.
 
-use crate::math::Real;
+use crate::numerics::math::Real;
 use crate::scene::BodyModel;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 

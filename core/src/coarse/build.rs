@@ -4,10 +4,10 @@
 use super::body::Body;
 use super::material::SolidMaterial;
 use super::particles::CoarseParticles;
-use crate::build_error::BuildError;
 use crate::geometry::Shape;
-use crate::math::{from3, to3, Real, Vect};
-use crate::resolution::Resolution;
+use crate::numerics::math::{from3, to3, Real, Vect};
+use crate::scene::build_error::BuildError;
+use crate::scene::resolution::Resolution;
 use crate::scene::{spec_rotation, BodyModel, BodySpec, Scene};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 

@@ -1,6 +1,6 @@
 //! Derived constants of a coarse-grain solid (Neo-Hookean, Eqs. 39–40).
 
-use crate::math::Real;
+use crate::numerics::math::Real;
 use crate::scene::SolidSpec;
 
 /// One solid material.

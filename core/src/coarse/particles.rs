@@ -1,6 +1,6 @@
 //! Coarse-grain particle state: structure of arrays over all bodies.
 
-use crate::math::{Real, Vect};
+use crate::numerics::math::{Real, Vect};
 
 /// The particles of all coarse grains. Each body owns a contiguous range.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]

@@ -7,14 +7,14 @@
 //! particles, keeping their number, until they are evenly spaced and the outer layer
 //! lies half a spacing inside the surface everywhere.
 //!
-//! The sweeps are [`packing`](crate::packing)'s. Particles within the kernel support of
+//! The sweeps are [`packing`](crate::numerics::packing)'s. Particles within the kernel support of
 //! the surface also see the mirror images of their neighbours (and of themselves)
 //! across the surface, which stands in for the missing material outside, so a particle
 //! half a spacing inside is in balance.
 
 use crate::geometry::Shape;
-use crate::math::{Real, Vect};
-use crate::packing::{Packing, SWEEPS};
+use crate::numerics::math::{Real, Vect};
+use crate::numerics::packing::{Packing, SWEEPS};
 
 /// Bodies with fewer particles than this (2D, 3D) are left as lattices: with hardly
 /// any interior, relaxation would spread them over the surface and open gaps.

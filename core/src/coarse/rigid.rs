@@ -5,7 +5,7 @@
 
 use super::body::Body;
 use super::particles::CoarseParticles;
-use crate::math::{from3, to3, Real, Vect};
+use crate::numerics::math::{from3, to3, Real, Vect};
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// Half-step drift of the pose: x += Δ v, q ← exp(Δ ω) q.
@@ -103,9 +103,9 @@ shape = { type = "box", min = [0.0, 0.0, 0.0], max = [0.2, 0.1, 0.05] }
 angular_velocity = [1.0, 0.2, 3.0]
 "#;
         let scene = load_scene_str(text, "t.toml", &[]).unwrap().scene;
-        let res = crate::resolution::Resolution {
+        let res = crate::scene::resolution::Resolution {
             trim: 1.0,
-            ..crate::resolution::Resolution::of::<3>(&scene)
+            ..crate::scene::resolution::Resolution::of::<3>(&scene)
         };
         let mut c = Coarse::<3>::build(&scene, &res).unwrap();
         let b = &mut c.bodies[0];

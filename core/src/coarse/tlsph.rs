@@ -7,8 +7,8 @@
 use super::body::Body;
 use super::material::SolidMaterial;
 use super::particles::CoarseParticles;
-use crate::kernel::WendlandC2;
-use crate::math::{Real, Vect};
+use crate::numerics::kernel::WendlandC2;
+use crate::numerics::math::{Real, Vect};
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 

@@ -6,7 +6,7 @@
 //! principal stresses σ' > 0 (Eq. 30 is written for the σ/ρ² form).
 //! 3D: the artificial-pressure equivalent, R = −ε max(I1/3, 0) I.
 
-use crate::math::{Real, Sym};
+use crate::numerics::math::{Real, Sym};
 
 /// Artificial stress R_i of one particle.
 #[inline]

@@ -23,9 +23,9 @@ use super::material::FineMaterial;
 use super::pair_sums::{ContinuitySums, PairSums};
 use super::plasticity::constitutive_step;
 use super::source::Source;
-use crate::kernel::WendlandC2;
-use crate::math::{Real, Sym, Vect};
-use crate::periodic::Wrap;
+use crate::numerics::kernel::WendlandC2;
+use crate::numerics::math::{Real, Sym, Vect};
+use crate::numerics::periodic::Wrap;
 use crate::scene::ContinuityJump;
 use nalgebra::{Matrix3, SMatrix};
 

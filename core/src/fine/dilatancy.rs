@@ -18,7 +18,7 @@
 //! γ̇ = √(2 ė:ė), ė the deviatoric strain rate, as in [`mu_i`](super::mu_i). Where p'
 //! ≤ 0 (a liquefied or stretched soil) I_m → ∞: φ_eq → 0 and the friction takes μ_2.
 
-use crate::math::Real;
+use crate::numerics::math::Real;
 
 /// Trulsson et al.'s (2012) weight of I² against I_v in I_m = I_v + α I².
 pub const TRULSSON_ALPHA: Real = 0.635;

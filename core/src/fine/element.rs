@@ -9,7 +9,7 @@
 
 use super::material::FineMaterial;
 use super::plasticity::{constitutive_step, StressUpdate};
-use crate::math::{Real, Sym};
+use crate::numerics::math::{Real, Sym};
 use nalgebra::Matrix3;
 
 /// A material point: its stress, accumulated plastic strain ε_p and density.

@@ -8,7 +8,7 @@
 //! with φ in radians. ε_p accumulates √(2/3 Δe_p:Δe_p) of the deviatoric plastic strain
 //! increments (seed 004 leaves it open; `plasticity::update_stress`).
 
-use crate::math::Real;
+use crate::numerics::math::Real;
 use crate::scene::HardeningSpec;
 
 /// Eq. (43)'s constants, angles in radians.

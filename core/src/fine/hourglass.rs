@@ -41,7 +41,7 @@
 //! spring, while a deposit at rest ends up carrying its load by its stress alone, not
 //! by a numerical spring that plastic flow releases at some later moment.
 
-use crate::math::{Real, Sym, Vect};
+use crate::numerics::math::{Real, Sym, Vect};
 use nalgebra::SMatrix;
 
 /// Share e of the accumulated penalty kept through a stress update that ended at

@@ -1,6 +1,6 @@
 //! The fine–fine pair terms of the momentum and continuity sweeps on cluster pairs
-//! ([`clusters`](crate::pairs::clusters)), a cluster's four particles against one neighbour
-//! at a time on [`Quad`] lanes ([`cluster_pass`](crate::pairs::cluster_pass); issue 45, docs/method.md
+//! ([`clusters`](crate::numerics::pairs::clusters)), a cluster's four particles against one neighbour
+//! at a time on [`Quad`] lanes ([`cluster_pass`](crate::numerics::pairs::cluster_pass); issue 45, docs/method.md
 //! §Throughput).
 //!
 //! The momentum pass takes seed 000 Eqs. (16), (18), (20), (23) and (27) (the Riemann
@@ -13,12 +13,12 @@
 //! forms of Eqs. (19)–(20), others with the general ones.
 //!
 //! Each pair is evaluated once and added to both particles, and the sums run over the
-//! cluster slabs in the two-phase schedule ([`slabs`](crate::pairs::slabs)), so they do not
+//! cluster slabs in the two-phase schedule ([`slabs`](crate::numerics::pairs::slabs)), so they do not
 //! depend on the thread count; the two instruction sets agree bitwise ([`quad`]). The
 //! direct evaluation of the equations in `interactions::symmetric_tests` is their
 //! reference.
 //!
-//! [`quad`]: crate::pairs::quad
+//! [`quad`]: crate::numerics::pairs::quad
 
 // the terms loop over components of several lane arrays at once (x, v, σˢ, L, sums)
 #![allow(clippy::needless_range_loop)]
@@ -28,16 +28,16 @@ use super::momentum::{ArtificialStress, MomentumParams};
 use super::pair_sums::PairSums;
 use super::source::Source;
 use super::state::FineParticles;
-use crate::kernel::WendlandC2;
-use crate::math::{Real, Sym, Vect};
-use crate::pairs::cluster_pass::{
+use crate::numerics::kernel::WendlandC2;
+use crate::numerics::math::{Real, Sym, Vect};
+use crate::numerics::pairs::cluster_pass::{
     at, each_lane, gather, geometry, lane_indices, run_pass, separation, ClusterPass, Geometry,
     Window, FAR,
 };
-use crate::pairs::clusters::ClusterPairs;
-use crate::pairs::quad::{Lanes, Quad, WIDTH};
-use crate::periodic::Wrap;
-use crate::riemann::minmod_jump;
+use crate::numerics::pairs::clusters::ClusterPairs;
+use crate::numerics::pairs::quad::{Lanes, Quad, WIDTH};
+use crate::numerics::periodic::Wrap;
+use crate::numerics::riemann::minmod_jump;
 use rayon::prelude::*;
 
 /// The fine–fine pair laws' executor for one step: the lane buffers (the state the
@@ -46,7 +46,7 @@ use rayon::prelude::*;
 pub type FinePairs<'a, const D: usize> = (&'a mut FineLanes<D>, &'a ClusterPairs, Lanes);
 
 /// Components of σˢ the terms read: 2D in-plane xx, yy, the out-of-plane zz and xy;
-/// 3D all six ([`Sym::axpy_in`](crate::math::Sym::axpy_in)).
+/// 3D all six ([`Sym::axpy_in`](crate::numerics::math::Sym::axpy_in)).
 const fn dev_parts(d: usize) -> usize {
     if d == 2 {
         4
@@ -60,7 +60,7 @@ const fn dev_parts(d: usize) -> usize {
 pub struct Rec<const D: usize> {
     x: [Real; D],
     v: [Real; D],
-    /// σˢ, in [`Sym`](crate::math::Sym)'s order.
+    /// σˢ, in [`Sym`](crate::numerics::math::Sym)'s order.
     dev: [Real; 6],
     p: Real,
     vol: Real,

@@ -6,7 +6,7 @@ use super::hardening::Hardening;
 use super::mu_i::MuI;
 use super::pores::Pores;
 use super::yield_surface::{fit, Yield};
-use crate::math::{Real, Sym};
+use crate::numerics::math::{Real, Sym};
 use crate::scene::{MaterialSpec, YieldSurface};
 use nalgebra::Matrix3;
 

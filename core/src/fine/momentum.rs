@@ -19,10 +19,10 @@
 use super::material::FineMaterial;
 use super::pair_sums::MomentumSums;
 use super::state::FineParticles;
-use crate::kernel::WendlandC2;
-use crate::math::{Real, Vect};
-use crate::periodic::Wrap;
-use crate::riemann::Riemann;
+use crate::numerics::kernel::WendlandC2;
+use crate::numerics::math::{Real, Vect};
+use crate::numerics::periodic::Wrap;
+use crate::numerics::riemann::Riemann;
 use nalgebra::SVector;
 
 /// Artificial-stress settings (cohesive materials only).

@@ -10,7 +10,7 @@
 //! needs no regularisation: at p → 0 (and in tension, p ≤ 0) I → ∞ and μ → μ_2; at
 //! γ̇ → 0 μ → μ_s, the rate-independent cone; at p = γ̇ = 0 μ = μ_s.
 
-use crate::math::Real;
+use crate::numerics::math::Real;
 use crate::scene::MuISpec;
 
 /// μ(I)'s constants.

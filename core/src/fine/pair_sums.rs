@@ -7,7 +7,7 @@
 //! distance and kernel gradient at hand. The continuity sweep's pair pass then adds
 //! only the terms in v_{n+1}.
 
-use crate::math::{Real, Sym, Vect};
+use crate::numerics::math::{Real, Sym, Vect};
 use nalgebra::SMatrix;
 
 /// Both sweeps' pair sums of one particle.

@@ -8,7 +8,7 @@
 
 use super::material::FineMaterial;
 use super::yield_surface::Yield;
-use crate::math::{Real, Sym};
+use crate::numerics::math::{Real, Sym};
 use nalgebra::Matrix3;
 
 /// Result of one constitutive update.

@@ -2,7 +2,7 @@
 //! pore-pressure forces of seed 001 Eqs. (8)–(10) (applied in
 //! [`interactions::soil_water`](crate::interactions::soil_water)).
 
-use crate::math::Real;
+use crate::numerics::math::Real;
 use crate::scene::{MaterialSpec, PHI_MAX};
 
 /// Porosity and permeability of one soil material.

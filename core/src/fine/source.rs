@@ -6,8 +6,8 @@
 
 use super::material::{DensityFloor, FineMaterial};
 use super::state::FineParticles;
-use crate::math::{Real, Sym};
-use crate::neighbors::CHUNK;
+use crate::numerics::math::{Real, Sym};
+use crate::numerics::neighbors::CHUNK;
 use rayon::prelude::*;
 
 /// Neighbour-side view of a fine particle for one step.
@@ -29,7 +29,7 @@ pub struct Source {
 
 impl Source {
     /// 1/(2 z) and 1/c for sound speed `c`: the pair reciprocals when both particles
-    /// share a material ([`pair_reciprocals`](crate::riemann::pair_reciprocals)).
+    /// share a material ([`pair_reciprocals`](crate::numerics::riemann::pair_reciprocals)).
     /// Taken once per particle in the sweeps rather than stored, so that a record is
     /// 80 bytes.
     #[inline(always)]

@@ -1,7 +1,7 @@
 //! Fine-grain particle state: structure of arrays.
 
-use crate::math::{Real, Sym, Vect};
-use crate::permute::{cycle_apply, PermuteScratch};
+use crate::numerics::math::{Real, Sym, Vect};
+use crate::numerics::permute::{cycle_apply, PermuteScratch};
 use nalgebra::{SMatrix, SVector};
 
 /// Updated-Lagrangian SPH particles of the fine grains.

@@ -2,7 +2,7 @@
 //! (stress positive in tension, I1 = −3p), and the per-particle yield constants the
 //! stress update takes.
 
-use crate::math::Real;
+use crate::numerics::math::Real;
 use crate::scene::YieldSurface;
 
 /// The constants of one particle's yield surface and plastic potential for one step:

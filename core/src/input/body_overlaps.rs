@@ -8,7 +8,7 @@
 //! overlap. Bodies only touching a wall (resting on a floor) pass.
 
 use crate::geometry::{tangent_basis, Shape};
-use crate::math::{from3, to3, Real, Vect};
+use crate::numerics::math::{from3, to3, Real, Vect};
 use crate::scene::{spec_rotation, BodySpec, ContainerSpec, KeyError, Scene};
 
 /// Sample points per axis over a body's bounding ball.

@@ -13,13 +13,13 @@ mod water_start;
 
 pub use run_length::{MAX_OUTPUTS, MAX_STEPS};
 
-use crate::assets::Assets;
 use crate::estimate;
-use crate::resolution::Resolution;
+use crate::scene::resolution::Resolution;
 use crate::scene::{
     apply_overrides, attribute, parse, reattribute, validate, KeyError, Scene, SceneError,
     ShapeSpec,
 };
+use crate::shapes::assets::Assets;
 use std::path::Path;
 
 /// A parsed, validated scene together with the text it came from.
@@ -45,17 +45,18 @@ impl LoadedScene {
 }
 
 /// Read and validate a scene file (a regular file of at most
-/// [`MAX_SCENE_BYTES`](crate::capped_read::MAX_SCENE_BYTES)), applying `key.path=value`
+/// [`MAX_SCENE_BYTES`](crate::numerics::capped_read::MAX_SCENE_BYTES)), applying `key.path=value`
 /// overrides first.
 pub fn load_scene_file(path: &Path, overrides: &[String]) -> Result<LoadedScene, SceneError> {
     let file = path.display().to_string();
-    let cap = crate::capped_read::MAX_SCENE_BYTES;
-    let text = crate::capped_read::read_capped_text(path, cap).map_err(|e| SceneError {
-        file: file.clone(),
-        path: String::new(),
-        line: None,
-        message: format!("cannot read scene file: {e}"),
-    })?;
+    let cap = crate::numerics::capped_read::MAX_SCENE_BYTES;
+    let text =
+        crate::numerics::capped_read::read_capped_text(path, cap).map_err(|e| SceneError {
+            file: file.clone(),
+            path: String::new(),
+            line: None,
+            message: format!("cannot read scene file: {e}"),
+        })?;
     let dir = path.parent().unwrap_or(Path::new("."));
     load_scene_in(&text, &file, overrides, dir)
 }

@@ -4,13 +4,13 @@
 //! everything downstream sees plain bodies.
 
 use crate::geometry::Shape;
-use crate::math::Vect;
+use crate::numerics::math::Vect;
 use crate::scene::{
     validate_shape, BodySpec, KeyError, RockFillReport, RockFillSpec, Scene, ShapeSpec,
 };
 use std::f64::consts::PI;
 
-use crate::rng::Rng;
+use crate::numerics::rng::Rng;
 
 type Fail = KeyError;
 

@@ -5,10 +5,10 @@
 //! too small for the implicit seepage drag to resolve. Each of these would
 //! otherwise pass `check` and then never finish, or stop the run at its first step.
 
+use crate::estimate::flow_speed::WaterSpeed;
 use crate::estimate::{rest_dt_bound, RestDt};
-use crate::flow_speed::WaterSpeed;
-use crate::math::Real;
-use crate::resolution::Resolution;
+use crate::numerics::math::Real;
+use crate::scene::resolution::Resolution;
 use crate::scene::{KeyError, Scene};
 
 /// Most steps a run may take: thirty years at a million steps a second. Real scenes
@@ -84,7 +84,7 @@ pub fn check_run_length(
     }
     if let (true, Some(w)) = (
         dt.is_finite(),
-        water.and(crate::flow_speed::water_spec(scene)),
+        water.and(crate::estimate::flow_speed::water_spec(scene)),
     ) {
         for (i, m) in scene.materials.iter().enumerate() {
             let Some(p) = crate::fine::pores::Pores::of(m) else {

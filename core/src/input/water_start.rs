@@ -5,11 +5,11 @@
 //! scene, and an outflow that removes a whole water region at t = 0. The build repeats
 //! the first checks on its particles.
 //!
-//! [`flow_speed::choose`]: crate::flow_speed::choose
+//! [`flow_speed::choose`]: crate::estimate::flow_speed::choose
 
-use crate::flow_speed::{bounds, water_speed, WaterSpeed};
-use crate::math::Real;
-use crate::resolution::Resolution;
+use crate::estimate::flow_speed::{bounds, water_speed, WaterSpeed};
+use crate::numerics::math::Real;
+use crate::scene::resolution::Resolution;
 use crate::scene::{KeyError, Scene, ShapeSpec};
 
 /// Refuse a water start that the build or the first step would refuse; the water's

@@ -2,9 +2,9 @@
 //! summed per chunk into the load slot of its barrier panel (seed 000 Eq. (50) read
 //! for walls: the wall receives −m_i a_iw).
 
-use crate::load::Load;
-use crate::math::{to3, Real, Vect};
-use crate::walls::Walls;
+use crate::geometry::walls::Walls;
+use crate::numerics::load::Load;
+use crate::numerics::math::{to3, Real, Vect};
 
 /// Add the reaction −m_i a of one fine–wall pair on wall particle `w` to the slot of
 /// its barrier panel in `slots` (nothing when `w` belongs to no barrier); the moment is

@@ -9,10 +9,10 @@
 //! it; the force is evaluated at every coarse sub-step.
 
 use crate::coarse::{Body, CoarseParticles, SolidMaterial};
-use crate::load::Load;
-use crate::math::{to3, Real, Vect};
+use crate::geometry::walls::Walls;
+use crate::numerics::load::Load;
+use crate::numerics::math::{to3, Real, Vect};
 use crate::scene::{ContactModel, ContactSpec};
-use crate::walls::Walls;
 
 /// The contact law of a scene.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]

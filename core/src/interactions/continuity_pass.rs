@@ -14,8 +14,8 @@ use crate::fine::material::FineMaterial;
 use crate::fine::pair_sums::ContinuitySums;
 use crate::fine::source::Source;
 use crate::fine::state::FineParticles;
-use crate::neighbors::{NeighborLists, CHUNK};
-use crate::walls::Walls;
+use crate::geometry::walls::Walls;
+use crate::numerics::neighbors::{NeighborLists, CHUNK};
 use rayon::prelude::*;
 
 /// Runs over the fine–fine, fine–wall and fine–coarse relations.

@@ -20,9 +20,9 @@
 //! ([`continuity`]).
 
 use crate::coarse::{Body, CoarseParticles, SolidMaterial};
-use crate::kernel::WendlandC2;
-use crate::math::{sub_outer, Real, Sym, Vect};
-use crate::riemann::Riemann;
+use crate::numerics::kernel::WendlandC2;
+use crate::numerics::math::{sub_outer, Real, Sym, Vect};
+use crate::numerics::riemann::Riemann;
 use nalgebra::SMatrix;
 use rayon::prelude::*;
 
@@ -76,7 +76,7 @@ pub fn pack<const D: usize>(
             acc: if b.fixed {
                 Vect::<D>::zeros()
             } else {
-                crate::math::from3::<D>(&b.force) / b.mass + gravity
+                crate::numerics::math::from3::<D>(&b.force) / b.mass + gravity
             },
         }
     }));

@@ -12,12 +12,12 @@
 use super::wall_contact;
 use crate::fine::material::FineMaterial;
 use crate::fine::source::Source;
-use crate::kernel::WendlandC2;
-use crate::math::{sub_outer, Real, Vect};
-use crate::periodic::{Separation, Wrap};
-use crate::riemann::Riemann;
+use crate::geometry::walls::Walls;
+use crate::numerics::kernel::WendlandC2;
+use crate::numerics::math::{sub_outer, Real, Vect};
+use crate::numerics::periodic::{Separation, Wrap};
+use crate::numerics::riemann::Riemann;
 use crate::scene::WallStress;
-use crate::walls::Walls;
 use nalgebra::SMatrix;
 
 /// The fine-grain–wall law of one step.
@@ -358,10 +358,10 @@ impl WallStrength {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::walls::{WallKind, WallObject};
     use crate::interactions::symmetric_tests::material;
-    use crate::math::Sym;
-    use crate::riemann::Riemann;
-    use crate::walls::{WallKind, WallObject};
+    use crate::numerics::math::Sym;
+    use crate::numerics::riemann::Riemann;
 
     type V = Vect<2>;
 

@@ -11,9 +11,9 @@
 //! bodies closer than two spacings.
 
 use crate::coarse::{Body, CoarseParticles};
-use crate::load::Load;
-use crate::math::{from3, to3, Real, Vect};
-use crate::walls::Walls;
+use crate::geometry::walls::Walls;
+use crate::numerics::load::Load;
+use crate::numerics::math::{from3, to3, Real, Vect};
 use nalgebra::Vector3;
 
 /// The gap partners of the wet bodies at the start of a fine step.

@@ -16,10 +16,10 @@ use crate::fine::momentum::{integrate, pair_acceleration, MomentumParams};
 use crate::fine::pair_sums::{MomentumSums, PairSums};
 use crate::fine::source::Source;
 use crate::fine::state::FineParticles;
-use crate::load::Load;
-use crate::math::{Real, Sym, Vect};
-use crate::neighbors::{NeighborLists, CHUNK};
-use crate::walls::Walls;
+use crate::geometry::walls::Walls;
+use crate::numerics::load::Load;
+use crate::numerics::math::{Real, Sym, Vect};
+use crate::numerics::neighbors::{NeighborLists, CHUNK};
 use nalgebra::SVector;
 use rayon::prelude::*;
 

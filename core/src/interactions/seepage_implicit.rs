@@ -24,7 +24,7 @@
 //! J⁰ included): the explicit step is K ≈ M. Each row sums to m_j + Δt Σ_i c_ij m_i
 //! / (m_i + Δt a_i): where the drag locks the families together, a soil particle moves
 //! with the water in its pores. K is solved by the conjugate gradient with the
-//! Jacobi preconditioner ([`sparse_cg`](crate::sparse_cg)'s algorithm, over the D
+//! Jacobi preconditioner ([`sparse_cg`](crate::numerics::sparse_cg)'s algorithm, over the D
 //! components at once), its sums in a fixed order (the same result at any thread
 //! count). The step is then closed with the pairs' impulses from the solution: the
 //! soil receives Σ_i (J_ij − J⁰_ij) and the water the opposite, so that momentum is
@@ -33,8 +33,8 @@
 //! [`Seepage`]: super::soil_water::Seepage
 
 use super::soil_water::SoilPoint;
-use crate::math::{Real, Vect};
-use crate::neighbors::CHUNK;
+use crate::numerics::math::{Real, Vect};
+use crate::numerics::neighbors::CHUNK;
 use rayon::prelude::*;
 
 /// The relative residual ‖K δv − R‖ / ‖R‖ (per component) the solve stops at.

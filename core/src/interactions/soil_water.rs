@@ -36,9 +36,9 @@
 //! [`Pores`]: crate::fine::pores::Pores
 
 use crate::fine::material::FineMaterial;
-use crate::kernel::WendlandC2;
-use crate::math::{Real, Vect};
-use crate::neighbors::CellGrid;
+use crate::numerics::kernel::WendlandC2;
+use crate::numerics::math::{Real, Vect};
+use crate::numerics::neighbors::CellGrid;
 use nalgebra::SMatrix;
 
 /// A soil particle as the water sees it over a step: at the middle of the step.

@@ -19,15 +19,15 @@ use crate::fine::pair_sums::PairSums;
 use crate::fine::plasticity::constitutive_step;
 use crate::fine::source::{pack, Source};
 use crate::fine::state::FineParticles;
-use crate::kernel::WendlandC2;
-use crate::load::Load;
-use crate::math::{sub_outer, Real, Sym, Vect};
-use crate::neighbors::{Binned, CellGrid, NeighborLists};
-use crate::pairs::clusters::ClusterPairs;
-use crate::pairs::quad::Lanes;
-use crate::riemann::{pair_reciprocals, Riemann, Side};
+use crate::geometry::walls::Walls;
+use crate::numerics::kernel::WendlandC2;
+use crate::numerics::load::Load;
+use crate::numerics::math::{sub_outer, Real, Sym, Vect};
+use crate::numerics::neighbors::{Binned, CellGrid, NeighborLists};
+use crate::numerics::pairs::clusters::ClusterPairs;
+use crate::numerics::pairs::quad::Lanes;
+use crate::numerics::riemann::{pair_reciprocals, Riemann, Side};
 use crate::scene::{ContinuityJump, WallStress};
-use crate::walls::Walls;
 use nalgebra::{Matrix3, SMatrix, SVector};
 
 struct Rng(u64);
@@ -149,7 +149,7 @@ fn cloud<const D: usize>(side: usize, two_soils: bool) -> Cloud<D> {
             grid: &empty,
         },
         radius,
-        &crate::periodic::Open,
+        &crate::numerics::periodic::Open,
     );
     Cloud {
         p,

@@ -17,7 +17,7 @@
 //! soil is held back by at most σ_t per unit area.
 
 use crate::fine::material::FineMaterial;
-use crate::math::{Real, Sym, Vect};
+use crate::numerics::math::{Real, Sym, Vect};
 
 /// Tensile strength of the interface: the apex stress k_c/(3α_φ) of the
 /// Drucker–Prager cone (Eqs. 4, 6); 0 without cohesion, unbounded for a cohesive soil

@@ -12,11 +12,11 @@
 //! family reaches (the inner layers, walls away from the flow) gets 0.
 
 use super::{fine_wall, water_wall};
-use crate::kernel::WendlandC2;
-use crate::math::{Real, Vect};
-use crate::neighbors::CellGrid;
-use crate::periodic::Separation;
-use crate::walls::Walls;
+use crate::geometry::walls::Walls;
+use crate::numerics::kernel::WendlandC2;
+use crate::numerics::math::{Real, Vect};
+use crate::numerics::neighbors::CellGrid;
+use crate::numerics::periodic::Separation;
 
 /// One family's particles as the wall pressure reads them.
 pub struct Family<'a, const D: usize> {
@@ -87,7 +87,7 @@ pub fn shepard<const D: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::periodic::Open;
+    use crate::numerics::periodic::Open;
 
     /// A resting column over a floor: the fine law adds ρ g (y_i − y_w) to each P_i
     /// and the water law the same, so a hydrostatic P_i = ρ g (H − y_i) extrapolates
@@ -107,7 +107,7 @@ mod tests {
                 walls.object.push(0);
             }
         }
-        walls.objects.push(crate::walls::WallObject {
+        walls.objects.push(crate::geometry::walls::WallObject {
             name: "floor".into(),
             kind: Default::default(),
             velocity: Vect::<2>::zeros(),

@@ -45,10 +45,10 @@
 
 use super::fine_coarse::CoarseSource;
 use crate::coarse::body::Body;
-use crate::math::{from3, Real, Vect};
-use crate::neighbors::{NeighborLists, CHUNK};
-use crate::periodic::Separation;
-use crate::walls::Walls;
+use crate::geometry::walls::Walls;
+use crate::numerics::math::{from3, Real, Vect};
+use crate::numerics::neighbors::{NeighborLists, CHUNK};
+use crate::numerics::periodic::Separation;
 use crate::water::momentum::WaterParams;
 use crate::water::source::WaterSource;
 use rayon::prelude::*;

@@ -11,7 +11,7 @@
 
 use super::fine_coarse::CoarseSource;
 use super::water_wall::{boundary_pair, wall_pressure};
-use crate::math::{Real, Vect};
+use crate::numerics::math::{Real, Vect};
 use crate::water::correction::{self, Corr};
 use crate::water::momentum::{p_star, WaterParams};
 

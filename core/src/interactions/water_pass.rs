@@ -24,12 +24,12 @@ pub struct WaterCoarse<'a, const D: usize> {
     /// coarse particle, `(coarse particle, force)`.
     pub shares: &'a mut [Vec<(u32, Vect<D>)>],
 }
-use crate::load::Load;
-use crate::math::{Real, Vect};
-use crate::neighbors::{NeighborLists, CHUNK};
-use crate::pairs::clusters::ClusterPairs;
-use crate::pairs::quad::Lanes;
-use crate::walls::Walls;
+use crate::geometry::walls::Walls;
+use crate::numerics::load::Load;
+use crate::numerics::math::{Real, Vect};
+use crate::numerics::neighbors::{NeighborLists, CHUNK};
+use crate::numerics::pairs::clusters::ClusterPairs;
+use crate::numerics::pairs::quad::Lanes;
 use crate::water::correction::{self, Corr};
 use crate::water::lanes::WaterLanes;
 use crate::water::momentum::{WaterParams, WaterSums};

@@ -37,11 +37,11 @@
 
 use super::fine_coarse::CoarseSource;
 use super::water_wall::boundary_pair;
-use crate::math::{Real, Vect};
-use crate::neighbors::{NeighborLists, CHUNK};
-use crate::periodic::Separation;
-use crate::sparse_cg::{conjugate_gradient, Symmetric};
-use crate::walls::Walls;
+use crate::geometry::walls::Walls;
+use crate::numerics::math::{Real, Vect};
+use crate::numerics::neighbors::{NeighborLists, CHUNK};
+use crate::numerics::periodic::Separation;
+use crate::numerics::sparse_cg::{conjugate_gradient, Symmetric};
 use crate::water::momentum::WaterParams;
 use crate::water::state::WaterParticles;
 

@@ -22,9 +22,9 @@
 //! Adami, Hu & Adams (2012) balances it.
 
 use super::fine_wall::normal;
-use crate::math::{Real, Vect};
-use crate::periodic::Separation;
-use crate::walls::Walls;
+use crate::geometry::walls::Walls;
+use crate::numerics::math::{Real, Vect};
+use crate::numerics::periodic::Separation;
 use crate::water::correction::{self, Corr};
 use crate::water::momentum::{p_star, WaterParams};
 

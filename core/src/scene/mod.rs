@@ -1,11 +1,13 @@
 //! Scene files: schema, text with overrides, validation. Reading a scene with the
 //! files its shapes name is [`input`](crate::input)'s work.
 
+pub mod build_error;
 mod error;
 mod names_check;
 mod periodic_check;
 mod polygon_check;
 mod pores_check;
+pub mod resolution;
 mod soil_model;
 mod soil_model_check;
 mod text;

@@ -1,6 +1,6 @@
 //! Checks on `simulation.periodic`, after the rest of the scene (`scene::validate`):
 //! the axis, a period of whole particle spacings and at least three list radii (the
-//! wrapped cell stencil of [`neighbors`](crate::neighbors) needs three distinct cells
+//! wrapped cell stencil of [`neighbors`](crate::numerics::neighbors) needs three distinct cells
 //! across it), only water inside, and containers open across the axis.
 
 use super::validate::{fail, Check};

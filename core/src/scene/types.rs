@@ -2,7 +2,7 @@
 //! Documented for users in `docs/scenes.md`; keep the two in step.
 
 use super::soil_model::{DilatancySpec, HardeningSpec, MuISpec, YieldSurface};
-use crate::math::Real;
+use crate::numerics::math::Real;
 use nalgebra::{Rotation3, Vector3};
 use serde::Deserialize;
 
@@ -45,7 +45,7 @@ pub struct Scene {
     pub observe: ObserveSpec,
     /// Meshes and terrain grids read from files named by shapes (filled by the loader).
     #[serde(skip)]
-    pub assets: crate::assets::Assets,
+    pub assets: crate::shapes::assets::Assets,
     /// What each `[[rock_fills]]` entry placed (filled by the loader).
     #[serde(skip)]
     pub rock_reports: Vec<RockFillReport>,

@@ -3,10 +3,10 @@
 //! with their contact loads on barriers.
 
 use super::Stepper;
-use crate::guard::Blowup;
 use crate::interactions::fine_coarse;
-use crate::math::Real;
-use crate::timers::Stage;
+use crate::numerics::guard::Blowup;
+use crate::numerics::math::Real;
+use crate::numerics::timers::Stage;
 use crate::world::World;
 
 impl<const D: usize> Stepper<D> {

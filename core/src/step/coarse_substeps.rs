@@ -8,12 +8,12 @@ use crate::coarse::build::Coarse;
 use crate::coarse::rigid;
 use crate::coarse::tlsph::Tlsph;
 use crate::coarse::{Body, CoarseParticles};
-use crate::guard::Blowup;
+use crate::geometry::walls::Walls;
 use crate::interactions::contact::{ContactLaw, Contacts};
 use crate::interactions::gap_water::GapWater;
-use crate::load::Load;
-use crate::math::{from3, to3, Real, Vect};
-use crate::walls::Walls;
+use crate::numerics::guard::Blowup;
+use crate::numerics::load::Load;
+use crate::numerics::math::{from3, to3, Real, Vect};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 /// Sub-stepping state and scratch of the coarse grains.
@@ -264,7 +264,7 @@ impl<const D: usize> CoarseStepper<D> {
                     time,
                     particle: (i - b.start) as u32,
                     body: Some(b.name.clone()),
-                    family: crate::guard::Family::Coarse,
+                    family: crate::numerics::guard::Family::Coarse,
                     position: p.pos[i].iter().copied().collect(),
                     quantity: q.to_string(),
                     value: v,

@@ -8,14 +8,14 @@
 use super::relations::{CoarseRelation, InnerRelation, Relation, RelationStats, WallRelation};
 use crate::fine::material::DensityFloor;
 use crate::fine::state::FineParticles;
-use crate::guard::{check, Blowup, ChunkFailure, Family};
+use crate::geometry::walls::Walls;
 use crate::interactions::fine_coarse::CoarseSource;
-use crate::load::Load;
-use crate::math::{Real, Vect};
-use crate::neighbors::{CellGrid, NeighborLists, CHUNK};
-use crate::periodic::Wrap;
-use crate::permute::PermuteScratch;
-use crate::walls::Walls;
+use crate::numerics::guard::{check, Blowup, ChunkFailure, Family};
+use crate::numerics::load::Load;
+use crate::numerics::math::{Real, Vect};
+use crate::numerics::neighbors::{CellGrid, NeighborLists, CHUNK};
+use crate::numerics::periodic::Wrap;
+use crate::numerics::permute::PermuteScratch;
 use crate::water::state::WaterParticles;
 use rayon::prelude::*;
 
@@ -233,7 +233,7 @@ impl<const D: usize> FamilyLists<D> {
     /// The pass's per-chunk loads summed into the family's panel and barrier loads.
     pub fn sum_loads(&mut self, walls: &Walls<D>) {
         let nbs = walls.load_slots().max(1);
-        crate::panels::sum_slots(
+        crate::geometry::panels::sum_slots(
             walls,
             &self.chunk_loads,
             nbs,
@@ -294,7 +294,7 @@ impl<const D: usize> FamilyLists<D> {
         at: (u64, Real),
         max_speed: Real,
     ) -> Result<Real, Blowup> {
-        let (vmax2, disp2) = crate::guard::reduce(&self.failures).map_err(|f| {
+        let (vmax2, disp2) = crate::numerics::guard::reduce(&self.failures).map_err(|f| {
             let x = pos[f.0].iter().copied().collect();
             Blowup::of_particle(at, family, ids[f.0], x, f, max_speed)
         })?;

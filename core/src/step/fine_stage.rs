@@ -15,18 +15,18 @@ use crate::fine::material::{uniform_acoustics, DensityFloor};
 use crate::fine::momentum::{ArtificialStress, MomentumParams};
 use crate::fine::pair_sums::PairSums;
 use crate::fine::source::{drift_and_pack, pack, Source};
-use crate::guard::{Blowup, Family};
 use crate::interactions::continuity_pass::continuity_sweep;
 use crate::interactions::fine_coarse::{self, CoarseSide, CoarseSource, Coupling};
 use crate::interactions::fine_wall::WallLaw;
 use crate::interactions::momentum_pass::momentum_sweep;
-use crate::kernel::WendlandC2;
-use crate::math::{Real, Sym, Vect};
-use crate::neighbors::CellGrid;
-use crate::pairs::clusters::ClusterPairs;
-use crate::pairs::quad::Lanes;
-use crate::riemann::Riemann;
-use crate::timers::{Stage, StageTimers};
+use crate::numerics::guard::{Blowup, Family};
+use crate::numerics::kernel::WendlandC2;
+use crate::numerics::math::{Real, Sym, Vect};
+use crate::numerics::neighbors::CellGrid;
+use crate::numerics::pairs::clusters::ClusterPairs;
+use crate::numerics::pairs::quad::Lanes;
+use crate::numerics::riemann::Riemann;
+use crate::numerics::timers::{Stage, StageTimers};
 use crate::world::{geostatic_tensor, World};
 use rayon::prelude::*;
 
@@ -394,7 +394,7 @@ fn continuity_params<'a, const D: usize>(
 /// lists, with v_{n+1}.
 struct ContinuitySweep<'a, const D: usize> {
     src: &'a [Source],
-    lists: &'a crate::neighbors::NeighborLists,
+    lists: &'a crate::numerics::neighbors::NeighborLists,
     cprm: &'a ContinuityParams<'a, D>,
     csrc: &'a [CoarseSource<D>],
 }

@@ -3,8 +3,8 @@
 //! `Simulation::advance_to` of the API and the FMU's `fmi2DoStep` all land through it.
 
 use super::params::StepStats;
-use crate::guard::Blowup;
-use crate::math::Real;
+use crate::numerics::guard::Blowup;
+use crate::numerics::math::Real;
 
 /// A simulation that takes steps of at most a given length.
 pub trait Stepping {

@@ -2,12 +2,12 @@
 //! assembled from stages in their own files (drift and sweeps, neighbours, finalize
 //! and guard, coarse stages). The stepper holds scratch memory; the world holds state.
 
-use crate::guard::{Blowup, Family};
 use crate::interactions::fine_coarse::CoarseSource;
-use crate::kernel::WendlandC2;
-use crate::load::Load;
-use crate::math::{up, Real, Vect};
-use crate::timers::{Stage, StageTimers};
+use crate::numerics::guard::{Blowup, Family};
+use crate::numerics::kernel::WendlandC2;
+use crate::numerics::load::Load;
+use crate::numerics::math::{up, Real, Vect};
+use crate::numerics::timers::{Stage, StageTimers};
 use crate::world::World;
 use coarse_substeps::CoarseStepper;
 use fine_stage::{FineContext, FineStepper};

@@ -2,8 +2,8 @@
 //! Eqs. (51)–(53) and the gravity ramp.
 
 use crate::interactions::contact::ContactLaw;
-use crate::math::Real;
-use crate::resolution::Resolution;
+use crate::numerics::math::Real;
+use crate::scene::resolution::Resolution;
 use crate::scene::{ContinuityJump, Scene, TimeStepping, WallStress};
 
 /// Method parameters of one run (one struct per subsystem; defaults from seed 000).

@@ -18,9 +18,9 @@ use crate::interactions::soil_water::{
     full_sum, kernel_sum, lattice_sum, pore_pressure, pore_water_inertia, soil_force, Mat, Seepage,
     SoilPoint, WaterAround, WaterDrag,
 };
-use crate::kernel::WendlandC2;
-use crate::math::{up, Real, Vect};
-use crate::neighbors::{CellGrid, CHUNK};
+use crate::numerics::kernel::WendlandC2;
+use crate::numerics::math::{up, Real, Vect};
+use crate::numerics::neighbors::{CellGrid, CHUNK};
 use crate::water::material::WaterMaterial;
 use crate::water::source::WaterSource;
 use crate::world::World;

@@ -3,8 +3,8 @@
 //! either way the water's lists are rebuilt.
 
 use super::water_stage::WaterStepper;
-use crate::math::{Real, Vect};
-use crate::timers::{Stage, StageTimers};
+use crate::numerics::math::{Real, Vect};
+use crate::numerics::timers::{Stage, StageTimers};
 use crate::water::material::WaterMaterial;
 use crate::world::World;
 use std::time::Instant;

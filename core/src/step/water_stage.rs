@@ -7,7 +7,6 @@ use super::family::{Closing, FamilyLists};
 use super::relations::WallRelation;
 use super::soil_water_stage::SeepStep;
 use crate::coarse::body::Body;
-use crate::guard::{Blowup, Family};
 use crate::interactions::fine_coarse::{self, CoarseSource};
 use crate::interactions::water_buoyancy::Hydrostatics;
 use crate::interactions::water_pass::{
@@ -15,13 +14,14 @@ use crate::interactions::water_pass::{
     momentum_sweep, WaterCoarse,
 };
 use crate::interactions::water_start::incompressible_start;
-use crate::kernel::WendlandC2;
-use crate::math::{to3, Real, Vect};
-use crate::neighbors::CellGrid;
-use crate::pairs::clusters::ClusterPairs;
-use crate::pairs::quad::Lanes;
+use crate::numerics::guard::{Blowup, Family};
+use crate::numerics::kernel::WendlandC2;
+use crate::numerics::math::{to3, Real, Vect};
+use crate::numerics::neighbors::CellGrid;
+use crate::numerics::pairs::clusters::ClusterPairs;
+use crate::numerics::pairs::quad::Lanes;
+use crate::numerics::timers::{Stage, StageTimers};
 use crate::scene::WallSlip;
-use crate::timers::{Stage, StageTimers};
 use crate::water::correction::Corr;
 use crate::water::lanes::WaterLanes;
 use crate::water::material::WaterMaterial;

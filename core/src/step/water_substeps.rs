@@ -13,10 +13,10 @@
 //! [`WaterMaterial::stable_dt`]: crate::water::material::WaterMaterial::stable_dt
 
 use super::Stepper;
-use crate::guard::Blowup;
-use crate::load::Load;
-use crate::math::Real;
-use crate::timers::Stage;
+use crate::numerics::guard::Blowup;
+use crate::numerics::load::Load;
+use crate::numerics::math::Real;
+use crate::numerics::timers::Stage;
 use crate::world::World;
 
 impl<const D: usize> Stepper<D> {

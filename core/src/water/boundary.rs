@@ -5,7 +5,7 @@
 
 use super::material::WaterMaterial;
 use super::state::WaterParticles;
-use crate::math::{box_extent, Real, Vect};
+use crate::numerics::math::{box_extent, Real, Vect};
 use crate::scene::Hydrograph;
 
 /// The inflow speed against time.

@@ -16,13 +16,15 @@
 // the terms loop over components of several lane arrays at once (x, v, g)
 #![allow(clippy::needless_range_loop)]
 
-use super::lanes::Block;
+use super::lanes::{Block, WaterLanes};
 use super::momentum::{WaterParams, WaterSums};
-use crate::pairs::cluster_pass::{
+use crate::numerics::pairs::cluster_pass::run_pass;
+use crate::numerics::pairs::cluster_pass::{
     at, each_lane, gather, geometry, lane_indices, separation, ClusterPass, Geometry, Window,
 };
-use crate::pairs::clusters::ClusterPairs;
-use crate::pairs::quad::Quad;
+use crate::numerics::pairs::clusters::ClusterPairs;
+use crate::numerics::pairs::quad::Lanes;
+use crate::numerics::pairs::quad::Quad;
 
 /// The lanes of a cluster as its continuity terms read them.
 struct ContinuityLanes<Q: Quad, const D: usize> {
@@ -124,5 +126,19 @@ impl<const D: usize> ClusterPass for Continuity<'_, D> {
             win.at(to[n]).drho += q.sum(t[n]);
         }
         each_lane(q, win.cluster(cp, ci), own, |s, t| s.drho += t);
+    }
+}
+
+impl<const D: usize> WaterLanes<D> {
+    /// The continuity pass's water–water sums into `sums[..].drho` (added), on
+    /// `lanes`, after [`repack_velocity`](Self::repack_velocity).
+    pub fn continuity(
+        &mut self,
+        cp: &ClusterPairs,
+        prm: &WaterParams<D>,
+        lanes: Lanes,
+        sums: &mut [WaterSums<D>],
+    ) {
+        run_pass(&Continuity(prm), (&self.blocks, cp), lanes, sums);
     }
 }

@@ -23,15 +23,18 @@
 // the terms loop over the rows and columns of M
 #![allow(clippy::needless_range_loop)]
 
-use super::lanes::Block;
+use super::lanes::{Block, WaterLanes};
 use super::momentum::WaterParams;
-use crate::math::{Real, Vect};
-use crate::pairs::cluster_pass::{
+use crate::numerics::math::{Real, Vect};
+use crate::numerics::pairs::cluster_pass::run_pass;
+use crate::numerics::pairs::cluster_pass::{
     each_lane, gather, geometry, lane_indices, separation, ClusterPass, Geometry, Window,
 };
-use crate::pairs::clusters::ClusterPairs;
-use crate::pairs::quad::Quad;
+use crate::numerics::pairs::clusters::ClusterPairs;
+use crate::numerics::pairs::quad::Lanes;
+use crate::numerics::pairs::quad::Quad;
 use nalgebra::SMatrix;
+use rayon::prelude::*;
 
 /// D × D correction matrix.
 pub type Corr<const D: usize> = SMatrix<Real, D, D>;
@@ -159,10 +162,37 @@ impl<const D: usize> ClusterPass for Moment<'_, D> {
     }
 }
 
+impl<const D: usize> WaterLanes<D> {
+    /// Pack each particle's correction B, after [`pack`](Self::pack).
+    pub fn pack_corr(&mut self, cp: &ClusterPairs, corr: &[Corr<D>]) {
+        self.blocks.par_iter_mut().enumerate().for_each(|(c, b)| {
+            for (l, i) in cp.members(c).enumerate() {
+                for d in 0..D {
+                    for e in 0..D {
+                        b[l].b[d][e] = corr[i][(d, e)];
+                    }
+                }
+            }
+        });
+    }
+
+    /// The correction's water–water sums of M into `m` (added), on `lanes`, after
+    /// [`pack`](Self::pack).
+    pub fn correction(
+        &mut self,
+        cp: &ClusterPairs,
+        prm: &WaterParams<D>,
+        lanes: Lanes,
+        m: &mut [Corr<D>],
+    ) {
+        run_pass(&Moment(prm), (&self.blocks, cp), lanes, m);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::kernel::WendlandC2;
+    use crate::numerics::kernel::WendlandC2;
 
     /// On a regular 2D lattice at h = 1.3 dp, M = κ I with κ = 0.9739 (the lattice
     /// sum of the Wendland C2 kernel), and B M = I.

@@ -17,13 +17,16 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::correction::Corr;
-use super::lanes::Block;
+use super::lanes::{Block, WaterLanes};
 use super::momentum::WaterParams;
-use crate::pairs::cluster_pass::{
+use crate::numerics::pairs::cluster_pass::run_pass;
+use crate::numerics::pairs::cluster_pass::{
     at, each_lane, gather, geometry, lane_indices, separation, ClusterPass, Geometry, Window,
 };
-use crate::pairs::clusters::ClusterPairs;
-use crate::pairs::quad::Quad;
+use crate::numerics::pairs::clusters::ClusterPairs;
+use crate::numerics::pairs::quad::Lanes;
+use crate::numerics::pairs::quad::Quad;
+use rayon::prelude::*;
 
 /// The velocity gradient's pass: L_i = −Σ_j v_ij ⊗ e_ij ∂W/∂r V_j; for j, −v_ji ⊗
 /// ∇_j W is the same tensor, times V_i.
@@ -93,5 +96,33 @@ impl<const D: usize> ClusterPass for Gradient<'_, D> {
                 each_lane(q, out, own[a][b], |m, t| m[(a, b)] += t);
             }
         }
+    }
+}
+
+impl<const D: usize> WaterLanes<D> {
+    /// Pack each particle's corrected velocity gradient ∇v (`water.muscl`), after
+    /// [`pack`](Self::pack).
+    pub fn pack_grad(&mut self, cp: &ClusterPairs, grad: &[Corr<D>]) {
+        self.blocks.par_iter_mut().enumerate().for_each(|(c, b)| {
+            for (l, i) in cp.members(c).enumerate() {
+                for d in 0..D {
+                    for e in 0..D {
+                        b[l].gv[d][e] = grad[i][(d, e)];
+                    }
+                }
+            }
+        });
+    }
+
+    /// The velocity gradient's water–water sums of L into `l` (added), on `lanes`,
+    /// after [`pack`](Self::pack).
+    pub fn gradient(
+        &mut self,
+        cp: &ClusterPairs,
+        prm: &WaterParams<D>,
+        lanes: Lanes,
+        l: &mut [Corr<D>],
+    ) {
+        run_pass(&Gradient(prm), (&self.blocks, cp), lanes, l);
     }
 }

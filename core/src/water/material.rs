@@ -1,7 +1,7 @@
 //! The water's constants and its equation of state (seed 001 Eq. 3; Tait as an
 //! option).
 
-use crate::math::Real;
+use crate::numerics::math::Real;
 use crate::scene::{EquationOfState, WallSlip, WaterSpec};
 
 /// The fluid of a scene, with its derived constants.

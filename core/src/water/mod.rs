@@ -14,5 +14,7 @@ pub mod gradient;
 pub mod lanes;
 pub mod material;
 pub mod momentum;
+#[cfg(test)]
+mod pair_tests;
 pub mod source;
 pub mod state;

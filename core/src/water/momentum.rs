@@ -21,16 +21,18 @@
 // the terms loop over components of several lane arrays at once (x, v, B, ∇v)
 #![allow(clippy::needless_range_loop)]
 
-use super::lanes::Block;
-use crate::kernel::WendlandC2;
-use crate::math::{Real, Vect};
-use crate::pairs::cluster_pass::{
+use super::lanes::{Block, WaterLanes};
+use crate::numerics::kernel::WendlandC2;
+use crate::numerics::math::{Real, Vect};
+use crate::numerics::pairs::cluster_pass::run_pass;
+use crate::numerics::pairs::cluster_pass::{
     at, each_lane, gather, geometry, lane_indices, separation, ClusterPass, Geometry, Window,
 };
-use crate::pairs::clusters::ClusterPairs;
-use crate::pairs::quad::Quad;
-use crate::periodic::Wrap;
-use crate::riemann::minmod_jump;
+use crate::numerics::pairs::clusters::ClusterPairs;
+use crate::numerics::pairs::quad::Lanes;
+use crate::numerics::pairs::quad::Quad;
+use crate::numerics::periodic::Wrap;
+use crate::numerics::riemann::minmod_jump;
 
 /// Constants of the water sweeps for one step.
 #[derive(Clone, Copy, Debug)]
@@ -247,6 +249,26 @@ impl<const D: usize, const MUSCL: bool> ClusterPass for Momentum<'_, D, MUSCL> {
         let out = win.cluster(cp, ci);
         for d in 0..D {
             each_lane(q, out, own[d], |s, t| s.acc[d] += t);
+        }
+    }
+}
+
+impl<const D: usize> WaterLanes<D> {
+    /// The momentum pass's water–water sums into `sums[..].acc` (added), on `lanes`,
+    /// after [`pack_corr`](Self::pack_corr); with the Riemann jump reconstructed
+    /// (`muscl`) after [`pack_grad`](Self::pack_grad) too.
+    pub fn momentum(
+        &mut self,
+        cp: &ClusterPairs,
+        (prm, muscl): (&WaterParams<D>, bool),
+        lanes: Lanes,
+        sums: &mut [WaterSums<D>],
+    ) {
+        let blocks = (&self.blocks[..], cp);
+        if muscl {
+            run_pass(&Momentum::<D, true>(prm), blocks, lanes, sums);
+        } else {
+            run_pass(&Momentum::<D, false>(prm), blocks, lanes, sums);
         }
     }
 }

@@ -3,8 +3,8 @@
 
 use super::material::WaterMaterial;
 use super::state::WaterParticles;
-use crate::math::Real;
-use crate::neighbors::CHUNK;
+use crate::numerics::math::Real;
+use crate::numerics::neighbors::CHUNK;
 use rayon::prelude::*;
 
 /// Neighbour-side view of a water particle for one step.

@@ -1,8 +1,8 @@
 //! Water particle state: structure of arrays.
 
-use crate::math::{Real, Vect};
-use crate::periodic::Separation;
-use crate::permute::{cycle_apply, PermuteScratch};
+use crate::numerics::math::{Real, Vect};
+use crate::numerics::periodic::Separation;
+use crate::numerics::permute::{cycle_apply, PermuteScratch};
 
 /// The water particles (updated Lagrangian, position Verlet like the fine grains).
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
@@ -86,7 +86,7 @@ impl<const D: usize> WaterParticles<D> {
     /// support of `kernel` around `at` (`zero` its zero), or None if there are none.
     pub fn shepard<T>(
         &self,
-        kernel: &crate::kernel::WendlandC2,
+        kernel: &crate::numerics::kernel::WendlandC2,
         at: &Vect<D>,
         (value, zero): (impl Fn(usize) -> T, T),
         sep: &impl Separation,
@@ -114,7 +114,7 @@ impl<const D: usize> WaterParticles<D> {
     /// air above the line (a jet, spray) counts, a cavity under a breaking wave does
     /// not.
     pub fn depth(&self, h: Real, base: &Vect<D>, up: &Vect<D>, sep: &impl Separation) -> Real {
-        let lateral = crate::kernel::WendlandC2::new(h, D - 1);
+        let lateral = crate::numerics::kernel::WendlandC2::new(h, D - 1);
         (0..self.len())
             .map(|i| {
                 let r = sep.of(self.pos[i] - base);

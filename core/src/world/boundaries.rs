@@ -2,12 +2,14 @@
 //! §2.5), container faces, and the barriers' load panels.
 
 use super::v;
-use crate::build_error::BuildError;
+use crate::geometry::walls::{
+    container_faces, Barrier, ContainerFace, WallKind, WallObject, Walls,
+};
 use crate::geometry::Shape;
-use crate::math::{Real, Vect};
-use crate::periodic::Wrap;
+use crate::numerics::math::{Real, Vect};
+use crate::numerics::periodic::Wrap;
+use crate::scene::build_error::BuildError;
 use crate::scene::{ContainerSpec, Scene, ShapeSpec};
-use crate::walls::{container_faces, Barrier, ContainerFace, WallKind, WallObject, Walls};
 
 /// The wall particles of every wall, barrier and container face, barriers split into
 /// their panels.
@@ -75,7 +77,7 @@ pub(super) fn build<const D: usize>(
     for c in &scene.containers {
         container(&mut walls, c, layers as Real * dp, dp, periodic);
     }
-    crate::panels::split_scene_panels(&mut walls, scene);
+    crate::geometry::panels::split_scene_panels(&mut walls, scene);
     Ok(walls)
 }
 

@@ -5,7 +5,7 @@
 //! elevation A cos(kx) with A ~ dp is then the mode itself, not a staircase.
 
 use crate::geometry::Shape;
-use crate::math::{Real, Vect};
+use crate::numerics::math::{Real, Vect};
 
 /// One particle of a column fill: its position, its volume (dp^(d−1) times the
 /// column's spacing) and the height of its column's surface.

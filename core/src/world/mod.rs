@@ -2,15 +2,15 @@
 //! [`World::build`] delegates to the fine fill ([`regions`]), the walls
 //! ([`boundaries`]) and the coarse bodies ([`Coarse::build`]).
 
-use crate::build_error::BuildError;
 use crate::coarse::build::Coarse;
 use crate::fine::material::FineMaterial;
 use crate::fine::state::FineParticles;
-use crate::math::{extent, up, Real, Sym, Vect};
-use crate::periodic::{axis_index, hydrostatic, Period, Wrap};
-use crate::resolution::Resolution;
+use crate::geometry::walls::Walls;
+use crate::numerics::math::{extent, up, Real, Sym, Vect};
+use crate::numerics::periodic::{axis_index, hydrostatic, Period, Wrap};
+use crate::scene::build_error::BuildError;
+use crate::scene::resolution::Resolution;
 use crate::scene::Scene;
-use crate::walls::Walls;
 use crate::water::boundary::{Inflow, Outflow};
 use crate::water::material::WaterMaterial;
 use crate::water::state::WaterParticles;
@@ -82,7 +82,7 @@ fn v<const D: usize>(x: &[f64]) -> Vect<D> {
 /// cannot hold is an error here rather than an abort in the middle of filling (the
 /// reservation is returned at once, untouched).
 fn reserve_memory(scene: &Scene, resolution: &Resolution) -> Result<(), BuildError> {
-    let estimate = crate::budget::enforce(scene, resolution).map_err(|e| BuildError {
+    let estimate = crate::estimate::budget::enforce(scene, resolution).map_err(|e| BuildError {
         path: "simulation.dp".into(),
         message: e.to_string(),
     })?;
@@ -96,7 +96,7 @@ fn reserve_memory(scene: &Scene, resolution: &Resolution) -> Result<(), BuildErr
                 "dp = {} m needs about {} for its {:.3e} particles, which the \
                  allocator refuses; coarsen simulation.dp",
                 estimate.dp,
-                crate::budget::human_bytes(estimate.bytes),
+                crate::estimate::budget::human_bytes(estimate.bytes),
                 estimate.particles()
             ),
         });
@@ -120,7 +120,7 @@ impl<const D: usize> World<D> {
         // along a periodic slope, normal to the bed
         let up = up(&g_hyd);
         // a dilatant soil's viscous number takes the water's viscosity (dry: none)
-        let eta_f = crate::flow_speed::water_spec(scene).map_or(0.0, |w| w.viscosity);
+        let eta_f = crate::estimate::flow_speed::water_spec(scene).map_or(0.0, |w| w.viscosity);
         let materials: Vec<FineMaterial> = scene
             .materials
             .iter()

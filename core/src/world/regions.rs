@@ -3,13 +3,13 @@
 //! buried boulders), with its initial velocity and stress.
 
 use super::{geostatic_tensor, v};
-use crate::build_error::{empty_region_message, BuildError};
 use crate::fine::material::FineMaterial;
 use crate::fine::state::FineParticles;
+use crate::geometry::start_solids::Solids;
 use crate::geometry::Shape;
-use crate::math::{extent, Real, Sym, Vect};
+use crate::numerics::math::{extent, Real, Sym, Vect};
+use crate::scene::build_error::{empty_region_message, BuildError};
 use crate::scene::{InitialStress, Scene};
-use crate::start_solids::Solids;
 
 /// The fine particles of every region, and the particle count of each (scene order),
 /// geostatic under the hydrostatic gravity `g_hyd` (the scene's, less its component
@@ -21,7 +21,7 @@ pub(super) fn fill<const D: usize>(
     dp: Real,
     vol: Real,
 ) -> Result<(FineParticles<D>, Vec<(String, usize)>), BuildError> {
-    let (gnorm, up) = (g_hyd.norm(), &crate::math::up(g_hyd));
+    let (gnorm, up) = (g_hyd.norm(), &crate::numerics::math::up(g_hyd));
     // a saturated soil starts at the effective stress of its submerged weight
     let rho_w = scene.water.as_ref().map_or(1000.0, |w| w.density);
     let solids = Solids::<D>::of(scene, false);
@@ -38,7 +38,8 @@ pub(super) fn fill<const D: usize>(
         let shape = Shape::<D>::from_spec(&r.shape, &scene.assets);
         let mut pts = shape.fill(dp);
         if r.jitter > 0.0 {
-            let mut rng = crate::rng::Rng(r.jitter_seed ^ (ri as u64).wrapping_mul(0x9E37_79B9));
+            let mut rng =
+                crate::numerics::rng::Rng(r.jitter_seed ^ (ri as u64).wrapping_mul(0x9E37_79B9));
             for p in &mut pts {
                 for k in 0..D {
                     p[k] += (2.0 * rng.uniform() - 1.0) * r.jitter * dp;

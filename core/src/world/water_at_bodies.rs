@@ -10,7 +10,7 @@
 //!
 //! Here the water keeps every lattice point outside a body (so its count displaced is
 //! the body's volume over dp^d, to the lattice's error), and the points within a band
-//! around each body are relaxed by [`packing`](crate::packing)'s sweeps until evenly
+//! around each body are relaxed by [`packing`](crate::numerics::packing)'s sweeps until evenly
 //! spaced, the first layer half a spacing off the surface. The band is the kernel
 //! support plus a spacing; the water beyond it stays on its lattice and holds the band
 //! in. Mirror images across every solid's surface and the containers' faces stand in
@@ -23,9 +23,9 @@
 //! under a body resting on the floor) stops where it is and is dropped: the water in a contact's gap is
 //! [`water_buoyancy`](crate::interactions::water_buoyancy)'s.
 
-use crate::math::{Real, Vect};
-use crate::packing::{Packing, SWEEPS};
-use crate::start_solids::Solids;
+use crate::geometry::start_solids::Solids;
+use crate::numerics::math::{Real, Vect};
+use crate::numerics::packing::{Packing, SWEEPS};
 
 /// Move the water points `pts` near the bodies among `solids` onto the bodies' true
 /// surfaces (see the module's text), lattice spacing `dp`; whether each point is kept.

@@ -3,18 +3,18 @@
 //! region; and the water's sound speed, chosen by [`flow_speed::choose`] from the
 //! speeds measured on these particles.
 //!
-//! [`flow_speed::choose`]: crate::flow_speed::choose
+//! [`flow_speed::choose`]: crate::estimate::flow_speed::choose
 
 use super::column_fill::column_fill;
 use super::v;
 use super::water_at_bodies::conform;
 use super::Water;
-use crate::build_error::{empty_region_message, BuildError};
-use crate::flow_speed::{choose, water_spec, Measured};
+use crate::estimate::flow_speed::{choose, water_spec, Measured};
+use crate::geometry::start_solids::Solids;
 use crate::geometry::Shape;
-use crate::math::{extent, up, Real, Vect};
+use crate::numerics::math::{extent, up, Real, Vect};
+use crate::scene::build_error::{empty_region_message, BuildError};
 use crate::scene::{OutflowSpec, Scene, ShapeSpec, WaterFill, WaterRegionSpec};
-use crate::start_solids::Solids;
 use crate::water::boundary::{Inflow, InflowSpeed, Outflow};
 use crate::water::material::WaterMaterial;
 use crate::water::state::WaterParticles;

@@ -4,15 +4,15 @@
 //! since the build together within the skin).
 
 use crate::interactions::fine_coarse::CoarseSource;
-use crate::math::{Real, Vect};
-use crate::neighbors::{Binned, CellGrid};
+use crate::numerics::math::{Real, Vect};
+use crate::numerics::neighbors::{Binned, CellGrid};
 
 /// A family's relation with the coarse particles, binned at their half-step positions
 /// of the last build.
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub struct CoarseRelation<const D: usize> {
     /// Binned afresh at every build: a serialised state keeps only its geometry.
-    #[serde(with = "crate::neighbors::geometry_only")]
+    #[serde(with = "crate::numerics::neighbors::geometry_only")]
     grid: CellGrid<D>,
     /// Positions at the last build.
     at_build: Vec<Vect<D>>,

@@ -4,8 +4,8 @@
 //! the largest displacement since the build, so the lists hold while that stays
 //! within the skin.
 
-use crate::math::{Real, Vect};
-use crate::neighbors::CellGrid;
+use crate::numerics::math::{Real, Vect};
+use crate::numerics::neighbors::CellGrid;
 use nalgebra::SVector;
 use rayon::prelude::*;
 
@@ -56,7 +56,7 @@ impl<const D: usize> PositionMarks<D> {
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
 pub struct InnerRelation<const D: usize> {
     /// Binned afresh at every list build: a serialised state keeps only its geometry.
-    #[serde(with = "crate::neighbors::geometry_only")]
+    #[serde(with = "crate::numerics::neighbors::geometry_only")]
     pub(in crate::step) grid: CellGrid<D>,
     pub(in crate::step) marks: PositionMarks<D>,
     /// Largest displacement since the last list build (end of the last step).

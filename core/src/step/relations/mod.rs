@@ -9,7 +9,7 @@
 //! | soil–water | [`SoilWaterRelation`] | soil near each water particle, and the transpose | either family rebuilt, or a count changed |
 //!
 //! A family's inner, wall and coarse relations are built together, in one sweep over
-//! its cells, into fused per-chunk lists ([`ChunkList`](crate::neighbors::ChunkList)):
+//! its cells, into fused per-chunk lists ([`ChunkList`](crate::numerics::neighbors::ChunkList)):
 //! a pass that runs over several of them reads each particle's record once. Each pass
 //! reads a relation through its own accessor (`inner`, `wall`, `coarse`).
 

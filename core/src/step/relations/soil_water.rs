@@ -4,9 +4,9 @@
 //! count changes, since each family moves at most a skin from its place at the
 //! other's build, and half a skin after its own.
 
-use crate::cross_lists::CrossLists;
-use crate::math::{Real, Vect};
-use crate::neighbors::CellGrid;
+use crate::numerics::cross_lists::CrossLists;
+use crate::numerics::math::{Real, Vect};
+use crate::numerics::neighbors::CellGrid;
 
 /// The families' list builds and particle counts a build of the relation was made at:
 /// `[fine builds, water builds, fine count, water count]`.
@@ -20,7 +20,7 @@ pub struct SoilWaterRelation<const D: usize> {
     #[serde(skip)]
     lists: CrossLists,
     /// Cells of the soil for the lists' build, `radius` wide (binned at every build).
-    #[serde(with = "crate::neighbors::geometry_only")]
+    #[serde(with = "crate::numerics::neighbors::geometry_only")]
     grid: CellGrid<D>,
     radius: Real,
     #[serde(skip)]

@@ -3,9 +3,9 @@
 //! leave permeable walls out), and its rebuild rule (the family's and a wall's
 //! displacements since the build together within the skin).
 
-use crate::math::{Real, Vect};
-use crate::neighbors::{Binned, CellGrid};
-use crate::walls::Walls;
+use crate::geometry::walls::Walls;
+use crate::numerics::math::{Real, Vect};
+use crate::numerics::neighbors::{Binned, CellGrid};
 
 /// A family's relation with the walls, binned for its lists.
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
