@@ -1,29 +1,14 @@
 //! `granmix`: run, check and benchmark granular-mixture scenes.
 
-mod accuracy;
-mod accuracy_series;
 mod bench;
-mod bench_cases;
-mod bench_fmi;
-mod bench_ipc;
 mod check;
 mod element;
-mod metric;
-mod metric_lobovsky;
-mod metric_pores;
-mod metric_rondon;
-mod metric_wave;
-mod models;
 mod pack;
 mod pattern;
 mod plot;
 mod quicklook;
 mod run;
-mod scale;
 mod series;
-mod soil_model;
-mod stability;
-mod suite;
 mod vtk;
 mod watch;
 
@@ -107,7 +92,7 @@ enum Command {
     /// Subscribe to a particle service: frame rate, particle count, latency; can record.
     Watch(watch::WatchArgs),
     /// Measure the particle channel: publish cost against memcpy, solver overhead.
-    BenchIpc(bench_ipc::BenchIpcArgs),
+    BenchIpc(bench::ipc::BenchIpcArgs),
     /// Publish a checkable test pattern on a new service (for the channel tests).
     #[command(hide = true)]
     IpcPattern(pattern::PatternArgs),
@@ -233,7 +218,7 @@ fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
             Ok(ExitCode::SUCCESS)
         }
         Command::BenchIpc(args) => {
-            bench_ipc::bench_ipc(&args)?;
+            bench::ipc::bench_ipc(&args)?;
             Ok(ExitCode::SUCCESS)
         }
         Command::IpcPattern(args) => {

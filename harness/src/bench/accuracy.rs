@@ -7,11 +7,11 @@
 //! the JSON (`--report docs/benchmarks.md`), with the multi-rate speed-up next to seed
 //! 000 Table 3.
 
-use crate::accuracy_series::{series, Series};
-use crate::metric::Level;
+use crate::bench::accuracy_series::{series, Series};
+use crate::bench::metric::Level;
+use crate::bench::suite::SuiteOptions;
 use crate::plot::{loglog, Curve};
 use crate::run::{run, RunOptions};
-use crate::suite::SuiteOptions;
 use anyhow::Result;
 use serde_json::{json, Value};
 use std::path::Path;
@@ -227,7 +227,7 @@ fn run_level(o: &SuiteOptions, s: &Series, (label, over): &Level) -> Result<Valu
         set.clone(),
     ))?;
     let cpu = cpu_time().zip(cpu0).map(|(b, a)| b - a);
-    let rss = crate::scale::peak_rss();
+    let rss = crate::bench::scale::peak_rss();
     let title = format!("{} ({}), {label}", s.case, s.scheme);
     let (value, reference, detail) = s.metric.scored(&rep, data.as_ref(), (&dir, &title))?;
     let err = s.metric.error(value, reference);
@@ -245,8 +245,8 @@ fn run_level(o: &SuiteOptions, s: &Series, (label, over): &Level) -> Result<Valu
         "particle_steps_per_s": rep.particle_steps_per_s, "peak_rss_bytes": rss,
         "value": value, "reference": reference, "rel_error": err,
         "blowup": rep.blowup.as_ref().map(|b| b.to_string()),
-        "lobovsky": detail.clone().filter(|_| matches!(s.metric, crate::metric::Metric::Lobovsky)),
-        "rondon": detail.filter(|_| matches!(s.metric, crate::metric::Metric::Rondon(_))),
+        "lobovsky": detail.clone().filter(|_| matches!(s.metric, crate::bench::metric::Metric::Lobovsky)),
+        "rondon": detail.filter(|_| matches!(s.metric, crate::bench::metric::Metric::Rondon(_))),
     });
     std::fs::write(&record, serde_json::to_string_pretty(&r)?)?;
     Ok(r)
@@ -493,7 +493,7 @@ fn speedup_table(doc: &Value, runs: &[Value]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accuracy_series::COVERED_BY;
+    use crate::bench::accuracy_series::COVERED_BY;
 
     /// Issue 39: every bench case with a reference has a section in the committed
     /// report, docs/benchmarks.md (directly or through the case that stands for it), so
@@ -506,7 +506,7 @@ mod tests {
         .expect("docs/benchmarks.md");
         let all = series();
         let mut missing = Vec::new();
-        for c in crate::bench_cases::cases() {
+        for c in crate::bench::cases::cases() {
             if !c.metric.has_reference() {
                 continue;
             }

@@ -1,12 +1,14 @@
 //! The cases of `granmix bench`: a bundled scene at one or more resolutions, a metric
 //! and its reference. One small constructor per family of cases; [`cases`] lists them
 //! in the order `granmix bench --list` prints them. The accuracy suite runs every case
-//! with a reference ([`crate::accuracy`]).
+//! with a reference ([`crate::bench::accuracy`]).
 
-use crate::metric::{collapse_3d, CraterRef, EarthPressureRef, Level, Metric, DISC_IN_TANK_CA};
-use crate::metric_pores::{ConsolidationRef, DarcyRef};
-use crate::metric_rondon::Column;
-use crate::soil_model::Model;
+use crate::bench::metric::pores::{ConsolidationRef, DarcyRef};
+use crate::bench::metric::rondon::Column;
+use crate::bench::metric::{
+    collapse_3d, CraterRef, EarthPressureRef, Level, Metric, DISC_IN_TANK_CA,
+};
+use crate::bench::soil_model::Model;
 
 pub(crate) struct Case {
     pub(crate) name: String,
@@ -161,7 +163,7 @@ fn bagnold() -> Case {
         "bagnold_incline",
         "bagnold_incline.toml",
         vec![as_is("H/20"), dp("H/40", 2.5e-4)],
-        Metric::Bagnold(crate::metric::BagnoldRef::GLASS_BEADS),
+        Metric::Bagnold(crate::bench::metric::BagnoldRef::GLASS_BEADS),
         "μ(I) layer H = 10 mm on tan θ = 0.42, periodic: depth-averaged velocity over the \
          last second against Bagnold's (2/5) I_θ √(φ g cos θ) H^{3/2}/d = 0.08627 m/s",
     )
@@ -406,7 +408,7 @@ fn water() -> Vec<Case> {
                 dp("dp=h/50", 0.01),
                 dp("dp=h/100", 0.005),
             ],
-            Metric::StandingWave(crate::metric_wave::WaveRef::TANK),
+            Metric::StandingWave(crate::bench::metric::wave::WaveRef::TANK),
             "first sloshing mode, h = 0.5 m, L = 1 m: log decrement per period against the \
              physical 1.95e-3 (error: their difference, asked ≤ 0.05), period against linear \
              theory (asked 1 %)",
@@ -430,7 +432,7 @@ fn water() -> Vec<Case> {
             "poiseuille_2d",
             "poiseuille_2d.toml",
             vec![as_is("H/40")],
-            Metric::Poiseuille(crate::metric::PoiseuilleRef::SEED_001),
+            Metric::Poiseuille(crate::bench::metric::PoiseuilleRef::SEED_001),
             "seed 001 §2.1: centreline velocity against Morris et al. (1997), t = 5, 10, 20, 80 s",
         )
         .tolerance(0.02),

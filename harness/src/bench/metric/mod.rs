@@ -2,6 +2,11 @@
 //! held against (VALIDATION §2 collapses, seed 000 Eq. (62) craters, earth pressure at
 //! rest).
 
+pub mod lobovsky;
+pub mod pores;
+pub mod rondon;
+pub mod wave;
+
 /// How a case is scored.
 #[derive(Clone, Copy)]
 pub(crate) enum Metric {
@@ -46,29 +51,29 @@ pub(crate) enum Metric {
     /// (radius R m, reference m/s²).
     StartingAcceleration(f64, f64),
     /// Seepage column: the largest |q/(k_h i) − 1| of the quasi-steady flow; reference 0.
-    Darcy(crate::metric_pores::DarcyRef),
+    Darcy(crate::bench::metric::pores::DarcyRef),
     /// Loaded layer: the largest relative error of the settlement against Terzaghi's
     /// series at U = 50 % and 90 %; reference 0.
-    Consolidation(crate::metric_pores::ConsolidationRef),
+    Consolidation(crate::bench::metric::pores::ConsolidationRef),
     /// The final run-out, reported without a reference.
     RunoutReport,
     /// The first sloshing mode of a closed 2D tank (issue 42): the log decrement per
     /// period of the water's horizontal momentum against the physical one (Stokes
     /// layers and interior viscosity); the error is their difference. The period
     /// against linear theory is reported beside it.
-    StandingWave(crate::metric_wave::WaveRef),
+    StandingWave(crate::bench::metric::wave::WaveRef),
     /// Lobovský et al. (2014)'s dam break: the largest RMS difference of the water
     /// levels H1–H4 from the experiment's over t √(g/H) ≤ 6, in units of H; reference 0.
     /// Scored with the experiment's series by the bench
-    /// ([`metric_lobovsky`](crate::metric_lobovsky)), which reports the sensors'
+    /// ([`metric_lobovsky`](crate::bench::metric::lobovsky)), which reports the sensors'
     /// arrival, mean pressure and peaks beside it.
     Lobovsky,
     /// Rondon et al. (2011)'s submerged collapse of a dense or a loose column: the
     /// largest relative error of the front at the column's checkpoints and at the end
     /// of the data; reference 0. Scored with the experiment's series by the bench
-    /// ([`metric_rondon`](crate::metric_rondon)), which reports the basal excess
+    /// ([`metric_rondon`](crate::bench::metric::rondon)), which reports the basal excess
     /// pressure's sign, extreme and relaxation beside it.
-    Rondon(crate::metric_rondon::Column),
+    Rondon(crate::bench::metric::rondon::Column),
     /// A μ(I) layer flowing down an incline, periodic along it: its depth-averaged
     /// velocity (momentum over mass) averaged over the last second, against Bagnold's.
     Bagnold(BagnoldRef),
@@ -86,8 +91,8 @@ pub(crate) enum Metric {
 
 /// An experiment's series a metric is scored against, read from the reference folder.
 pub(crate) enum Experiment {
-    Lobovsky(crate::metric_lobovsky::Lobovsky),
-    Rondon(crate::metric_rondon::Rondon),
+    Lobovsky(crate::bench::metric::lobovsky::Lobovsky),
+    Rondon(crate::bench::metric::rondon::Rondon),
 }
 
 impl Metric {
@@ -399,7 +404,7 @@ impl Metric {
                 (mean, Some(r))
             }
             Metric::StandingWave(r) => (
-                crate::metric_wave::WaveRef::fit(&rep.samples).map(|f| f.decrement()),
+                crate::bench::metric::wave::WaveRef::fit(&rep.samples).map(|f| f.decrement()),
                 Some(r.decrement()),
             ),
             Metric::StartingAcceleration(radius, r) => {
@@ -429,7 +434,7 @@ impl Metric {
     /// series), loaded before a run so that a missing file stops the bench at once;
     /// None for the others.
     pub(crate) fn data(&self, scenes: &std::path::Path) -> anyhow::Result<Option<Experiment>> {
-        use crate::metric_lobovsky::{reference_dir, Lobovsky};
+        use crate::bench::metric::lobovsky::{reference_dir, Lobovsky};
         match self {
             Metric::Lobovsky => {
                 let dir = reference_dir(scenes, "lobovsky2014")?;
@@ -438,7 +443,7 @@ impl Metric {
             Metric::Rondon(c) => {
                 let dir = reference_dir(scenes, "rondon2011")?;
                 Ok(Some(Experiment::Rondon(
-                    crate::metric_rondon::Rondon::load(&dir, *c)?,
+                    crate::bench::metric::rondon::Rondon::load(&dir, *c)?,
                 )))
             }
             _ => Ok(None),

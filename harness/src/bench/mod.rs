@@ -1,9 +1,27 @@
 //! `granmix bench`: named cases at several resolutions. Each run reports particle-steps
 //! per second, time per stage and the error against the case's reference; the set is
 //! written as JSON plus a PNG of error against run time.
+//!
+//! The benchmark lab, beside the command-line front end: the cases ([`cases`]) and
+//! their metrics against the references ([`metric`]), the suites (`--suite accuracy`:
+//! [`accuracy`], [`accuracy_series`]; `models`: [`models`], [`soil_model`];
+//! `stability`: [`stability`]; `scale`: [`scale`]; `fmi`: [`fmi`]; their shared record
+//! keeping: [`suite`]) and the channel's throughput ([`ipc`], `granmix bench-ipc`).
 
-use crate::bench_cases::{cases, Case};
-use crate::metric::{Level, Metric};
+pub mod accuracy;
+pub mod accuracy_series;
+pub mod cases;
+pub mod fmi;
+pub mod ipc;
+pub mod metric;
+pub mod models;
+pub mod scale;
+pub mod soil_model;
+pub mod stability;
+pub mod suite;
+
+use crate::bench::cases::{cases, Case};
+use crate::bench::metric::{Level, Metric};
 use crate::plot::{loglog, Curve};
 use crate::run::{run, RunOptions};
 use anyhow::{bail, Result};
@@ -85,13 +103,16 @@ fn run_suite(suite: &str, a: &BenchArgs) -> Result<ExitCode> {
     if a.list {
         return match suite {
             "models" => {
-                list(&crate::models::model_cases());
-                let names: Vec<&str> = crate::soil_model::MODELS.iter().map(|m| m.name()).collect();
+                list(&crate::bench::models::model_cases());
+                let names: Vec<&str> = crate::bench::soil_model::MODELS
+                    .iter()
+                    .map(|m| m.name())
+                    .collect();
                 println!("each under the models {}", names.join(", "));
                 Ok(ExitCode::SUCCESS)
             }
             "accuracy" => {
-                crate::accuracy::list();
+                crate::bench::accuracy::list();
                 Ok(ExitCode::SUCCESS)
             }
             _ => bail!(
@@ -108,7 +129,7 @@ fn run_suite(suite: &str, a: &BenchArgs) -> Result<ExitCode> {
             ExitCode::from(1)
         }
     };
-    let suite_options = crate::suite::SuiteOptions {
+    let suite_options = crate::bench::suite::SuiteOptions {
         scenes: &a.scenes,
         out: &a.out,
         quick: a.quick,
@@ -120,23 +141,27 @@ fn run_suite(suite: &str, a: &BenchArgs) -> Result<ExitCode> {
     };
     Ok(match suite {
         "stability" => {
-            let loud =
-                crate::stability::stability(&a.scenes, &a.out, a.quick, a.report.as_deref())?;
+            let loud = crate::bench::stability::stability(
+                &a.scenes,
+                &a.out,
+                a.quick,
+                a.report.as_deref(),
+            )?;
             fail(
                 loud,
                 "a sweep failed without the guard's diagnostic (see above)",
             )
         }
         "accuracy" => {
-            crate::accuracy::accuracy(&suite_options)?;
+            crate::bench::accuracy::accuracy(&suite_options)?;
             ExitCode::SUCCESS
         }
         "models" => {
-            crate::models::models(&suite_options)?;
+            crate::bench::models::models(&suite_options)?;
             ExitCode::SUCCESS
         }
         "fmi" => {
-            let within = crate::bench_fmi::fmi(&a.scenes, &a.out, a.quick, a.report.as_deref())?;
+            let within = crate::bench::fmi::fmi(&a.scenes, &a.out, a.quick, a.report.as_deref())?;
             fail(
                 within || a.quick,
                 "the FMI layer costs more than 1 % of the solver at 10 solver steps per \
@@ -144,7 +169,7 @@ fn run_suite(suite: &str, a: &BenchArgs) -> Result<ExitCode> {
             )
         }
         _ => {
-            crate::scale::scale(&a.scenes, &a.out, a.quick, a.report.as_deref())?;
+            crate::bench::scale::scale(&a.scenes, &a.out, a.quick, a.report.as_deref())?;
             ExitCode::SUCCESS
         }
     })

@@ -11,12 +11,12 @@
 //! overrides; the variant is written beside the run (`model_scene.toml`) and run with
 //! the level's overrides.
 
-use crate::bench_cases::{cases, Case};
-use crate::metric::{Level, Metric};
+use crate::bench::cases::{cases, Case};
+use crate::bench::metric::{Level, Metric};
+use crate::bench::soil_model::{Model, MODELS};
+use crate::bench::suite::SuiteOptions;
 use crate::plot::{loglog, Curve};
 use crate::run::{run, RunOptions};
-use crate::soil_model::{Model, MODELS};
-use crate::suite::SuiteOptions;
 use anyhow::{bail, Result};
 use serde_json::{json, Value};
 use std::path::Path;

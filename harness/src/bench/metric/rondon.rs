@@ -17,7 +17,7 @@
 //!   data's, and whether it has relaxed to within a tenth of it by 30 s (dense) or
 //!   20 s (loose).
 
-use crate::metric_lobovsky::Series;
+use crate::bench::metric::lobovsky::Series;
 use anyhow::Result;
 use granmix_core::run::simulation::Sample;
 use serde_json::{json, Value};

@@ -3,8 +3,8 @@
 //! [`series`] lists them in the report's order, then every bench case with a
 //! reference that they do not run, at the bench's own levels.
 
-use crate::bench_cases::{cases, CRATER};
-use crate::metric::{collapse_3d, Level, Metric, DISC_IN_TANK_CA};
+use crate::bench::cases::{cases, CRATER};
+use crate::bench::metric::{collapse_3d, Level, Metric, DISC_IN_TANK_CA};
 
 /// One curve: a case under one scheme at several resolutions.
 pub(crate) struct Series {
@@ -221,7 +221,7 @@ fn water() -> Vec<Series> {
             "water",
             "poiseuille_2d.toml",
             fractions("H", 0.1, &[20.0, 40.0, 80.0]),
-            Metric::Poiseuille(crate::metric::PoiseuilleRef::SEED_001),
+            Metric::Poiseuille(crate::bench::metric::PoiseuilleRef::SEED_001),
             "seed 001 §2.1: centreline velocity against Morris et al. (1997), t = 5, 10, 20, 80 s",
         ),
     ]
