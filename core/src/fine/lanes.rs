@@ -339,7 +339,7 @@ fn momentum_term<Q: Quad, const D: usize, const PLAIN: bool>(
     tj: &mut [Q::V; 16],
 ) -> bool {
     let zero = q.splat(0.0);
-    let (half, one) = (q.splat(0.5), q.splat(1.0));
+    let half = q.splat(0.5);
     let rij = separation(q, &sc.wrap, &i.x, &bj[l].x);
     let Geometry {
         m,
@@ -354,7 +354,7 @@ fn momentum_term<Q: Quad, const D: usize, const PLAIN: bool>(
     }
     // the pairs beyond the cut-off (or with j ≤ i) add nothing: every term is ∝ ∂W/∂r
     let dw = q.select(m, dw, zero);
-    let (volj, pj) = (q.splat(bj[l].vol), q.splat(bj[l].p));
+    let volj = q.splat(bj[l].vol);
     let mut e = [zero; D];
     let mut vij = [zero; D];
     // v_ij·e = U_R − U_L (U = −v·e)
@@ -366,6 +366,49 @@ fn momentum_term<Q: Quad, const D: usize, const PLAIN: bool>(
         vie = q.add(vie, q.mul(vij[d], e[d]));
         up_r = q.add(up_r, q.mul(rij[d], q.splat(sc.up[d])));
     }
+    let (ps, two_inv_z) = p_star::<Q, D, PLAIN>(q, sc, i, (bj, xj, l), (&e, r, vie));
+    // σ*·e = ½ (σˢ_i + σˢ_j)·e − P* e, Eq. (18)
+    let mut a = [zero; 6];
+    for k in 0..dev_parts(D) {
+        a[k] = q.add(i.dev[k], q.splat(bj[l].dev[k]));
+    }
+    let t = sym_dot(q, &a, &e);
+    let mut ra = [zero; D];
+    if !PLAIN && sc.artificial.is_some() {
+        ra = artificial_traction(q, sc, i, (xj, l), (r, &e));
+    }
+    let (dvj, dvi) = (q.mul(dw, volj), q.mul(dw, i.vol));
+    for d in 0..D {
+        let mut td = q.sub(q.mul(t[d], half), q.mul(e[d], ps));
+        if !PLAIN && sc.artificial.is_some() {
+            td = q.add(td, ra[d]);
+        }
+        own[d] = q.add(own[d], q.mul(td, dvj));
+        // j takes −t (e_ji = −e_ij): subtracted after the lane sum
+        tj[d] = q.mul(td, dvi);
+    }
+    if sc.hourglass {
+        hourglass_terms(q, i, &bj[l], (&rij, &vij), (dw, inv_r, volj), own, tj);
+    }
+    let geo = [r, r2, dw, up_r, two_inv_z];
+    jump_and_weights(q, sc, i, &bj[l], geo, own, tj);
+    true
+}
+
+/// P* of Eq. (20) for the four lanes against `bj[l]` (the one-impedance form, or the
+/// general one with the [`Extra`] records `xj`), with the jump U_L − U_R reconstructed
+/// by MUSCL where the scene asks; and 2/(Z_i + Z_j) of Eq. (19).
+#[inline(always)]
+fn p_star<Q: Quad, const D: usize, const PLAIN: bool>(
+    q: Q,
+    sc: &MomentumScalars<D>,
+    i: &MomentumLanes<Q, D>,
+    (bj, xj, l): (&Block<D>, Option<&ExtraBlock>, usize),
+    (e, r, vie): (&[Q::V; D], Q::V, Q::V),
+) -> (Q::V, Q::V) {
+    let zero = q.splat(0.0);
+    let (half, one) = (q.splat(0.5), q.splat(1.0));
+    let pj = q.splat(bj[l].p);
     // U_L − U_R, and U_R − U_L for the limiter
     let mut du = q.sub(zero, vie);
     let mut sep = vie;
@@ -384,7 +427,7 @@ fn momentum_term<Q: Quad, const D: usize, const PLAIN: bool>(
         sep = q.sub(zero, du);
     }
     let comp = q.select(q.lt(zero, sep), sep, zero);
-    let (ps, two_inv_z) = if PLAIN || sc.uniform {
+    if PLAIN || sc.uniform {
         // P* = ½ (P_i + P_j) + ½ β Z (U_L − U_R), β = min(η max(U_R − U_L, 0)/c0, 1)
         // (Riemann::limiter, p_star_uniform)
         let beta = q.min(q.mul(q.splat(sc.eta_c), comp), one);
@@ -402,67 +445,90 @@ fn momentum_term<Q: Quad, const D: usize, const PLAIN: bool>(
         let zz = q.mul(q.mul(beta, i.z), zj);
         let num = q.add(q.add(q.mul(i.z, pj), q.mul(zj, i.p)), q.mul(zz, du));
         (q.mul(num, inv_zsum), q.mul(q.splat(2.0), inv_zsum))
-    };
-    // σ*·e = ½ (σˢ_i + σˢ_j)·e − P* e, Eq. (18)
-    let mut a = [zero; 6];
+    }
+}
+
+/// The artificial stress of Eq. (27) along `e`, ½ f^n (R_i + R_j)·e with
+/// f = W(r)/W(dp), for the four lanes against lane `l` of the [`Extra`] records `xj`.
+#[inline(always)]
+fn artificial_traction<Q: Quad, const D: usize>(
+    q: Q,
+    sc: &MomentumScalars<D>,
+    i: &MomentumLanes<Q, D>,
+    (xj, l): (Option<&ExtraBlock>, usize),
+    (r, e): (Q::V, &[Q::V; D]),
+) -> [Q::V; D] {
+    let (zero, half) = (q.splat(0.0), q.splat(0.5));
+    let a = sc.artificial.expect("artificial stress is on");
+    let mut rr = [0.0; WIDTH];
+    q.store(&mut rr, r);
+    let fa = q.mul(
+        half,
+        q.load(&rr.map(|r| (sc.kernel.w(r) / a.w_dp).powf(a.exponent))),
+    );
+    let mut b = [zero; 6];
     for k in 0..dev_parts(D) {
-        a[k] = q.add(i.dev[k], q.splat(bj[l].dev[k]));
+        let art_j = xj.expect("the extra records of artificial stress")[l].art[k];
+        b[k] = q.mul(q.add(i.art[k], q.splat(art_j)), fa);
     }
-    let t = sym_dot(q, &a, &e);
-    // the artificial stress of Eq. (27), ½ f^n (R_i + R_j)·e, f = W(r)/W(dp)
-    let mut ra = [zero; D];
-    if let (false, Some(a)) = (PLAIN, &sc.artificial) {
-        let mut rr = [0.0; WIDTH];
-        q.store(&mut rr, r);
-        let fa = q.mul(
-            half,
-            q.load(&rr.map(|r| (sc.kernel.w(r) / a.w_dp).powf(a.exponent))),
-        );
-        let mut b = [zero; 6];
-        for k in 0..dev_parts(D) {
-            let art_j = xj.expect("the extra records of artificial stress")[l].art[k];
-            b[k] = q.mul(q.add(i.art[k], q.splat(art_j)), fa);
-        }
-        ra = sym_dot(q, &b, &e);
-    }
-    let (dvj, dvi) = (q.mul(dw, volj), q.mul(dw, i.vol));
+    sym_dot(q, &b, e)
+}
+
+/// The hourglass penalty s_ij ξḠ_ij ṽ_ij ∂W/∂r V / r ([`hourglass`](super::hourglass))
+/// of the four lanes against `rj`, for both sides of every pair (`momentum::integrate`
+/// drops the increment of a particle whose share e is 0): what the lanes gain into
+/// `own[D..2D]`, what `rj` gains from each into `tj[D..2D]`.
+#[inline(always)]
+fn hourglass_terms<Q: Quad, const D: usize>(
+    q: Q,
+    i: &MomentumLanes<Q, D>,
+    rj: &Rec<D>,
+    (rij, vij): (&[Q::V; D], &[Q::V; D]),
+    (dw, inv_r, volj): (Q::V, Q::V, Q::V),
+    own: &mut [Q::V; 16],
+    tj: &mut [Q::V; 16],
+) {
+    let (zero, half) = (q.splat(0.0), q.splat(0.5));
+    let gp = q.mul(half, q.add(i.g, q.splat(rj.g)));
+    let s = q.mul(q.mul(half, q.add(i.kept, q.splat(rj.kept))), gp);
+    let qq = q.mul(q.mul(s, dw), inv_r);
     for d in 0..D {
-        let mut td = q.sub(q.mul(t[d], half), q.mul(e[d], ps));
-        if !PLAIN && sc.artificial.is_some() {
-            td = q.add(td, ra[d]);
+        // ṽ_ij = v_ij − ½ (L_i + L_j) r_ij
+        let mut lr = zero;
+        for c in 0..D {
+            let lsum = q.add(i.l[d][c], q.splat(rj.l[d][c]));
+            lr = q.add(lr, q.mul(lsum, rij[c]));
         }
-        own[d] = q.add(own[d], q.mul(td, dvj));
-        // j takes −t (e_ji = −e_ij): subtracted after the lane sum
-        tj[d] = q.mul(td, dvi);
+        let vc = q.sub(vij[d], q.mul(lr, half));
+        own[D + d] = q.add(own[D + d], q.mul(vc, q.mul(qq, volj)));
+        tj[D + d] = q.mul(vc, q.mul(qq, i.vol));
     }
-    // the hourglass penalty, s_ij ξḠ_ij ṽ_ij ∂W/∂r V / r (hourglass), for both sides
-    // of every pair: the one-pair pass skips a side whose share e is 0, and
-    // `momentum::integrate` drops the increment of such a particle
-    if sc.hourglass {
-        let gp = q.mul(half, q.add(i.g, q.splat(bj[l].g)));
-        let s = q.mul(q.mul(half, q.add(i.kept, q.splat(bj[l].kept))), gp);
-        let qq = q.mul(q.mul(s, dw), inv_r);
-        for d in 0..D {
-            // ṽ_ij = v_ij − ½ (L_i + L_j) r_ij
-            let mut lr = zero;
-            for c in 0..D {
-                let lsum = q.add(i.l[d][c], q.splat(bj[l].l[d][c]));
-                lr = q.add(lr, q.mul(lsum, rij[c]));
-            }
-            let vc = q.sub(vij[d], q.mul(lr, half));
-            own[D + d] = q.add(own[D + d], q.mul(vc, q.mul(qq, volj)));
-            tj[D + d] = q.mul(vc, q.mul(qq, i.vol));
-        }
-    }
+}
+
+/// The continuity sweep's terms without velocity for the four lanes against `rj`: the
+/// jump of Eq. (19), P_L − P_R, into U* − U_L (`own[2D]`, `tj[2D]`), and the weights of
+/// Eqs. (25)–(26), w = r_ij·∇_i W V/(r² + 0.01h²) (`own[2D + 1..]`, `tj[2D + 1..]`).
+#[inline(always)]
+fn jump_and_weights<Q: Quad, const D: usize>(
+    q: Q,
+    sc: &MomentumScalars<D>,
+    i: &MomentumLanes<Q, D>,
+    rj: &Rec<D>,
+    [r, r2, dw, up_r, two_inv_z]: [Q::V; 5],
+    own: &mut [Q::V; 16],
+    tj: &mut [Q::V; 16],
+) {
+    let zero = q.splat(0.0);
+    let (volj, pj) = (q.splat(rj.vol), q.splat(rj.p));
     // the jump of Eq. (19), P_L − P_R, into U* − U_L (JumpDiffusion::pair)
     let k = q.mul(dw, two_inv_z);
-    let pjj = q.splat(bj[l].pj);
+    let pjj = q.splat(rj.pj);
     let (jump_i, jump_j) = if sc.by_density {
         (q.sub(i.pj, pjj), q.sub(pjj, i.pj))
     } else {
         (
             q.sub(i.pj, q.sub(pjj, q.mul(up_r, i.pgeo))),
-            q.sub(pjj, q.add(i.pj, q.mul(up_r, q.splat(bj[l].pgeo)))),
+            q.sub(pjj, q.add(i.pj, q.mul(up_r, q.splat(rj.pgeo)))),
         )
     };
     let o = 2 * D;
@@ -479,11 +545,10 @@ fn momentum_term<Q: Quad, const D: usize, const PLAIN: bool>(
         tj[o + 2] = q.sub(zero, q.mul(wj, up_r));
         tj[o + 3] = q.mul(wj, i.p);
         for k in 0..dev_parts(D) {
-            own[o + 4 + k] = q.add(own[o + 4 + k], q.mul(wi, q.splat(bj[l].dev[k])));
+            own[o + 4 + k] = q.add(own[o + 4 + k], q.mul(wi, q.splat(rj.dev[k])));
             tj[o + 4 + k] = q.mul(wj, i.dev[k]);
         }
     }
-    true
 }
 
 /// A symmetric tensor `a` (in [`Sym`]'s order, the in-plane part in 2D) times `e`.
