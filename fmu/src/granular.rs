@@ -312,18 +312,12 @@ impl Model for Granular {
             Slot::BarrierMoment(b, k) => s.barriers[*b].moment[*k],
             Slot::BarrierPeak(b) => s.barriers[*b].peak_force,
             Slot::BarrierForceWater(b, k) => s.barriers[*b].force_water[*k],
-            Slot::BarrierForceGrains(b, k) => {
-                let bs = &s.barriers[*b];
-                bs.force[*k] - bs.force_water[*k]
-            }
+            Slot::BarrierForceGrains(b, k) => s.barriers[*b].force_grains[*k],
             Slot::PanelForce(b, p, k) => s.barriers[*b].panels[*p][*k],
             Slot::PanelForceWater(b, p, k) => {
                 s.barriers[*b].panels_water.get(*p).map_or(0.0, |f| f[*k])
             }
-            Slot::PanelForceGrains(b, p, k) => {
-                let bs = &s.barriers[*b];
-                bs.panels[*p][*k] - bs.panels_water.get(*p).map_or(0.0, |f| f[*k])
-            }
+            Slot::PanelForceGrains(b, p, k) => s.barriers[*b].panels_grains[*p][*k],
             Slot::Body(b, q, k) => body_value(s, *b, *q, *k),
             Slot::KineticFine => s.kinetic_energy,
             Slot::KineticCoarse => s.coarse_kinetic_energy,

@@ -39,13 +39,7 @@ fn loads(l: &Layout, samples: &[Sample]) -> Vec<Curve> {
                 norm(&at(s).force_water, d)
             }));
             c.push(curve(format!("{name}: grains"), samples, |s| {
-                let b = at(s);
-                let g = [
-                    b.force[0] - b.force_water[0],
-                    b.force[1] - b.force_water[1],
-                    b.force[2] - b.force_water[2],
-                ];
-                norm(&g, d)
+                norm(&at(s).force_grains, d)
             }));
         }
     }

@@ -416,9 +416,9 @@ fn observables(l: &Layout, last: &Sample, ke_peak: f64) -> Map<String, Value> {
         }
         if l.water {
             for (k, a) in ax.iter().enumerate().take(dim) {
-                let (fw, f) = (b.force_water[k], b.force[k]);
+                let (fw, fg) = (b.force_water[k], b.force_grains[k]);
                 obs.insert(format!("{}.force_water.{a}", b.name), json!(fw));
-                obs.insert(format!("{}.force_grains.{a}", b.name), json!(f - fw));
+                obs.insert(format!("{}.force_grains.{a}", b.name), json!(fg));
             }
         }
         for (p, label) in series::panel_labels(counts).iter().enumerate() {

@@ -4,6 +4,7 @@
 //! Counts (steps, κ, contacts, water particles) are written as integers, everything
 //! else as `{:.9e}`. docs/scenes.md lists every column with its definition.
 
+use granmix_core::run::sample;
 use granmix_core::run::simulation::Sample;
 use granmix_core::AnySimulation;
 use granmix_ipc::{Sink, SinkError};
@@ -284,17 +285,10 @@ fn fine_columns() -> Vec<Column> {
     h
 }
 
-/// Labels of a barrier's panels, as the FMU names them: `panel_<p>` along one
-/// direction (2D), `panel_<i>_<j>` on a grid (3D); none without panels.
+/// The labels of a barrier's panels ([`sample::panel_labels`]), none for a count the
+/// scene's check refuses.
 pub fn panel_labels(counts: &[usize]) -> Vec<String> {
-    match counts {
-        [] => Vec::new(),
-        [n] => (0..*n).map(|p| format!("panel_{p}")).collect(),
-        [n1, n2] => (0..n1 * n2)
-            .map(|p| format!("panel_{}_{}", p / n2, p % n2))
-            .collect(),
-        _ => Vec::new(),
-    }
+    sample::panel_labels(counts).unwrap_or_default()
 }
 
 /// Σ ½ m v² of every family present: fine, coarse and water (J, or J/m in 2D).
@@ -351,9 +345,7 @@ pub fn row(l: &Layout, s: &Sample) -> Vec<Cell> {
         reals(&mut r, &b.force[..d]);
         if l.water {
             reals(&mut r, &b.force_water[..d]);
-            for a in 0..d {
-                r.push(Cell::Real(b.force[a] - b.force_water[a]));
-            }
+            reals(&mut r, &b.force_grains[..d]);
         }
         rot(&mut r, &b.moment);
         r.push(Cell::Real(b.peak_force));
@@ -363,9 +355,8 @@ pub fn row(l: &Layout, s: &Sample) -> Vec<Cell> {
             if l.water {
                 let fw = b.panels_water.get(p).copied().unwrap_or_default();
                 reals(&mut r, &fw[..d]);
-                for a in 0..d {
-                    r.push(Cell::Real(f[a] - fw[a]));
-                }
+                let fg = b.panels_grains.get(p).copied().unwrap_or_default();
+                reals(&mut r, &fg[..d]);
             }
         }
     }

@@ -113,11 +113,6 @@ const ENERGY_SCHEMA: &str = r#"{
   "required": ["time", "steps", "kinetic_fine", "potential_fine", "kinetic_coarse"]
 }"#;
 
-/// a − b, componentwise.
-fn minus(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
 /// Messages written per topic.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct RecordCounts {
@@ -535,14 +530,14 @@ impl Recorder {
                 "moment": b.moment,
                 "peak_force": b.peak_force,
                 "force_water": b.force_water,
-                "force_grains": minus(&b.force, &b.force_water),
+                "force_grains": b.force_grains,
                 "panels": b.panels.iter().enumerate().map(|(p, f)| {
                     let fw = b.panels_water.get(p).copied().unwrap_or_default();
                     json!({
                         "index": p,
                         "force": f,
                         "force_water": fw,
-                        "force_grains": minus(f, &fw),
+                        "force_grains": b.panels_grains.get(p).copied().unwrap_or_default(),
                     })
                 }).collect::<Vec<_>>(),
             })).collect::<Vec<_>>(),

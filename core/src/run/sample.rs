@@ -41,9 +41,65 @@ pub struct BarrierSample {
     /// The water's part of each panel's force, in panel order (empty without panels).
     #[serde(default)]
     pub panels_water: Vec<[Real; 3]>,
-    /// The water's part of `force` (pressure and viscous traction), impulse-averaged;
-    /// `force − force_water` is the grains' part. Zero without water.
+    /// The water's part of `force` (pressure and viscous traction), impulse-averaged.
+    /// Zero without water.
     pub force_water: [Real; 3],
+    /// The grains' part of `force`, `force − force_water` (computed here, once, for
+    /// every output: CSV, MCAP, FMU, summary, plots).
+    #[serde(default)]
+    pub force_grains: [Real; 3],
+    /// The grains' part of each panel's force, `panels − panels_water`, in panel order
+    /// (empty without panels).
+    #[serde(default)]
+    pub panels_grains: Vec<[Real; 3]>,
+}
+
+/// The labels of a barrier's panels with `counts` panels per direction, in panel
+/// order (that of [`BarrierSample::panels`]): `panel_<p>` along one direction (2D),
+/// `panel_<i>_<j>` on a grid (3D); none for more directions than a barrier has. Every
+/// output names its panels by these: the CSV series, the summary, the FMU variables.
+pub fn panel_labels(counts: &[usize]) -> Option<Vec<String>> {
+    match counts {
+        [] => Some(Vec::new()),
+        [n] => Some((0..*n).map(|p| format!("panel_{p}")).collect()),
+        [n1, n2] => Some(
+            (0..n1 * n2)
+                .map(|p| format!("panel_{}_{}", p / n2, p % n2))
+                .collect(),
+        ),
+        _ => None,
+    }
+}
+
+impl BarrierSample {
+    /// The sample of barrier `name` with its loads (`force`, `moment`, `peak_force`,
+    /// `last_force`), its panels' and the water's parts; the grains' parts derive from
+    /// them here.
+    pub fn new(
+        name: String,
+        (force, moment, peak_force, last_force): ([Real; 3], [Real; 3], Real, [Real; 3]),
+        (panels, panels_water): (Vec<[Real; 3]>, Vec<[Real; 3]>),
+        force_water: [Real; 3],
+    ) -> Self {
+        let minus = |a: &[Real; 3], b: &[Real; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+        let panels_grains = panels
+            .iter()
+            .enumerate()
+            .map(|(p, f)| minus(f, &panels_water.get(p).copied().unwrap_or_default()))
+            .collect();
+        BarrierSample {
+            name,
+            force,
+            moment,
+            peak_force,
+            last_force,
+            force_grains: minus(&force, &force_water),
+            panels,
+            panels_water,
+            force_water,
+            panels_grains,
+        }
+    }
 }
 
 /// The water family at a sampling time.

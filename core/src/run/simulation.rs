@@ -331,31 +331,32 @@ impl<const D: usize> Simulation<D> {
             .enumerate()
             .map(|(b, bar)| {
                 let l = &self.stepper.step_loads[b];
-                BarrierSample {
-                    name: bar.name.clone(),
-                    force: (self.impulse[b].force * inv).into(),
-                    moment: (self.impulse[b].moment * inv).into(),
-                    peak_force: self.peak[b],
-                    last_force: l.force.into(),
-                    panels: if bar.panels.is_empty() {
-                        Vec::new()
-                    } else {
-                        (0..w.walls.panel_count(b))
-                            .map(|i| (self.panel_impulse[bar.slot0 + i].force * inv).into())
-                            .collect()
-                    },
-                    panels_water: if bar.panels.is_empty() || !w.has_water() {
-                        Vec::new()
-                    } else {
-                        (0..w.walls.panel_count(b))
-                            .map(|i| (self.panel_water_impulse[bar.slot0 + i].force * inv).into())
-                            .collect()
-                    },
-                    force_water: self
-                        .water_impulse
-                        .get(b)
-                        .map_or([0.0; 3], |l| (l.force * inv).into()),
-                }
+                let panels = if bar.panels.is_empty() {
+                    Vec::new()
+                } else {
+                    (0..w.walls.panel_count(b))
+                        .map(|i| (self.panel_impulse[bar.slot0 + i].force * inv).into())
+                        .collect()
+                };
+                let panels_water = if bar.panels.is_empty() || !w.has_water() {
+                    Vec::new()
+                } else {
+                    (0..w.walls.panel_count(b))
+                        .map(|i| (self.panel_water_impulse[bar.slot0 + i].force * inv).into())
+                        .collect()
+                };
+                let force_water = self
+                    .water_impulse
+                    .get(b)
+                    .map_or([0.0; 3], |l| (l.force * inv).into());
+                let imp = &self.impulse[b];
+                let loads = (
+                    (imp.force * inv).into(),
+                    (imp.moment * inv).into(),
+                    self.peak[b],
+                    l.force.into(),
+                );
+                BarrierSample::new(bar.name.clone(), loads, (panels, panels_water), force_water)
             })
             .collect()
     }
@@ -411,30 +412,30 @@ impl<const D: usize> Simulation<D> {
             .enumerate()
             .map(|(b, bar)| {
                 let l = &stepper.step_loads[b];
-                BarrierSample {
-                    name: bar.name.clone(),
-                    force: l.force.into(),
-                    moment: l.moment.into(),
-                    peak_force: l.force.norm(),
-                    last_force: l.force.into(),
-                    panels: if bar.panels.is_empty() {
-                        Vec::new()
-                    } else {
-                        (0..walls.panel_count(b))
-                            .map(|i| stepper.slot_loads[bar.slot0 + i].force.into())
-                            .collect()
-                    },
-                    panels_water: match (&stepper.water, bar.panels.is_empty()) {
-                        (Some(w), false) => (0..walls.panel_count(b))
-                            .map(|i| w.family.slot_loads[bar.slot0 + i].force.into())
-                            .collect(),
-                        _ => Vec::new(),
-                    },
-                    force_water: stepper
-                        .water
-                        .as_ref()
-                        .map_or([0.0; 3], |w| w.family.step_loads[b].force.into()),
-                }
+                let panels = if bar.panels.is_empty() {
+                    Vec::new()
+                } else {
+                    (0..walls.panel_count(b))
+                        .map(|i| stepper.slot_loads[bar.slot0 + i].force.into())
+                        .collect()
+                };
+                let panels_water = match (&stepper.water, bar.panels.is_empty()) {
+                    (Some(w), false) => (0..walls.panel_count(b))
+                        .map(|i| w.family.slot_loads[bar.slot0 + i].force.into())
+                        .collect(),
+                    _ => Vec::new(),
+                };
+                let force_water = stepper
+                    .water
+                    .as_ref()
+                    .map_or([0.0; 3], |w| w.family.step_loads[b].force.into());
+                let loads = (
+                    l.force.into(),
+                    l.moment.into(),
+                    l.force.norm(),
+                    l.force.into(),
+                );
+                BarrierSample::new(bar.name.clone(), loads, (panels, panels_water), force_water)
             })
             .collect())
     }

@@ -686,24 +686,13 @@ impl Builder {
     }
 }
 
-/// The labels of the panels of barrier `barrier` with `counts` panels per direction:
-/// `panel_<p>` along one direction (2D), `panel_<i>_<j>` on a grid (3D).
+/// The labels of the panels of barrier `barrier` with `counts` panels per direction
+/// ([`panel_labels`](granmix_core::run::sample::panel_labels)).
 fn panel_labels(barrier: &str, counts: &[usize], d: usize) -> Result<Vec<String>, GranularError> {
-    let n: usize = if counts.is_empty() {
-        0
-    } else {
-        counts.iter().product()
-    };
-    (0..n)
-        .map(|p| match counts {
-            [_] => Ok(format!("panel_{p}")),
-            [_, n2] => Ok(format!("panel_{}_{}", p / n2, p % n2)),
-            _ => Err(GranularError::PanelCounts {
-                barrier: barrier.to_string(),
-                counts: d - 1,
-            }),
-        })
-        .collect()
+    granmix_core::run::sample::panel_labels(counts).ok_or_else(|| GranularError::PanelCounts {
+        barrier: barrier.to_string(),
+        counts: d - 1,
+    })
 }
 
 /// The variable table of `loaded`, built as `sim`.
