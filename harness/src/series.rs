@@ -171,17 +171,7 @@ const DENSITY_RATIO: [&str; 3] = ["median", "p10", "min"];
 /// Columns for a scene of this layout, in row order.
 pub fn header(l: &Layout) -> Vec<Column> {
     let d = l.dim;
-    let axes = |h: &mut Vec<Column>, q: &str, u: Unit| {
-        for a in AX.iter().take(d) {
-            h.push(Column::real(format!("{q}.{a}"), u));
-        }
-    };
-    // rotations: the z component alone in 2D
-    let rot = |h: &mut Vec<Column>, q: &str, u: Unit| {
-        for a in if d == 2 { &AX[2..] } else { &AX[..] } {
-            h.push(Column::real(format!("{q}.{a}"), u));
-        }
-    };
+    let axes = |h: &mut Vec<Column>, q: &str, u: Unit| push_axes(h, d, q, u);
     let mut h = vec![
         Column::real("time", S),
         Column::count("steps"),
@@ -218,20 +208,7 @@ pub fn header(l: &Layout) -> Vec<Column> {
         h.push(Column::real("water.min_pressure", PA));
     }
     for (b, panels) in &l.barriers {
-        axes(&mut h, &format!("{b}.force"), Unit::Force);
-        if l.water {
-            axes(&mut h, &format!("{b}.force_water"), Unit::Force);
-            axes(&mut h, &format!("{b}.force_grains"), Unit::Force);
-        }
-        rot(&mut h, &format!("{b}.moment"), Unit::Moment);
-        h.push(Column::real(format!("{b}.peak_force"), Unit::Force));
-        for p in panel_labels(panels) {
-            axes(&mut h, &format!("{b}.{p}.force"), Unit::Force);
-            if l.water {
-                axes(&mut h, &format!("{b}.{p}.force_water"), Unit::Force);
-                axes(&mut h, &format!("{b}.{p}.force_grains"), Unit::Force);
-            }
-        }
+        barrier_columns(&mut h, (d, l.water), b, panels);
     }
     for p in &l.probes {
         for s in SIG.iter().take(if d == 2 { 4 } else { 6 }) {
@@ -248,28 +225,67 @@ pub fn header(l: &Layout) -> Vec<Column> {
         h.push(Column::real(format!("{g}.level"), M));
     }
     for b in &l.bodies {
-        axes(&mut h, &format!("{b}.position"), M);
-        axes(&mut h, &format!("{b}.velocity"), MS);
-        for q in ["w", "x", "y", "z"] {
-            h.push(Column::real(
-                format!("{b}.orientation.{q}"),
-                Unit::Fixed(""),
-            ));
-        }
-        rot(
-            &mut h,
-            &format!("{b}.angular_velocity"),
-            Unit::Fixed("rad/s"),
-        );
-        axes(&mut h, &format!("{b}.force"), Unit::Force);
-        axes(&mut h, &format!("{b}.fine_force"), Unit::Force);
-        if l.water {
-            axes(&mut h, &format!("{b}.water_force"), Unit::Force);
-        }
-        rot(&mut h, &format!("{b}.torque"), Unit::Moment);
-        h.push(Column::count(format!("{b}.contacts")));
+        body_columns(&mut h, (d, l.water), b);
     }
     h
+}
+
+/// The `d` components of quantity `q` along the axes.
+fn push_axes(h: &mut Vec<Column>, d: usize, q: &str, u: Unit) {
+    for a in AX.iter().take(d) {
+        h.push(Column::real(format!("{q}.{a}"), u));
+    }
+}
+
+/// The components of rotation `q`: the z component alone in 2D.
+fn push_rot(h: &mut Vec<Column>, d: usize, q: &str, u: Unit) {
+    for a in if d == 2 { &AX[2..] } else { &AX[..] } {
+        h.push(Column::real(format!("{q}.{a}"), u));
+    }
+}
+
+/// The columns of barrier `b` with `panels` panels per direction: its load (split
+/// into water and grains with water), moment and peak, then each panel's load.
+fn barrier_columns(h: &mut Vec<Column>, (d, water): (usize, bool), b: &str, panels: &[usize]) {
+    let axes = |h: &mut Vec<Column>, q: &str, u: Unit| push_axes(h, d, q, u);
+    let rot = |h: &mut Vec<Column>, q: &str, u: Unit| push_rot(h, d, q, u);
+    axes(h, &format!("{b}.force"), Unit::Force);
+    if water {
+        axes(h, &format!("{b}.force_water"), Unit::Force);
+        axes(h, &format!("{b}.force_grains"), Unit::Force);
+    }
+    rot(h, &format!("{b}.moment"), Unit::Moment);
+    h.push(Column::real(format!("{b}.peak_force"), Unit::Force));
+    for p in panel_labels(panels) {
+        axes(h, &format!("{b}.{p}.force"), Unit::Force);
+        if water {
+            axes(h, &format!("{b}.{p}.force_water"), Unit::Force);
+            axes(h, &format!("{b}.{p}.force_grains"), Unit::Force);
+        }
+    }
+}
+
+/// The columns of body `b`: its pose, velocities, loads (the water's with water),
+/// torque and contacts.
+fn body_columns(h: &mut Vec<Column>, (d, water): (usize, bool), b: &str) {
+    let axes = |h: &mut Vec<Column>, q: &str, u: Unit| push_axes(h, d, q, u);
+    let rot = |h: &mut Vec<Column>, q: &str, u: Unit| push_rot(h, d, q, u);
+    axes(h, &format!("{b}.position"), M);
+    axes(h, &format!("{b}.velocity"), MS);
+    for q in ["w", "x", "y", "z"] {
+        h.push(Column::real(
+            format!("{b}.orientation.{q}"),
+            Unit::Fixed(""),
+        ));
+    }
+    rot(h, &format!("{b}.angular_velocity"), Unit::Fixed("rad/s"));
+    axes(h, &format!("{b}.force"), Unit::Force);
+    axes(h, &format!("{b}.fine_force"), Unit::Force);
+    if water {
+        axes(h, &format!("{b}.water_force"), Unit::Force);
+    }
+    rot(h, &format!("{b}.torque"), Unit::Moment);
+    h.push(Column::count(format!("{b}.contacts")));
 }
 
 /// The fine grains' columns: energies, largest speed and ρ/ρ0.

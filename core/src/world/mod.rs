@@ -154,29 +154,8 @@ impl<const D: usize> World<D> {
             hi = hi.sup(&f.hi);
         }
         let margin = (hi - lo).max() * 0.1 + 8.0 * dp;
-        let mut domain = (lo.add_scalar(-margin), hi.add_scalar(margin));
-        if let Some(p) = periodic {
-            // exactly one period along the axis; the particles must lie within it
-            (domain.0[p.axis], domain.1[p.axis]) = (p.lo, p.lo + p.len);
-            let outside = |x: &&Vect<D>| x[p.axis] < p.lo || x[p.axis] >= p.lo + p.len;
-            for (family, keys, pos) in [
-                ("water", "[[water.regions]]", &water.particles.pos),
-                ("soil", "[[regions]]", &fine.pos),
-            ] {
-                if let Some(x) = pos.iter().find(outside) {
-                    return Err(BuildError {
-                        path: "simulation.periodic".into(),
-                        message: format!(
-                            "a {family} particle at {:?} lies outside the period [{:?}, {:?}) \
-                             along its axis: keep {keys} within it",
-                            x.as_slice(),
-                            p.lo,
-                            p.lo + p.len
-                        ),
-                    });
-                }
-            }
-        }
+        let domain = (lo.add_scalar(-margin), hi.add_scalar(margin));
+        let domain = within_period(domain, periodic, (&water.particles.pos, &fine.pos))?;
 
         let probes = scene
             .probes
@@ -279,4 +258,36 @@ pub fn geostatic_tensor<const D: usize>(up: &Vect<D>, k0: Real) -> Sym {
         s[c] = k0 * (delta - n[*a] * n[*b]) + n[*a] * n[*b];
     }
     Sym(s)
+}
+
+/// The domain `(lo, hi)` with exactly one period along the periodic axis, if any; a
+/// water or soil particle outside the period is an error naming the key to fix.
+fn within_period<const D: usize>(
+    mut domain: (Vect<D>, Vect<D>),
+    periodic: Wrap,
+    (water, soil): (&[Vect<D>], &[Vect<D>]),
+) -> Result<(Vect<D>, Vect<D>), BuildError> {
+    let Some(p) = periodic else {
+        return Ok(domain);
+    };
+    (domain.0[p.axis], domain.1[p.axis]) = (p.lo, p.lo + p.len);
+    let outside = |x: &&Vect<D>| x[p.axis] < p.lo || x[p.axis] >= p.lo + p.len;
+    for (family, keys, pos) in [
+        ("water", "[[water.regions]]", water),
+        ("soil", "[[regions]]", soil),
+    ] {
+        if let Some(x) = pos.iter().find(outside) {
+            return Err(BuildError {
+                path: "simulation.periodic".into(),
+                message: format!(
+                    "a {family} particle at {:?} lies outside the period [{:?}, {:?}) \
+                     along its axis: keep {keys} within it",
+                    x.as_slice(),
+                    p.lo,
+                    p.lo + p.len
+                ),
+            });
+        }
+    }
+    Ok(domain)
 }
