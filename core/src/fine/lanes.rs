@@ -31,14 +31,13 @@ use super::state::FineParticles;
 use crate::numerics::kernel::WendlandC2;
 use crate::numerics::math::{Real, Sym, Vect};
 use crate::numerics::pairs::cluster_pass::{
-    at, each_lane, gather, geometry, lane_indices, run_pass, separation, ClusterPass, Geometry,
-    Window, FAR,
+    at, each_lane, gather, geometry, lane_indices, pack, repack, run_pass, separation, ClusterPass,
+    Geometry, Window, FAR,
 };
 use crate::numerics::pairs::clusters::ClusterPairs;
 use crate::numerics::pairs::quad::{Lanes, Quad, WIDTH};
 use crate::numerics::periodic::Wrap;
 use crate::numerics::riemann::minmod_jump;
-use rayon::prelude::*;
 
 /// The fine–fine pair laws' executor for one step: the lane buffers (the state the
 /// momentum pass packs serves the continuity pass), the clusters brought up to the last
@@ -179,44 +178,34 @@ impl<const D: usize> FineLanes<D> {
         prm: &MomentumParams<'_, D>,
         jump: &JumpDiffusion<'_, D>,
     ) {
-        self.blocks.resize(cp.len(), Block::default());
         let m = dev_parts(D);
         let by_density = jump.by_density();
-        self.blocks.par_iter_mut().enumerate().for_each(|(c, b)| {
-            *b = Block::default();
-            for (l, i) in cp.members(c).enumerate() {
-                let (s, mat) = (&src[i], p.material[i] as usize);
-                for d in 0..D {
-                    b[l].x[d] = p.pos[i][d];
-                    b[l].v[d] = p.vel[i][d];
-                    for e in 0..D {
-                        b[l].l[d][e] = p.vel_grad[i][(d, e)] as Real;
-                    }
+        pack(&mut self.blocks, cp, |r, i| {
+            let (s, mat) = (&src[i], p.material[i] as usize);
+            for d in 0..D {
+                r.x[d] = p.pos[i][d];
+                r.v[d] = p.vel[i][d];
+                for e in 0..D {
+                    r.l[d][e] = p.vel_grad[i][(d, e)] as Real;
                 }
-                for k in 0..m {
-                    b[l].dev[k] = s.dev.0[k];
-                }
-                b[l].p = s.p;
-                b[l].vol = s.vol;
-                b[l].pj = if by_density { s.p_rho } else { s.p };
-                b[l].pgeo = jump.pgeo(mat);
-                b[l].kept = p.hourglass_kept[i] as Real;
-                b[l].g = prm.hourglass.get(mat).copied().unwrap_or(0.0);
             }
+            r.dev[..m].copy_from_slice(&s.dev.0[..m]);
+            r.p = s.p;
+            r.vol = s.vol;
+            r.pj = if by_density { s.p_rho } else { s.p };
+            r.pgeo = jump.pgeo(mat);
+            r.kept = p.hourglass_kept[i] as Real;
+            r.g = prm.hourglass.get(mat).copied().unwrap_or(0.0);
         });
         if prm.uniform && art.is_empty() {
             self.extra.clear();
             return;
         }
-        self.extra.resize(cp.len(), ExtraBlock::default());
-        self.extra.par_iter_mut().enumerate().for_each(|(c, b)| {
-            *b = ExtraBlock::default();
-            for (l, i) in cp.members(c).enumerate() {
-                b[l].z = src[i].z;
-                b[l].c = prm.materials[p.material[i] as usize].c0;
-                if let Some(r) = art.get(i) {
-                    b[l].art[..m].copy_from_slice(&r.0[..m]);
-                }
+        pack(&mut self.extra, cp, |r, i| {
+            r.z = src[i].z;
+            r.c = prm.materials[p.material[i] as usize].c0;
+            if let Some(a) = art.get(i) {
+                r.art[..m].copy_from_slice(&a.0[..m]);
             }
         });
     }
@@ -279,12 +268,8 @@ impl<const D: usize> FineLanes<D> {
         if cp.is_empty() {
             return;
         }
-        self.blocks.par_iter_mut().enumerate().for_each(|(c, b)| {
-            for (l, i) in cp.members(c).enumerate() {
-                for d in 0..D {
-                    b[l].v[d] = vel[i][d];
-                }
-            }
+        repack(&mut self.blocks, cp, |r, i| {
+            r.v.copy_from_slice(vel[i].as_slice())
         });
         let (blocks, extra) = ((&self.blocks[..], cp), &self.extra[..]);
         if uniform {
@@ -373,14 +358,12 @@ fn momentum_term<Q: Quad, const D: usize, const PLAIN: bool>(
         a[k] = q.add(i.dev[k], q.splat(bj[l].dev[k]));
     }
     let t = sym_dot(q, &a, &e);
-    let mut ra = [zero; D];
-    if !PLAIN && sc.artificial.is_some() {
-        ra = artificial_traction(q, sc, i, (xj, l), (r, &e));
-    }
+    let ra = (!PLAIN && sc.artificial.is_some())
+        .then(|| artificial_traction(q, sc, i, (xj, l), (r, &e)));
     let (dvj, dvi) = (q.mul(dw, volj), q.mul(dw, i.vol));
     for d in 0..D {
         let mut td = q.sub(q.mul(t[d], half), q.mul(e[d], ps));
-        if !PLAIN && sc.artificial.is_some() {
+        if let Some(ra) = &ra {
             td = q.add(td, ra[d]);
         }
         own[d] = q.add(own[d], q.mul(td, dvj));

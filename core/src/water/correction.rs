@@ -23,18 +23,17 @@
 // the terms loop over the rows and columns of M
 #![allow(clippy::needless_range_loop)]
 
-use super::lanes::{Block, WaterLanes};
+use super::lanes::{rows, Block, WaterLanes};
 use super::momentum::WaterParams;
 use crate::numerics::math::{Real, Vect};
-use crate::numerics::pairs::cluster_pass::run_pass;
 use crate::numerics::pairs::cluster_pass::{
     each_lane, gather, geometry, lane_indices, separation, ClusterPass, Geometry, Window,
 };
+use crate::numerics::pairs::cluster_pass::{repack, run_pass};
 use crate::numerics::pairs::clusters::ClusterPairs;
 use crate::numerics::pairs::quad::Lanes;
 use crate::numerics::pairs::quad::Quad;
 use nalgebra::SMatrix;
-use rayon::prelude::*;
 
 /// D × D correction matrix.
 pub type Corr<const D: usize> = SMatrix<Real, D, D>;
@@ -165,15 +164,7 @@ impl<const D: usize> ClusterPass for Moment<'_, D> {
 impl<const D: usize> WaterLanes<D> {
     /// Pack each particle's correction B, after [`pack`](Self::pack).
     pub fn pack_corr(&mut self, cp: &ClusterPairs, corr: &[Corr<D>]) {
-        self.blocks.par_iter_mut().enumerate().for_each(|(c, b)| {
-            for (l, i) in cp.members(c).enumerate() {
-                for d in 0..D {
-                    for e in 0..D {
-                        b[l].b[d][e] = corr[i][(d, e)];
-                    }
-                }
-            }
-        });
+        repack(&mut self.blocks, cp, |r, i| r.b = rows(&corr[i]));
     }
 
     /// The correction's water–water sums of M into `m` (added), on `lanes`, after

@@ -17,16 +17,15 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::correction::Corr;
-use super::lanes::{Block, WaterLanes};
+use super::lanes::{rows, Block, WaterLanes};
 use super::momentum::WaterParams;
-use crate::numerics::pairs::cluster_pass::run_pass;
 use crate::numerics::pairs::cluster_pass::{
     at, each_lane, gather, geometry, lane_indices, separation, ClusterPass, Geometry, Window,
 };
+use crate::numerics::pairs::cluster_pass::{repack, run_pass};
 use crate::numerics::pairs::clusters::ClusterPairs;
 use crate::numerics::pairs::quad::Lanes;
 use crate::numerics::pairs::quad::Quad;
-use rayon::prelude::*;
 
 /// The velocity gradient's pass: L_i = −Σ_j v_ij ⊗ e_ij ∂W/∂r V_j; for j, −v_ji ⊗
 /// ∇_j W is the same tensor, times V_i.
@@ -103,15 +102,7 @@ impl<const D: usize> WaterLanes<D> {
     /// Pack each particle's corrected velocity gradient ∇v (`water.muscl`), after
     /// [`pack`](Self::pack).
     pub fn pack_grad(&mut self, cp: &ClusterPairs, grad: &[Corr<D>]) {
-        self.blocks.par_iter_mut().enumerate().for_each(|(c, b)| {
-            for (l, i) in cp.members(c).enumerate() {
-                for d in 0..D {
-                    for e in 0..D {
-                        b[l].gv[d][e] = grad[i][(d, e)];
-                    }
-                }
-            }
-        });
+        repack(&mut self.blocks, cp, |r, i| r.gv = rows(&grad[i]));
     }
 
     /// The velocity gradient's water–water sums of L into `l` (added), on `lanes`,

@@ -22,10 +22,10 @@
 use super::source::WaterSource;
 use super::state::WaterParticles;
 use crate::numerics::math::{Real, Vect};
-use crate::numerics::pairs::cluster_pass::FAR;
+use crate::numerics::pairs::cluster_pass::{pack, repack, FAR};
 use crate::numerics::pairs::clusters::ClusterPairs;
 use crate::numerics::pairs::quad::WIDTH;
-use rayon::prelude::*;
+use nalgebra::SMatrix;
 
 /// The state the pair terms read, for one particle of a cluster.
 #[derive(Clone, Copy, Debug)]
@@ -77,18 +77,12 @@ impl<const D: usize> WaterLanes<D> {
 
     /// Pack positions, velocities, pressure, volume and density of every cluster.
     pub fn pack(&mut self, cp: &ClusterPairs, w: &WaterParticles<D>, src: &[WaterSource]) {
-        self.blocks.resize(cp.len(), Block::default());
-        self.blocks.par_iter_mut().enumerate().for_each(|(c, b)| {
-            *b = Block::default();
-            for (l, i) in cp.members(c).enumerate() {
-                for d in 0..D {
-                    b[l].x[d] = w.pos[i][d];
-                    b[l].v[d] = w.vel[i][d];
-                }
-                b[l].p = src[i].p;
-                b[l].vol = src[i].vol;
-                b[l].rho = src[i].rho;
-            }
+        pack(&mut self.blocks, cp, |r, i| {
+            r.x.copy_from_slice(w.pos[i].as_slice());
+            r.v.copy_from_slice(w.vel[i].as_slice());
+            r.p = src[i].p;
+            r.vol = src[i].vol;
+            r.rho = src[i].rho;
         });
     }
 
@@ -100,13 +94,16 @@ impl<const D: usize> WaterLanes<D> {
         vel: &[Vect<D>],
         (hyd, body): (&Vect<D>, &[Vect<D>]),
     ) {
-        self.blocks.par_iter_mut().enumerate().for_each(|(c, b)| {
-            for (l, i) in cp.members(c).enumerate() {
-                for d in 0..D {
-                    b[l].v[d] = vel[i][d];
-                    b[l].g[d] = hyd[d] + body.get(i).map_or(0.0, |a| a[d]);
-                }
+        repack(&mut self.blocks, cp, |r, i| {
+            for d in 0..D {
+                r.v[d] = vel[i][d];
+                r.g[d] = hyd[d] + body.get(i).map_or(0.0, |a| a[d]);
             }
         });
     }
+}
+
+/// A D × D matrix by row and column, as the records hold it.
+pub(super) fn rows<const D: usize>(m: &SMatrix<Real, D, D>) -> [[Real; D]; D] {
+    std::array::from_fn(|d| std::array::from_fn(|e| m[(d, e)]))
 }

@@ -19,6 +19,7 @@ use crate::numerics::pairs::clusters::ClusterPairs;
 use crate::numerics::pairs::quad::{Lanes, Quad, QuadTask, WIDTH};
 use crate::numerics::pairs::slabs::two_phase_in;
 use crate::numerics::periodic::Wrap;
+use rayon::prelude::*;
 
 /// Where the lanes of a cluster with fewer than four particles sit: so far that no
 /// pair with them is within the cut-off.
@@ -51,6 +52,37 @@ pub fn separation<Q: Quad, const D: usize>(
 #[inline(always)]
 pub fn gather<Q: Quad, R>(q: Q, recs: &[R; WIDTH], f: impl Fn(&R) -> Real) -> Q::V {
     q.load(&[f(&recs[0]), f(&recs[1]), f(&recs[2]), f(&recs[3])])
+}
+
+/// Pack one record per particle, four to a cluster: `blocks` gets one entry per
+/// cluster of `cp`, every record reset to its default (the lanes of a cluster with
+/// fewer than four particles stay so: far away, [`FAR`]) and `fill(record, particle)`
+/// called for each particle.
+pub fn pack<R: Default + Send>(
+    blocks: &mut Vec<[R; WIDTH]>,
+    cp: &ClusterPairs,
+    fill: impl Fn(&mut R, usize) + Sync,
+) {
+    blocks.resize_with(cp.len(), Default::default);
+    blocks.par_iter_mut().enumerate().for_each(|(c, b)| {
+        *b = Default::default();
+        for (l, i) in cp.members(c).enumerate() {
+            fill(&mut b[l], i);
+        }
+    });
+}
+
+/// `set(record, particle)` for every particle's record of `blocks`, packed by [`pack`].
+pub fn repack<R: Send>(
+    blocks: &mut [[R; WIDTH]],
+    cp: &ClusterPairs,
+    set: impl Fn(&mut R, usize) + Sync,
+) {
+    blocks.par_iter_mut().enumerate().for_each(|(c, b)| {
+        for (l, i) in cp.members(c).enumerate() {
+            set(&mut b[l], i);
+        }
+    });
 }
 
 /// `op(sums of lane l, lane l of v)` for the lanes of a cluster (`sums` holds its
