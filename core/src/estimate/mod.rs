@@ -17,7 +17,6 @@ use crate::estimate::flow_speed::{saturated, water_spec, water_speed, WaterSpeed
 use crate::fine::lanes::FineLanes;
 use crate::fine::pair_sums::PairSums;
 use crate::fine::pores::Pores;
-use crate::fine::source::Source;
 use crate::geometry::Shape;
 use crate::numerics::math::{from3, to3, Real, Sym, Vect};
 use crate::numerics::neighbors::BYTES_PER_CELL;
@@ -178,9 +177,11 @@ fn estimate_in<const D: usize>(scene: &Scene, res: &Resolution) -> Estimate {
     // for the outputs)
     let sw_radius = (2.0 * n.smoothing_ratio + 1.5 * n.neighbor_skin) * dp;
     let sw_cells = cells * (radius / sw_radius).powi(D as i32);
+    // per family: its own grid and the walls', and the coarse particles' if any
+    let grids = 2.0 + (e.coarse() > 0.0) as u8 as Real;
     e.grid_bytes = BYTES_PER_CELL as Real
-        * (cells * (GRIDS_PER_FAMILY * (e.fine() > 0.0) as u8 as Real)
-            + cells * (GRIDS_PER_FAMILY * water as u8 as Real)
+        * (cells * (grids * (e.fine() > 0.0) as u8 as Real)
+            + cells * (grids * water as u8 as Real)
             + sw_cells * 2.0 * seepage as u8 as Real);
     e.bytes = (e.fine() + e.water()) * per_particle[0]
         + e.walls * per_particle[1]
@@ -189,11 +190,6 @@ fn estimate_in<const D: usize>(scene: &Scene, res: &Resolution) -> Estimate {
         + e.grid_bytes;
     e
 }
-
-/// Dense cell grids of one family's stepper (fine grains, water) over the whole
-/// domain: its own particles, the walls and the coarse particles, each binned at every
-/// list build whether or not it holds anything.
-const GRIDS_PER_FAMILY: Real = 3.0;
 
 fn has_inflows(scene: &Scene) -> bool {
     scene.water.as_ref().is_some_and(|w| !w.inflows.is_empty())
@@ -446,15 +442,12 @@ const BODY_FILL_BYTES_PER_DIM: Real = 64.0;
 
 /// Bytes per fine particle: its state ([`FineParticles`](crate::fine::state::FineParticles)),
 /// the stepper's per-particle scratch (positions at the last list build, new
-/// velocities, artificial stress, sources, sort order, pair sums, the cell grid's
-/// three index arrays) and its Verlet list: half the lattice points within the list
-/// radius (2h + skin; each pair is stored once), 4 bytes each, plus the list offsets,
-/// counted twice: the lists grow by doubling, so they hold up to twice what they use
-/// (and the wall neighbours of particles next to walls are then covered), and the
-/// cluster-pair passes' buffers. This gives 798 (2D) and 1393 (3D) bytes for the
-/// bundled column collapses (their built solvers hold 813 and 1290,
-/// `tests/tests/memory_budget.rs`); `docs/scale.md` measures 494–501 (2D) and 890–925
-/// (3D) in bulk before the passes.
+/// velocities, artificial stress, sort order, pair sums, the cell grid's two index
+/// arrays), the offsets of its wall and coarse lists (a particle in bulk has no wall or
+/// coarse neighbours), and the cluster-pair lists and buffers. The cell grids go with
+/// the cells ([`Estimate::grid_bytes`]). With them this gives 624 (2D) and 920 (3D)
+/// bytes for the bundled column collapses, whose built solvers hold 585 and 928
+/// (`tests/tests/memory_budget.rs`).
 pub fn fine_bytes_per_particle<const D: usize>(smoothing_ratio: Real, skin: Real) -> Real {
     let state = 2 * size_of::<Vect<D>>()
         + 4 * size_of::<Real>()
@@ -467,28 +460,23 @@ pub fn fine_bytes_per_particle<const D: usize>(smoothing_ratio: Real, skin: Real
     let scratch = size_of::<SVector<f32, D>>()
         + size_of::<Vect<D>>()
         + size_of::<Sym>()
-        + size_of::<Source>()
         + 4
         + size_of::<PairSums<D>>()
-        + 3 * 4;
+        + 2 * 4;
+    let lists = 2 * 4;
     let r = 2.0 * smoothing_ratio + skin;
-    let ball = if D == 2 {
-        std::f64::consts::PI * r * r
-    } else {
-        4.0 / 3.0 * std::f64::consts::PI * r.powi(3)
-    };
-    let lists = 2.0 * 4.0 * (0.5 * ball + 3.0);
-    (state + scratch) as Real + lists + cluster_bytes_per_particle::<D>(r)
+    (state + scratch + lists) as Real + cluster_bytes_per_particle::<D>(r)
 }
 
-/// Bytes per fine particle of the cluster-pair passes ([`FineLanes`]): the packed state
-/// (the passes add their sums straight into the particles' pair sums), each particle's
-/// cluster, the clusters' bounds and offsets, and each cluster's pair list, the union
-/// of its four members' half lists: about half the lattice points within the list
-/// radius `r` plus half a spacing (the members lie about that far from their centre),
-/// counted twice as the lists are.
+/// Bytes per fine particle of the cluster-pair passes ([`FineLanes`]) and their lists
+/// ([`ClusterPairs`]): the packed state (the passes add their sums straight into the
+/// particles' pair sums), each particle's cluster, the clusters' bounds and offsets,
+/// and each cluster's pair list, the union of its four members' half lists: about
+/// half the lattice points within the list radius `r` plus half a spacing (the
+/// members lie about that far from their centre), with a sixteenth of room to grow.
 ///
 /// [`FineLanes`]: crate::fine::lanes::FineLanes
+/// [`ClusterPairs`]: crate::numerics::pairs::clusters::ClusterPairs
 fn cluster_bytes_per_particle<const D: usize>(r: Real) -> Real {
     let rc = r + 0.5;
     let ball = if D == 2 {
@@ -500,7 +488,7 @@ fn cluster_bytes_per_particle<const D: usize>(r: Real) -> Real {
     FineLanes::<D>::bytes_per_particle() as Real
         + 4.0
         + 2.0 * 4.0 / width
-        + 2.0 * 4.0 * 0.5 * ball / width
+        + 17.0 / 16.0 * 4.0 * 0.5 * ball / width
 }
 
 /// Bytes per dummy wall particle: position, object index, panel index and the wall

@@ -22,7 +22,6 @@ use super::hourglass::penalty_kept;
 use super::material::FineMaterial;
 use super::pair_sums::{ContinuitySums, PairSums};
 use super::plasticity::constitutive_step;
-use super::source::Source;
 use crate::numerics::kernel::WendlandC2;
 use crate::numerics::math::{Real, Sym, Vect};
 use crate::numerics::periodic::Wrap;
@@ -87,20 +86,20 @@ pub struct Rates<const D: usize> {
 }
 
 impl<const D: usize> Rates<D> {
-    /// The rates of particle i (record `si`, material index `mat`, factor `weight` of
-    /// [`ContinuityParams::weight`]) from its fine–fine pair sums.
+    /// The rates of particle i (stress σ_n `stress`, material index `mat`, factor
+    /// `weight` of [`ContinuityParams::weight`]) from its fine–fine pair sums.
     #[inline(always)]
     pub fn from_sums(
         prm: &ContinuityParams<'_, D>,
-        si: &Source,
+        stress: &Sym,
         (mat, weight): (usize, Real),
         sum: &ContinuitySums<D>,
     ) -> Self {
         let geo = prm.geostatic[mat].scale(prm.geostatic_scale * weight);
         // Ψ of Eq. (26) summed: σ_i − σ_j (σ = σˢ − P I) minus the geostatic gradient
         // −(r_ij·up) geo
-        let mut diff = si.dev.scale(sum.w).sub(&sum.wdev);
-        let dp = sum.wp - si.p * sum.w;
+        let mut diff = stress.dev().scale(sum.w).sub(&sum.wdev);
+        let dp = sum.wp - (-stress.trace() / 3.0) * sum.w;
         diff.0[0] += dp;
         diff.0[1] += dp;
         diff.0[2] += dp;

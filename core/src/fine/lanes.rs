@@ -167,21 +167,21 @@ impl<const D: usize> FineLanes<D> {
             + self.extra.capacity() * size_of::<ExtraBlock>()
     }
 
-    /// Pack the state of every cluster: positions and velocities of `p`, the records
-    /// `src`, the artificial stresses `art` (empty: none), and per soil ξ G
+    /// Pack the state of every cluster: positions, velocities and [`Source`] records
+    /// of `p`, the artificial stresses `art` (empty: none), and per soil ξ G
     /// (`prm.hourglass`), its sound speed and the geostatic pressure gradient of the
     /// jump.
     fn pack(
         &mut self,
         cp: &ClusterPairs,
-        (p, src, art): (&FineParticles<D>, &[Source], &[Sym]),
+        (p, art): (&FineParticles<D>, &[Sym]),
         prm: &MomentumParams<'_, D>,
         jump: &JumpDiffusion<'_, D>,
     ) {
         let m = dev_parts(D);
         let by_density = jump.by_density();
         pack(&mut self.blocks, cp, |r, i| {
-            let (s, mat) = (&src[i], p.material[i] as usize);
+            let (s, mat) = (Source::of(p, prm.materials, i), p.material[i] as usize);
             for d in 0..D {
                 r.x[d] = p.pos[i][d];
                 r.v[d] = p.vel[i][d];
@@ -202,8 +202,8 @@ impl<const D: usize> FineLanes<D> {
             return;
         }
         pack(&mut self.extra, cp, |r, i| {
-            r.z = src[i].z;
-            r.c = prm.materials[p.material[i] as usize].c0;
+            let soil = &prm.materials[p.material[i] as usize];
+            (r.z, r.c) = (soil.rho0 * soil.c0, soil.c0);
             if let Some(a) = art.get(i) {
                 r.art[..m].copy_from_slice(&a.0[..m]);
             }
@@ -217,14 +217,14 @@ impl<const D: usize> FineLanes<D> {
     pub fn momentum(
         &mut self,
         cp: &ClusterPairs,
-        (p, src, art): (&FineParticles<D>, &[Source], &[Sym]),
+        (p, art): (&FineParticles<D>, &[Sym]),
         prm: &MomentumParams<'_, D>,
         jump: &JumpDiffusion<'_, D>,
         lanes: Lanes,
         sums: &mut [PairSums<D>],
     ) {
         let art = if prm.artificial.is_some() { art } else { &[] };
-        self.pack(cp, (p, src, art), prm, jump);
+        self.pack(cp, (p, art), prm, jump);
         // with one impedance and sound speed, those of any soil (none: no fine grains)
         let Some(mat) = prm.materials.first() else {
             return;

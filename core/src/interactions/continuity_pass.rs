@@ -12,7 +12,6 @@ use crate::fine::continuity::{ContinuityOut, ContinuityParams, ParticleOut, Rate
 use crate::fine::lanes::FinePairs;
 use crate::fine::material::FineMaterial;
 use crate::fine::pair_sums::ContinuitySums;
-use crate::fine::source::Source;
 use crate::fine::state::FineParticles;
 use crate::geometry::walls::Walls;
 use crate::numerics::neighbors::{NeighborLists, CHUNK};
@@ -24,7 +23,6 @@ use rayon::prelude::*;
 #[allow(clippy::too_many_arguments)]
 pub fn continuity_sweep<const D: usize>(
     p: &FineParticles<D>,
-    src: &[Source],
     mats: &[FineMaterial],
     walls: &Walls<D>,
     lists: &NeighborLists,
@@ -35,7 +33,7 @@ pub fn continuity_sweep<const D: usize>(
 ) {
     // neighbour arrays of one length, so that a neighbour index is bounds-checked once
     let n = p.len();
-    let (pos, vel, src, material) = (&p.pos[..n], &p.vel[..n], &src[..n], &p.material[..n]);
+    let (pos, vel, material) = (&p.pos[..n], &p.vel[..n], &p.material[..n]);
     let terms = (vel, prm.kernel, prm.wrap, prm.uniform);
     buf.continuity(cp, terms, lanes, &mut *out.sums);
     lists
@@ -57,7 +55,7 @@ pub fn continuity_sweep<const D: usize>(
                     // the pair sums, left zero for the next step
                     let sum = std::mem::replace(&mut sums[k].continuity, ContinuitySums::zero());
                     let weight = prm.weight.get(i).copied().unwrap_or(1.0);
-                    let mut rates = Rates::from_sums(prm, &src[i], (mat, weight), &sum);
+                    let mut rates = Rates::from_sums(prm, &stress_out[k], (mat, weight), &sum);
                     let (drho, grad) = (&mut rates.drho, &mut rates.grad);
                     for &w in cl.wall(k) {
                         let (k, wrap) = (&prm.kernel, &prm.wrap);

@@ -33,7 +33,6 @@ use rayon::prelude::*;
 #[allow(clippy::too_many_arguments)]
 pub fn momentum_sweep<const D: usize>(
     p: &FineParticles<D>,
-    src: &[Source],
     walls: &Walls<D>,
     lists: &NeighborLists,
     art: &[Sym],
@@ -52,8 +51,8 @@ pub fn momentum_sweep<const D: usize>(
     let nbs = walls.load_slots().max(1);
     // neighbour arrays of one length, so that a neighbour index is bounds-checked once
     let n = p.len();
-    let (pos, vel, src) = (&p.pos[..n], &p.vel[..n], &src[..n]);
-    buf.momentum(cp, (p, src, art), prm, jump, lanes, &mut *sums);
+    let (pos, vel) = (&p.pos[..n], &p.vel[..n]);
+    buf.momentum(cp, (p, art), prm, jump, lanes, &mut *sums);
     lists
         .chunks
         .par_iter()
@@ -79,7 +78,7 @@ pub fn momentum_sweep<const D: usize>(
                 // the water's force on a soil (soil_water): buoyancy and seepage
                 let lift = water.get(i).map(|f| f / p.mass[i]);
                 if !wl.is_empty() {
-                    let (w, s) = (walls, &src[i]);
+                    let (w, s) = (walls, &Source::new(mat, &p.stress[i], p.mass[i], rhoi));
                     let at = FineAtWall::new(wall, w, mat, xi, vi, rhoi, s, wl, lift.as_ref());
                     for &w in wl {
                         if let Some(a) = at.acceleration(wall, walls, w as usize) {
@@ -95,7 +94,7 @@ pub fn momentum_sweep<const D: usize>(
                         vel: vi,
                         rho: rhoi,
                         stress: &p.stress[i],
-                        z: src[i].z,
+                        z: mat.rho0 * mat.c0,
                         inv_c: 1.0 / mat.c0,
                         c2: mat.c0 * mat.c0,
                         tension: tension[p.material[i] as usize],

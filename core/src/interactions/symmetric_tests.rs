@@ -17,7 +17,7 @@ use crate::fine::momentum::ArtificialStress;
 use crate::fine::momentum::MomentumParams;
 use crate::fine::pair_sums::PairSums;
 use crate::fine::plasticity::constitutive_step;
-use crate::fine::source::{pack, Source};
+use crate::fine::source::Source;
 use crate::fine::state::FineParticles;
 use crate::geometry::walls::Walls;
 use crate::numerics::kernel::WendlandC2;
@@ -176,8 +176,7 @@ struct Pairing<const D: usize> {
 
 impl<const D: usize> Pairing<D> {
     fn new(cloud: &Cloud<D>, lanes: Lanes) -> Self {
-        let mut cp = ClusterPairs::default();
-        cp.update(&cloud.lists, cloud.p.len());
+        let cp = cloud.lists.clusters.clone();
         Pairing {
             lanes,
             buf: FineLanes::default(),
@@ -259,7 +258,6 @@ fn artificial<const D: usize>(cloud: &Cloud<D>) -> (ArtificialStress, Vec<Sym>) 
 /// sums it leaves for the continuity sweep.
 fn momentum<const D: usize>(
     cloud: &Cloud<D>,
-    src: &[Source],
     cprm: &ContinuityParams<'_, D>,
     how: &mut Pairing<D>,
     opt: Options,
@@ -315,7 +313,6 @@ fn momentum<const D: usize>(
     };
     momentum_sweep(
         p,
-        src,
         &walls,
         lists,
         &art,
@@ -337,12 +334,11 @@ fn momentum_matches<const D: usize>(two_soils: bool, lanes: Lanes, opt: Options)
     let cloud = cloud::<D>(if D == 2 { 30 } else { 11 }, two_soils);
     let (p, mats, kernel) = (&cloud.p, &cloud.mats, cloud.kernel);
     let n = p.len();
-    let mut src: Vec<Source> = Vec::new();
-    pack(p, mats, &mut src);
+    let src: Vec<Source> = (0..p.len()).map(|i| Source::of(p, mats, i)).collect();
     let (geo, pgeo) = geostatic(mats);
     let cprm = continuity_params::<D>(kernel, ContinuityJump::Stress, mats, &geo, &pgeo);
     let mut how = Pairing::new(&cloud, lanes);
-    let (vel_new, hg, sums) = momentum(&cloud, &src, &cprm, &mut how, opt);
+    let (vel_new, hg, sums) = momentum(&cloud, &cprm, &mut how, opt);
     let (art_prm, art) = artificial(&cloud);
     let hourglass: Vec<Real> = mats.iter().map(|m| 0.1 * m.shear).collect();
     let riemann = Riemann {
@@ -429,14 +425,13 @@ fn continuity_matches<const D: usize>(two_soils: bool, jump: ContinuityJump, lan
     let cloud = cloud::<D>(if D == 2 { 30 } else { 11 }, two_soils);
     let (p, mats, lists, kernel) = (&cloud.p, &cloud.mats, &cloud.lists, cloud.kernel);
     let n = p.len();
-    let mut src: Vec<Source> = Vec::new();
-    pack(p, mats, &mut src);
+    let src: Vec<Source> = (0..p.len()).map(|i| Source::of(p, mats, i)).collect();
     let (geostatic, pgeo) = geostatic(mats);
     let prm = continuity_params::<D>(kernel, jump, mats, &geostatic, &pgeo);
     let (up, dt, zeta) = (prm.up, prm.dt, prm.zeta);
     // the momentum sweep takes the terms without velocity (same positions and σ_n)
     let mut how = Pairing::new(&cloud, lanes);
-    let (_, _, mut sums) = momentum(&cloud, &src, &prm, &mut how, Options::default());
+    let (_, _, mut sums) = momentum(&cloud, &prm, &mut how, Options::default());
     let walls = Walls::<D>::default();
     let mut drho = vec![0.0; n];
     let mut stress = p.stress.clone();
@@ -445,7 +440,6 @@ fn continuity_matches<const D: usize>(two_soils: bool, jump: ContinuityJump, lan
     let mut kept = vec![0.0f32; n];
     continuity_sweep(
         p,
-        &src,
         mats,
         &walls,
         lists,
@@ -576,8 +570,6 @@ fn continuity_two_soils_both_jumps() {
 fn lanes_levels_agree_bitwise() {
     fn bits<const D: usize>(lanes: Lanes) -> Vec<u64> {
         let cloud = cloud::<D>(if D == 2 { 30 } else { 11 }, D == 3);
-        let mut src: Vec<Source> = Vec::new();
-        pack(&cloud.p, &cloud.mats, &mut src);
         let (geo, pgeo) = geostatic(&cloud.mats);
         let prm = continuity_params::<D>(
             cloud.kernel,
@@ -591,7 +583,7 @@ fn lanes_levels_agree_bitwise() {
             muscl: true,
             artificial: true,
         };
-        let (v, hg, sums) = momentum(&cloud, &src, &prm, &mut how, opt);
+        let (v, hg, sums) = momentum(&cloud, &prm, &mut how, opt);
         let mut out: Vec<u64> = v
             .iter()
             .flat_map(|x| x.iter().map(|c| c.to_bits()))

@@ -91,9 +91,14 @@ pub fn incompressible_start<const D: usize>(
     // −∇²p_h: zero for one region's hydrostatic start, ρ g η'' under a column
     // fill's surface η
     let mut source = vec![0.0; n];
+    let cp = &lists.clusters;
     for i in 0..n {
-        for &j in lists.inner_of(i) {
+        // i's half list: the entries j > i of its cluster's list, in ascending order
+        for &j in cp.of(cp.of[i] as usize) {
             let j = j as usize;
+            if j <= i {
+                continue;
+            }
             let rij = prm.wrap.of(w.pos[i] - w.pos[j]);
             let r2 = rij.norm_squared();
             if r2 >= cut2 || r2 == 0.0 {

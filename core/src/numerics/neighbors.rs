@@ -13,6 +13,7 @@
 //! ([`slabs`](crate::numerics::pairs::slabs)).
 
 use crate::numerics::math::{Real, Vect};
+use crate::numerics::pairs::clusters::ClusterPairs;
 use crate::numerics::periodic::{Period, Separation};
 use rayon::prelude::*;
 
@@ -185,6 +186,21 @@ impl<const D: usize> CellGrid<D> {
         self.sorted = self.cell_of.windows(2).all(|w| w[0] <= w[1]);
     }
 
+    /// Free the binned arrays, keeping the geometry: the grid holds no particles and
+    /// no cells until it is binned again (looking anything up in it before then is a
+    /// bug).
+    pub fn release(&mut self) {
+        for v in [
+            &mut self.start,
+            &mut self.items,
+            &mut self.cell_of,
+            &mut self.fill,
+        ] {
+            *v = Vec::new();
+        }
+        self.sorted = false;
+    }
+
     /// Particle indices in cell order (valid after [`bin`](Self::bin)).
     pub fn order(&self) -> &[u32] {
         &self.items
@@ -353,16 +369,13 @@ pub mod geometry_only {
     }
 }
 
-/// Verlet lists of one chunk of particles, fused: a family's three relations (its
-/// inner one, fine–fine or water–water; its walls, fine–wall or water–wall; its coarse
-/// grains, fine–coarse or water–coarse) are stored side by side so that a pass reads a
-/// particle's record once. Each relation is read through its own accessor.
+/// Verlet lists of one chunk of particles, fused: a family's relations with the walls
+/// (fine–wall or water–wall) and the coarse grains (fine–coarse or water–coarse) are
+/// stored side by side so that a pass reads a particle's record once. Each relation is
+/// read through its own accessor; the inner relation (fine–fine or water–water) is
+/// kept as cluster lists only ([`NeighborLists::clusters`]).
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct ChunkList {
-    /// `inner[inner_off[k]..inner_off[k+1]]` are the neighbours j > i of the family's
-    /// own particle i = `start + k` (each pair once).
-    pub inner_off: Vec<u32>,
-    pub inner: Vec<u32>,
     pub wall_off: Vec<u32>,
     pub wall: Vec<u32>,
     pub coarse_off: Vec<u32>,
@@ -370,13 +383,6 @@ pub struct ChunkList {
 }
 
 impl ChunkList {
-    /// The inner relation: the family's own neighbours j > i of the chunk's k-th
-    /// particle.
-    #[inline(always)]
-    pub fn inner(&self, k: usize) -> &[u32] {
-        &self.inner[self.inner_off[k] as usize..self.inner_off[k + 1] as usize]
-    }
-
     /// The wall relation: the wall particles near the chunk's k-th particle.
     #[inline(always)]
     pub fn wall(&self, k: usize) -> &[u32] {
@@ -396,22 +402,17 @@ pub struct Binned<'a, const D: usize> {
     pub grid: &'a CellGrid<D>,
 }
 
-/// Make room for one more particle's neighbours (at most a few hundred) growing by an
-/// eighth instead of doubling: the lists are the solver's largest arrays, and
-/// doubling would leave up to half of them unused. Growth only happens while the
-/// lists lengthen; a steady run reuses them without allocating.
-#[inline]
-fn headroom(v: &mut Vec<u32>) {
-    const ROOM: usize = 512;
-    if v.capacity() - v.len() < ROOM {
-        v.reserve_exact((v.len() / 8).max(4 * ROOM));
-    }
-}
-
 /// Neighbour lists of all fine particles within the list radius (cut-off + skin).
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct NeighborLists {
     pub chunks: Vec<ChunkList>,
+    /// The inner relation: the family's clusters of four and, for each, the union of
+    /// its members' half lists (each pair once, under its lower index). The half lists
+    /// themselves are not kept: a cluster's list holds them in about a quarter of the
+    /// memory.
+    pub clusters: ClusterPairs,
+    /// Pairs in the half lists (summary.json `relations`).
+    inner_pairs: usize,
     /// `slabs[s]..slabs[s+1]`: the particles of slab s (see the module notes).
     pub slabs: Vec<u32>,
     pub radius: Real,
@@ -442,46 +443,37 @@ impl NeighborLists {
         self.chunks.par_iter_mut().enumerate().for_each(|(c, cl)| {
             let start = c * CHUNK;
             let end = (start + CHUNK).min(pos.len());
-            cl.inner_off.clear();
-            cl.inner.clear();
             cl.wall_off.clear();
             cl.wall.clear();
             cl.coarse_off.clear();
             cl.coarse.clear();
-            cl.inner_off.push(0);
+            cl.wall_off.reserve_exact(end - start + 1);
+            cl.coarse_off.reserve_exact(end - start + 1);
             cl.wall_off.push(0);
             cl.coarse_off.push(0);
-            for i in start..end {
-                let xi = pos[i];
-                headroom(&mut cl.inner);
-                headroom(&mut cl.wall);
-                headroom(&mut cl.coarse);
-                fine_grid.collect_near(&xi, pos, r2, Some(i), sep, &mut cl.inner);
-                cl.inner_off.push(cl.inner.len() as u32);
+            for xi in &pos[start..end] {
                 if !wall_pos.is_empty() {
-                    wall_grid.collect_near(&xi, wall_pos, r2, None, sep, &mut cl.wall);
+                    wall_grid.collect_near(xi, wall_pos, r2, None, sep, &mut cl.wall);
                 }
                 cl.wall_off.push(cl.wall.len() as u32);
                 if !coarse_pos.is_empty() {
-                    coarse_grid.collect_near(&xi, coarse_pos, r2, None, sep, &mut cl.coarse);
+                    coarse_grid.collect_near(xi, coarse_pos, r2, None, sep, &mut cl.coarse);
                 }
                 cl.coarse_off.push(cl.coarse.len() as u32);
             }
         });
-    }
-
-    /// The inner relation of particle i: the family's own neighbours j > i (each pair
-    /// once).
-    #[inline]
-    pub fn inner_of(&self, i: usize) -> &[u32] {
-        self.chunks[i / CHUNK].inner(i % CHUNK)
+        self.inner_pairs = self.clusters.build(&self.slabs, pos.len(), |i, out| {
+            fine_grid.collect_near(&pos[i], pos, r2, Some(i), sep, out)
+        });
     }
 
     /// Pairs held by each of the fused relations: inner, wall and coarse.
     pub fn pairs(&self) -> [usize; 3] {
-        self.chunks.iter().fold([0; 3], |[i, w, c], cl| {
-            [i + cl.inner.len(), w + cl.wall.len(), c + cl.coarse.len()]
-        })
+        self.chunks
+            .iter()
+            .fold([self.inner_pairs, 0, 0], |[i, w, c], cl| {
+                [i, w + cl.wall.len(), c + cl.coarse.len()]
+            })
     }
 
     /// Bytes held by the lists.
@@ -489,21 +481,50 @@ impl NeighborLists {
         self.chunks
             .iter()
             .map(|c| {
-                4 * (c.inner_off.capacity()
-                    + c.inner.capacity()
-                    + c.wall_off.capacity()
+                4 * (c.wall_off.capacity()
                     + c.wall.capacity()
                     + c.coarse_off.capacity()
                     + c.coarse.capacity())
             })
             .sum::<usize>()
             + 4 * self.slabs.capacity()
+            + self.clusters.bytes()
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::numerics::pairs::quad::WIDTH;
+    use crate::numerics::periodic::Open;
+    use crate::numerics::rng::Rng;
+    use nalgebra::Vector2;
+
+    /// Particle i's half list as the cluster lists hold it: the entries j > i of its
+    /// cluster's list within `r`; every entry of the cluster's list lies within `r` of
+    /// a member below it.
+    fn half_list<const D: usize>(
+        nl: &NeighborLists,
+        pos: &[Vect<D>],
+        i: usize,
+        r: Real,
+        sep: &impl Separation,
+    ) -> Vec<u32> {
+        let (cp, near) = (&nl.clusters, |a: usize, b: usize| {
+            sep.of(pos[a] - pos[b]).norm() < r
+        });
+        let ci = cp.of[i] as usize;
+        for &j in cp.of(ci) {
+            let j = j as usize;
+            assert!(
+                cp.members(ci).any(|m| m < j && near(m, j)),
+                "{j} in {ci}'s list"
+            );
+        }
+        let js = cp.of(ci).iter().copied();
+        js.filter(|&j| j as usize > i && near(i, j as usize))
+            .collect()
+    }
 
     #[test]
     fn lists_match_brute_force() {
@@ -565,8 +586,7 @@ mod tests {
         assert_eq!(nl.pairs(), [inner, wall, 0]);
         for i in 0..pos.len() {
             let (cl, k) = (&nl.chunks[i / CHUNK], i % CHUNK);
-            let mut got: Vec<u32> = nl.inner_of(i).to_vec();
-            got.sort();
+            let got = half_list(&nl, pos, i, r, &crate::numerics::periodic::Open);
             let want: Vec<u32> = (i as u32 + 1..pos.len() as u32)
                 .filter(|&j| (pos[i] - pos[j as usize]).norm() < r)
                 .collect();
@@ -624,8 +644,7 @@ mod tests {
         let mut across = 0;
         for i in 0..pos.len() {
             let (cl, k) = (&nl.chunks[i / CHUNK], i % CHUNK);
-            let mut got: Vec<u32> = nl.inner_of(i).to_vec();
-            got.sort();
+            let got = half_list(&nl, &pos, i, r, &wrap);
             let want: Vec<u32> = (i as u32 + 1..pos.len() as u32)
                 .filter(|&j| wrap.of(pos[i] - pos[j as usize]).norm() < r)
                 .collect();
@@ -653,5 +672,62 @@ mod tests {
         let g = CellGrid::<2>::new(&Vect::<2>::new(0.0, 0.0), &Vect::<2>::new(0.3, 1.0), 0.1);
         assert_eq!(g.axes, [1, 2, 0]);
         assert_eq!(g.slab_count(), 10);
+    }
+
+    /// Every listed pair (i, j) has j in the list of i's cluster; no cluster straddles a
+    /// slab; each listed particle lies in its cluster's slab or the next, after the
+    /// cluster's first member.
+    #[test]
+    fn cluster_pairs_cover_the_lists() {
+        let mut rng = Rng(7);
+        let pos: Vec<Vect<2>> = (0..900)
+            .map(|k| {
+                let (a, b) = ((k % 45) as f64, (k / 45) as f64);
+                Vector2::new(
+                    a * 0.01 + 0.003 * rng.uniform(),
+                    b * 0.01 + 0.003 * rng.uniform(),
+                )
+            })
+            .collect();
+        let (lo, hi) = (Vector2::new(0.0, 0.0), Vector2::new(0.46, 0.21));
+        let mut g = CellGrid::periodic(&lo, &hi, 0.026, None);
+        g.bin(&pos);
+        let pos: Vec<Vect<2>> = g.order().iter().map(|&i| pos[i as usize]).collect();
+        g.bin(&pos);
+        let none = CellGrid::periodic(&lo, &hi, 0.026, None);
+        let empty: Vec<Vect<2>> = Vec::new();
+        let mut nl = NeighborLists::default();
+        let nb = |grid| Binned { pos: &empty, grid };
+        nl.build(&pos, &g, nb(&none), nb(&none), 0.026, &Open);
+        let cp = &nl.clusters;
+        assert_eq!(cp.start[0], 0);
+        assert_eq!(*cp.start.last().unwrap() as usize, pos.len());
+        let cluster = |i: usize| cp.start.partition_point(|&b| b as usize <= i) - 1;
+        let slab_of = |c: usize| cp.slabs.partition_point(|&b| b as usize <= c) - 1;
+        for s in 0..nl.slabs.len() - 1 {
+            // the slab's clusters hold exactly its particles
+            let (a, b) = (cp.slabs[s] as usize, cp.slabs[s + 1] as usize);
+            assert_eq!(cp.start[a], nl.slabs[s]);
+            assert_eq!(cp.start[b], nl.slabs[s + 1]);
+        }
+        let mut listed = 0;
+        for i in 0..pos.len() {
+            let ci = cluster(i);
+            assert!(cp.members(ci).len() <= WIDTH);
+            assert_eq!(cp.of[i] as usize, ci);
+            for j in (i + 1..pos.len()).filter(|&j| (pos[i] - pos[j]).norm() < 0.026) {
+                assert!(cp.of(ci).contains(&(j as u32)), "pair {i}-{j}");
+                listed += 1;
+            }
+            let js = cp.of(ci);
+            assert!(js.windows(2).all(|w| w[0] < w[1]), "ascending, once each");
+            for &j in js {
+                let (a, b) = (slab_of(ci), slab_of(cluster(j as usize)));
+                assert!(j > cp.start[ci] && (b == a || b == a + 1));
+            }
+        }
+        assert!(listed > 0);
+        // the lanes hold every listed pair, plus the ones masked out
+        assert!(cp.pairs() * WIDTH >= listed);
     }
 }

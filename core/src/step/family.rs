@@ -148,6 +148,7 @@ impl<const D: usize> FamilyLists<D> {
             + self.inner.bytes()
             + self.order.capacity() * 4
             + self.walls.grid.bytes()
+            + self.coarse.bytes()
     }
 
     /// Whether the lists must be rebuilt before a step of `dt` of `n` particles: they

@@ -14,7 +14,7 @@ use crate::fine::lanes::{FineLanes, FinePairs};
 use crate::fine::material::{uniform_acoustics, DensityFloor};
 use crate::fine::momentum::{ArtificialStress, MomentumParams};
 use crate::fine::pair_sums::PairSums;
-use crate::fine::source::{drift_and_pack, pack, Source};
+use crate::fine::source;
 use crate::interactions::continuity_pass::continuity_sweep;
 use crate::interactions::fine_coarse::{self, CoarseSide, CoarseSource, Coupling};
 use crate::interactions::fine_wall::WallLaw;
@@ -23,7 +23,6 @@ use crate::numerics::guard::{Blowup, Family};
 use crate::numerics::kernel::WendlandC2;
 use crate::numerics::math::{Real, Sym, Vect};
 use crate::numerics::neighbors::CellGrid;
-use crate::numerics::pairs::clusters::ClusterPairs;
 use crate::numerics::pairs::quad::Lanes;
 use crate::numerics::riemann::Riemann;
 use crate::numerics::timers::{Stage, StageTimers};
@@ -55,8 +54,6 @@ pub struct FineStepper<const D: usize> {
     vel_new: Vec<Vect<D>>,
     #[serde(skip)]
     art: Vec<Sym>,
-    #[serde(skip)]
-    pub(super) src: Vec<Source>,
     /// Pair sums of the two sweeps (zero between steps, so a restored state starts
     /// them from an empty buffer that the step fills with zeros).
     #[serde(skip)]
@@ -75,10 +72,6 @@ pub struct FineStepper<const D: usize> {
     uniform: bool,
     /// Per material: the least density (`numerics.density_floor`; empty: off).
     density_floor: Vec<Real>,
-    /// The clusters of the fine–fine lists and their pairs, derived from each list
-    /// build ([`ClusterPairs`]).
-    #[serde(skip)]
-    clusters: ClusterPairs,
     /// The cluster-pair passes' packed state and sums (the continuity sweep reads the
     /// state the momentum sweep packed).
     #[serde(skip)]
@@ -118,7 +111,6 @@ impl<const D: usize> FineStepper<D> {
             ),
             vel_new: Vec::new(),
             art: Vec::new(),
-            src: Vec::new(),
             pair_sums: Vec::new(),
             geostatic,
             geostatic_pressure: Vec::new(),
@@ -131,7 +123,6 @@ impl<const D: usize> FineStepper<D> {
             } else {
                 Vec::new()
             },
-            clusters: ClusterPairs::default(),
             lanes: FineLanes::default(),
         }
     }
@@ -142,14 +133,12 @@ impl<const D: usize> FineStepper<D> {
         self.family.bytes()
             + self.vel_new.capacity() * size_of::<Vect<D>>()
             + self.art.capacity() * size_of::<Sym>()
-            + self.src.capacity() * size_of::<Source>()
             + self.pair_sums.capacity() * size_of::<PairSums<D>>()
-            + self.clusters.bytes()
             + self.lanes.bytes()
     }
 
     /// Rebuild the lists (particles re-sorted by cell) if the skin may be used up over
-    /// a step of `dt`, and pack the sources again; true if it did.
+    /// a step of `dt`; true if it did.
     pub(super) fn refresh_lists(
         &mut self,
         world: &mut World<D>,
@@ -164,7 +153,6 @@ impl<const D: usize> FineStepper<D> {
         }
         let f = &mut world.fine;
         self.family.rebuild(f, &world.walls, csrc, &world.periodic);
-        pack(&world.fine, &world.materials, &mut self.src);
         true
     }
 
@@ -193,16 +181,10 @@ impl<const D: usize> FineStepper<D> {
             .guard(Family::Fine, (&f.id, &f.pos), at, max_speed)
     }
 
-    /// Eq. (54): positions and density to the half step (density held at its floor),
-    /// packed for the sweeps.
+    /// Eq. (54): positions and density to the half step (density held at its floor).
     pub(super) fn drift(&mut self, world: &mut World<D>, half: Real) {
         let floor = &self.density_floor;
-        drift_and_pack(
-            &mut world.fine,
-            &world.materials,
-            (half, floor),
-            &mut self.src,
-        );
+        source::drift(&mut world.fine, (half, floor));
     }
 
     /// Eq. (27): the artificial stress of every particle (cohesive soils only).
@@ -289,7 +271,6 @@ impl<const D: usize> FineStepper<D> {
             stress: cx.params.wall_stress,
             wrap: world.periodic,
         };
-        self.clusters.update(&self.family.lists, world.fine.len());
         let (lists, chunk_loads, reactions) = self.family.pass_outputs();
         let side = CoarseSide {
             src: cx.csrc,
@@ -308,7 +289,6 @@ impl<const D: usize> FineStepper<D> {
         timers.time(Stage::Momentum, || {
             momentum_sweep(
                 &world.fine,
-                &self.src,
                 &world.walls,
                 lists,
                 &self.art,
@@ -321,7 +301,7 @@ impl<const D: usize> FineStepper<D> {
                 &JumpDiffusion::new(&cprm),
                 &mut self.pair_sums,
                 cx.soil_water.map_or(&[], |s| &s.force[..]),
-                (&mut self.lanes, &self.clusters, Lanes::detect()),
+                (&mut self.lanes, &lists.clusters, Lanes::detect()),
             )
         });
         world.fine.hourglass = hourglass;
@@ -353,12 +333,15 @@ impl<const D: usize> FineStepper<D> {
             cx,
         );
         let sweep = ContinuitySweep {
-            src: &self.src,
             lists: &self.family.lists,
             cprm: &cprm,
             csrc: cx.csrc,
         };
-        let pairs = (&mut self.lanes, &self.clusters, Lanes::detect());
+        let pairs = (
+            &mut self.lanes,
+            &self.family.lists.clusters,
+            Lanes::detect(),
+        );
         timers.time(Stage::ContinuityStress, || {
             sweep.run(world, &mut self.pair_sums, pairs)
         });
@@ -393,7 +376,6 @@ fn continuity_params<'a, const D: usize>(
 /// The continuity and stress sweep of a step (Eqs. 15, 24–26, 7–12) over the fine
 /// lists, with v_{n+1}.
 struct ContinuitySweep<'a, const D: usize> {
-    src: &'a [Source],
     lists: &'a crate::numerics::neighbors::NeighborLists,
     cprm: &'a ContinuityParams<'a, D>,
     csrc: &'a [CoarseSource<D>],
@@ -420,9 +402,7 @@ impl<const D: usize> ContinuitySweep<'_, D> {
             hourglass_kept: &mut hourglass_kept,
         };
         let (f, mats, walls) = (&world.fine, &world.materials, &world.walls);
-        continuity_sweep(
-            f, self.src, mats, walls, self.lists, self.cprm, self.csrc, out, pairs,
-        );
+        continuity_sweep(f, mats, walls, self.lists, self.cprm, self.csrc, out, pairs);
         let f = &mut world.fine;
         f.drho = drho;
         f.stress = stress;

@@ -12,7 +12,6 @@
 
 use super::relations::SoilWaterRelation;
 use crate::fine::material::FineMaterial;
-use crate::fine::source::Source;
 use crate::interactions::seepage_implicit::{ChunkRows, Families, ImplicitDrag, SolveStats};
 use crate::interactions::soil_water::{
     full_sum, kernel_sum, lattice_sum, pore_pressure, pore_water_inertia, soil_force, Mat, Seepage,
@@ -187,7 +186,7 @@ impl<const D: usize> SoilWater<D> {
     }
 
     /// Freeze the soil at the middle of the step (positions of `world.fine` after the
-    /// drift, velocities at the start, volumes from `src`) and take every water
+    /// drift, velocities at the start, volumes m/ρ) and take every water
     /// particle's drag coefficients at its present position. The water–soil lists are
     /// rebuilt when either family rebuilt its own (`builds`: the fine grains' and the
     /// water's list builds so far), with `water_grid` the cells the water was binned
@@ -195,7 +194,6 @@ impl<const D: usize> SoilWater<D> {
     pub fn freeze(
         &mut self,
         world: &World<D>,
-        src: &[Source],
         (builds, water_grid): ([usize; 2], &CellGrid<D>),
         kernel: &WendlandC2,
         mu: Real,
@@ -204,7 +202,7 @@ impl<const D: usize> SoilWater<D> {
         self.soil.clear();
         self.soil.par_extend((0..f.len()).into_par_iter().map(|i| {
             let m: &FineMaterial = &mats[f.material[i] as usize];
-            let vol = src[i].vol;
+            let vol = f.mass[i] / f.rho[i];
             SoilPoint::of(m, mu, (f.pos[i], f.vel[i]), vol, f.mass[i] / vol)
         }));
         self.soil_grads.clear();
@@ -222,7 +220,7 @@ impl<const D: usize> SoilWater<D> {
         let w = &world.water.particles;
         let now = [builds[0], builds[1], f.len(), w.len()];
         if self.relation.expired(now) {
-            self.build_lists(world, src, water_grid, kernel, now);
+            self.build_lists(world, water_grid, kernel, now);
         }
         let (soil, norm, rel, own) = (&self.soil, self.norm, &self.relation, &self.own_water);
         let soil_grads = &self.soil_grads;
@@ -250,7 +248,6 @@ impl<const D: usize> SoilWater<D> {
     fn build_lists(
         &mut self,
         world: &World<D>,
-        src: &[Source],
         water_grid: &CellGrid<D>,
         kernel: &WendlandC2,
         now: [usize; 4],
@@ -264,7 +261,7 @@ impl<const D: usize> SoilWater<D> {
             if q.solid == 0.0 {
                 return 0.0;
             }
-            kernel_sum(&q.pos, &f.pos, |j| src[j].vol, grid, kernel)
+            kernel_sum(&q.pos, &f.pos, |j| soil[j].vol, grid, kernel)
         }));
         let rel = &self.relation;
         self.own_water.clear();

@@ -18,7 +18,6 @@ use crate::numerics::guard::{Blowup, Family};
 use crate::numerics::kernel::WendlandC2;
 use crate::numerics::math::{to3, Real, Vect};
 use crate::numerics::neighbors::CellGrid;
-use crate::numerics::pairs::clusters::ClusterPairs;
 use crate::numerics::pairs::quad::Lanes;
 use crate::numerics::timers::{Stage, StageTimers};
 use crate::scene::WallSlip;
@@ -68,10 +67,6 @@ pub struct WaterStepper<const D: usize> {
     /// Archimedes' force on each coarse particle in the sub-step.
     #[serde(skip)]
     archimedes: Vec<Vect<D>>,
-    /// The clusters of the water–water lists and their pairs, derived from each list
-    /// build ([`ClusterPairs`]).
-    #[serde(skip)]
-    clusters: ClusterPairs,
     /// The cluster-pair passes' packed state and sums.
     #[serde(skip)]
     lanes: WaterLanes<D>,
@@ -100,7 +95,6 @@ impl<const D: usize> WaterStepper<D> {
             hydro: Hydrostatics::default(),
             shares: Vec::new(),
             archimedes: Vec::new(),
-            clusters: ClusterPairs::default(),
             lanes: WaterLanes::default(),
         }
     }
@@ -138,7 +132,6 @@ impl<const D: usize> WaterStepper<D> {
             + self.vel_new.capacity() * size_of::<Vect<D>>()
             + self.src.capacity() * size_of::<WaterSource>()
             + self.sums.capacity() * size_of::<WaterSums<D>>()
-            + self.clusters.bytes()
             + self.lanes.bytes()
     }
 
@@ -248,9 +241,8 @@ impl<const D: usize> WaterStepper<D> {
                     (&prm, world.resolution.dp),
                 );
             }
-            self.clusters.update(lists, n);
             self.lanes
-                .pack(&self.clusters, &world.water.particles, &self.src);
+                .pack(&lists.clusters, &world.water.particles, &self.src);
             let lanes = Lanes::detect();
             correction_sweep(
                 &world.water.particles,
@@ -258,12 +250,12 @@ impl<const D: usize> WaterStepper<D> {
                 csrc,
                 lists,
                 &prm,
-                (mat.correction, (&mut self.lanes, &self.clusters, lanes)),
+                (mat.correction, (&mut self.lanes, &lists.clusters, lanes)),
                 &mut self.corr,
             );
             if mat.muscl {
                 self.grad.resize(n, Corr::<D>::zeros());
-                let pairs = (&mut self.lanes, &self.clusters, lanes);
+                let pairs = (&mut self.lanes, &lists.clusters, lanes);
                 gradient_sweep(&prm, pairs, &self.corr, &mut self.grad);
             } else {
                 self.grad.clear();
@@ -271,7 +263,7 @@ impl<const D: usize> WaterStepper<D> {
             momentum_pairs(
                 (&self.corr, &self.grad),
                 &prm,
-                (&mut self.lanes, &self.clusters, lanes),
+                (&mut self.lanes, &lists.clusters, lanes),
                 &mut self.sums,
             );
             momentum_sweep(
@@ -378,7 +370,7 @@ impl<const D: usize> WaterStepper<D> {
                 &world.water.particles,
                 prm,
                 &self.body,
-                (&mut self.lanes, &self.clusters, Lanes::detect()),
+                (&mut self.lanes, &lists.clusters, Lanes::detect()),
                 &mut self.sums,
             );
             continuity_sweep(

@@ -74,7 +74,7 @@ impl<const D: usize> Stepper<D> {
             if let Some(sw) = seep.as_mut().filter(|_| s == 0) {
                 timers.time(Stage::SoilWater, || {
                     let builds = [fine.family.lists.builds, w.family.lists.builds];
-                    sw.freeze(world, &fine.src, (builds, w.grid()), kernel, m.mu)
+                    sw.freeze(world, (builds, w.grid()), kernel, m.mu)
                 });
             }
             let step = seep.as_mut().map(|sw| sw.step(share));

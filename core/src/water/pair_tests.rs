@@ -62,8 +62,7 @@ impl<const D: usize> Tank<D> {
         let nb = |grid| Binned { pos: &[], grid };
         let mut lists = NeighborLists::default();
         lists.build(&w.pos, &g, nb(&none), nb(&none), radius, &wrap);
-        let mut cp = ClusterPairs::default();
-        cp.update(&lists, w.len());
+        let cp = lists.clusters.clone();
         let mut gravity = Vect::<D>::zeros();
         gravity[D - 1] = -G;
         let prm = WaterParams {

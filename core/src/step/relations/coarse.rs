@@ -49,7 +49,17 @@ impl<const D: usize> CoarseRelation<D> {
     pub fn refresh(&mut self, csrc: &[CoarseSource<D>]) {
         self.at_build.clear();
         self.at_build.extend(csrc.iter().map(|c| c.pos));
-        self.grid.bin(&self.at_build);
+        if self.at_build.is_empty() {
+            // nothing to bin: no cells held (the lists look nothing up in an empty grid)
+            self.grid.release();
+        } else {
+            self.grid.bin(&self.at_build);
+        }
+    }
+
+    /// Bytes of the binned grid and the positions at the last build.
+    pub fn bytes(&self) -> usize {
+        self.grid.bytes() + self.at_build.capacity() * std::mem::size_of::<Vect<D>>()
     }
 
     /// The binned coarse particles, for the lists.
