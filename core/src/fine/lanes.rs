@@ -25,14 +25,13 @@
 
 use super::continuity::JumpDiffusion;
 use super::momentum::{ArtificialStress, MomentumParams};
-use super::pair_sums::PairSums;
+use super::pair_sums::{ContinuitySums, PairSums};
 use super::source::Source;
 use super::state::FineParticles;
 use crate::numerics::kernel::WendlandC2;
 use crate::numerics::math::{Real, Sym, Vect};
 use crate::numerics::pairs::cluster_pass::{
-    at, each_lane, gather, geometry, lane_indices, pack, repack, run_pass, separation, ClusterPass,
-    Geometry, Window, FAR,
+    gather, pack, repack, run_pass, Geometry, PairLaw, Partner, FAR,
 };
 use crate::numerics::pairs::clusters::ClusterPairs;
 use crate::numerics::pairs::quad::{Lanes, Quad, WIDTH};
@@ -292,8 +291,6 @@ impl<const D: usize> FineLanes<D> {
 
 /// The lanes of a cluster as the momentum terms read them.
 struct MomentumLanes<Q: Quad, const D: usize> {
-    idx: Q::V,
-    x: [Q::V; D],
     v: [Q::V; D],
     dev: [Q::V; 6],
     p: Q::V,
@@ -319,27 +316,27 @@ fn momentum_term<Q: Quad, const D: usize, const PLAIN: bool>(
     q: Q,
     sc: &MomentumScalars<D>,
     i: &MomentumLanes<Q, D>,
-    (bj, xj, l, j): (&Block<D>, Option<&ExtraBlock>, usize, usize),
+    (
+        Partner {
+            rij, g, rec: rj, ..
+        },
+        xj,
+    ): (Partner<'_, Q, Rec<D>, D>, Option<&Extra>),
     own: &mut [Q::V; 16],
     tj: &mut [Q::V; 16],
-) -> bool {
+) {
     let zero = q.splat(0.0);
     let half = q.splat(0.5);
-    let rij = separation(q, &sc.wrap, &i.x, &bj[l].x);
     let Geometry {
         m,
         r2,
         r,
         inv_r,
         dw,
-        ..
-    } = geometry(q, &sc.kernel, &rij, (i.idx, j));
-    if !q.any(m) {
-        return false;
-    }
+    } = g;
     // the pairs beyond the cut-off (or with j ≤ i) add nothing: every term is ∝ ∂W/∂r
     let dw = q.select(m, dw, zero);
-    let volj = q.splat(bj[l].vol);
+    let volj = q.splat(rj.vol);
     let mut e = [zero; D];
     let mut vij = [zero; D];
     // v_ij·e = U_R − U_L (U = −v·e)
@@ -347,19 +344,19 @@ fn momentum_term<Q: Quad, const D: usize, const PLAIN: bool>(
     let mut up_r = zero;
     for d in 0..D {
         e[d] = q.mul(rij[d], inv_r);
-        vij[d] = q.sub(i.v[d], q.splat(bj[l].v[d]));
+        vij[d] = q.sub(i.v[d], q.splat(rj.v[d]));
         vie = q.add(vie, q.mul(vij[d], e[d]));
         up_r = q.add(up_r, q.mul(rij[d], q.splat(sc.up[d])));
     }
-    let (ps, two_inv_z) = p_star::<Q, D, PLAIN>(q, sc, i, (bj, xj, l), (&e, r, vie));
+    let (ps, two_inv_z) = p_star::<Q, D, PLAIN>(q, sc, i, (rj, xj), (&e, r, vie));
     // σ*·e = ½ (σˢ_i + σˢ_j)·e − P* e, Eq. (18)
     let mut a = [zero; 6];
     for k in 0..dev_parts(D) {
-        a[k] = q.add(i.dev[k], q.splat(bj[l].dev[k]));
+        a[k] = q.add(i.dev[k], q.splat(rj.dev[k]));
     }
     let t = sym_dot(q, &a, &e);
-    let ra = (!PLAIN && sc.artificial.is_some())
-        .then(|| artificial_traction(q, sc, i, (xj, l), (r, &e)));
+    let ra =
+        (!PLAIN && sc.artificial.is_some()).then(|| artificial_traction(q, sc, i, xj, (r, &e)));
     let (dvj, dvi) = (q.mul(dw, volj), q.mul(dw, i.vol));
     for d in 0..D {
         let mut td = q.sub(q.mul(t[d], half), q.mul(e[d], ps));
@@ -371,14 +368,13 @@ fn momentum_term<Q: Quad, const D: usize, const PLAIN: bool>(
         tj[d] = q.mul(td, dvi);
     }
     if sc.hourglass {
-        hourglass_terms(q, i, &bj[l], (&rij, &vij), (dw, inv_r, volj), own, tj);
+        hourglass_terms(q, i, rj, (&rij, &vij), (dw, inv_r, volj), own, tj);
     }
     let geo = [r, r2, dw, up_r, two_inv_z];
-    jump_and_weights(q, sc, i, &bj[l], geo, own, tj);
-    true
+    jump_and_weights(q, sc, i, rj, geo, own, tj);
 }
 
-/// P* of Eq. (20) for the four lanes against `bj[l]` (the one-impedance form, or the
+/// P* of Eq. (20) for the four lanes against `rj` (the one-impedance form, or the
 /// general one with the [`Extra`] records `xj`), with the jump U_L − U_R reconstructed
 /// by MUSCL where the scene asks; and 2/(Z_i + Z_j) of Eq. (19).
 #[inline(always)]
@@ -386,12 +382,12 @@ fn p_star<Q: Quad, const D: usize, const PLAIN: bool>(
     q: Q,
     sc: &MomentumScalars<D>,
     i: &MomentumLanes<Q, D>,
-    (bj, xj, l): (&Block<D>, Option<&ExtraBlock>, usize),
+    (rj, xj): (&Rec<D>, Option<&Extra>),
     (e, r, vie): (&[Q::V; D], Q::V, Q::V),
 ) -> (Q::V, Q::V) {
     let zero = q.splat(0.0);
     let (half, one) = (q.splat(0.5), q.splat(1.0));
-    let pj = q.splat(bj[l].p);
+    let pj = q.splat(rj.p);
     // U_L − U_R, and U_R − U_L for the limiter
     let mut du = q.sub(zero, vie);
     let mut sep = vie;
@@ -402,7 +398,7 @@ fn p_star<Q: Quad, const D: usize, const PLAIN: bool>(
         for d in 0..D {
             let mut s = zero;
             for c in 0..D {
-                s = q.add(s, q.mul(q.add(i.l[d][c], q.splat(bj[l].l[d][c])), e[c]));
+                s = q.add(s, q.mul(q.add(i.l[d][c], q.splat(rj.l[d][c])), e[c]));
             }
             ele = q.add(ele, q.mul(e[d], s));
         }
@@ -420,7 +416,7 @@ fn p_star<Q: Quad, const D: usize, const PLAIN: bool>(
     } else {
         // Eq. (20), (Z_L P_R + Z_R P_L + β Z_L Z_R (U_L − U_R))/(Z_L + Z_R), with
         // c̄ = ½ (c_i + c_j) in β (Riemann::p_star)
-        let xj = &xj.expect("the extra records of several impedances")[l];
+        let xj = xj.expect("the extra records of several impedances");
         let zj = q.splat(xj.z);
         let inv_zsum = q.div(one, q.add(i.z, zj));
         let inv_c = q.div(q.splat(2.0), q.add(i.c, q.splat(xj.c)));
@@ -438,7 +434,7 @@ fn artificial_traction<Q: Quad, const D: usize>(
     q: Q,
     sc: &MomentumScalars<D>,
     i: &MomentumLanes<Q, D>,
-    (xj, l): (Option<&ExtraBlock>, usize),
+    xj: Option<&Extra>,
     (r, e): (Q::V, &[Q::V; D]),
 ) -> [Q::V; D] {
     let (zero, half) = (q.splat(0.0), q.splat(0.5));
@@ -451,7 +447,7 @@ fn artificial_traction<Q: Quad, const D: usize>(
     );
     let mut b = [zero; 6];
     for k in 0..dev_parts(D) {
-        let art_j = xj.expect("the extra records of artificial stress")[l].art[k];
+        let art_j = xj.expect("the extra records of artificial stress").art[k];
         b[k] = q.mul(q.add(i.art[k], q.splat(art_j)), fa);
     }
     sym_dot(q, &b, e)
@@ -558,46 +554,33 @@ fn sym_dot<Q: Quad, const D: usize>(q: Q, a: &[Q::V; 6], e: &[Q::V; D]) -> [Q::V
     t
 }
 
-/// The lane sums of the entries of `t` a neighbour's momentum terms fill (12 in 2D,
-/// 16 in 3D).
-#[inline(always)]
-fn slot_sums<Q: Quad, const D: usize>(q: Q, t: &[Q::V; 16]) -> [Real; 16] {
-    let mut out = [0.0; 16];
-    if D == 2 {
-        let a: [Q::V; 12] = std::array::from_fn(|k| t[k]);
-        out[..12].copy_from_slice(&q.sums(&a));
-    } else {
-        out = q.sums(t);
-    }
-    out
-}
-
 /// The momentum pass, with the clusters' [`Extra`] records (empty: not needed);
 /// `PLAIN` for soils of one impedance without MUSCL or artificial stress (the common
 /// scene), whose terms then carry no test for the others.
 struct Momentum<'a, const D: usize, const PLAIN: bool>(&'a MomentumScalars<D>, &'a [ExtraBlock]);
 
-impl<const D: usize, const PLAIN: bool> ClusterPass for Momentum<'_, D, PLAIN> {
-    type Block = Block<D>;
+impl<const D: usize, const PLAIN: bool> PairLaw<D, 16> for Momentum<'_, D, PLAIN> {
+    type Rec = Rec<D>;
     type Sums = PairSums<D>;
+    type Lanes<Q: Quad> = MomentumLanes<Q, D>;
+    /// The acceleration and the hourglass increment (D each), the continuity's drho,
+    /// w, wz and wp, and the σˢ weights.
+    const USED: usize = 2 * D + 4 + dev_parts(D);
+
+    fn geometry(&self) -> (&WendlandC2, &Wrap) {
+        (&self.0.kernel, &self.0.wrap)
+    }
 
     #[inline(always)]
-    fn cluster<Q: Quad>(
-        &self,
-        q: Q,
-        (blocks, cp): (&[Block<D>], &ClusterPairs),
-        ci: usize,
-        win: &mut Window<'_, PairSums<D>>,
-    ) {
-        let sc = self.0;
-        let zero = q.splat(0.0);
-        let dp = dev_parts(D);
+    fn x(r: &Rec<D>) -> &[Real; D] {
+        &r.x
+    }
 
-        let bi = &blocks[ci];
+    #[inline(always)]
+    fn lanes<Q: Quad>(&self, q: Q, c: usize, bi: &Block<D>) -> MomentumLanes<Q, D> {
+        let zero = q.splat(0.0);
         let mut lanes = MomentumLanes::<Q, D> {
-            idx: lane_indices(q, cp, ci),
-            x: [zero; D],
-            v: [zero; D],
+            v: std::array::from_fn(|d| gather(q, bi, |r| r.v[d])),
             dev: [zero; 6],
             p: gather(q, bi, |r| r.p),
             vol: gather(q, bi, |r| r.vol),
@@ -610,94 +593,103 @@ impl<const D: usize, const PLAIN: bool> ClusterPass for Momentum<'_, D, PLAIN> {
             c: zero,
             art: [zero; 6],
         };
-        let extra = self.1;
-        let xi = if PLAIN { None } else { extra.get(ci) };
+        let xi = if PLAIN { None } else { self.1.get(c) };
         if let Some(xi) = xi {
             lanes.z = gather(q, xi, |r| r.z);
             lanes.c = gather(q, xi, |r| r.c);
         }
         for d in 0..D {
-            lanes.x[d] = gather(q, bi, |r| r.x[d]);
-            lanes.v[d] = gather(q, bi, |r| r.v[d]);
-            for c in 0..D {
-                lanes.l[d][c] = gather(q, bi, |r| r.l[d][c]);
+            for e in 0..D {
+                lanes.l[d][e] = gather(q, bi, |r| r.l[d][e]);
             }
         }
-        for k in 0..dp {
+        for k in 0..dev_parts(D) {
             lanes.dev[k] = gather(q, bi, |r| r.dev[k]);
-            if let (Some(xi), Some(_)) = (xi, &sc.artificial) {
+            if let (Some(xi), Some(_)) = (xi, &self.0.artificial) {
                 lanes.art[k] = gather(q, xi, |r| r.art[k]);
             }
         }
-        let mut own = [zero; 16];
-        let mut tj = [zero; 16];
-        for &j in cp.of(ci) {
-            let (c, l, j) = at(cp, j);
-            let nb = (&blocks[c], if PLAIN { None } else { extra.get(c) }, l, j);
-            if !momentum_term::<Q, D, PLAIN>(q, sc, &lanes, nb, &mut own, &mut tj) {
-                continue;
-            }
-            let s = slot_sums::<Q, D>(q, &tj);
-            let out = win.at(j);
-            for d in 0..D {
-                out.momentum.acc[d] -= s[d];
-                out.momentum.hourglass[d] -= s[D + d];
-            }
-            let out = &mut out.continuity;
-            let o = 2 * D;
-            out.drho += s[o];
-            out.w += s[o + 1];
-            out.wz += s[o + 2];
-            out.wp += s[o + 3];
-            for k in 0..dp {
-                out.wdev.0[k] += s[o + 4 + k];
-            }
-        }
-        let out = win.cluster(cp, ci);
+        lanes
+    }
+
+    #[inline(always)]
+    fn pair<Q: Quad>(
+        &self,
+        q: Q,
+        i: &MomentumLanes<Q, D>,
+        j: Partner<'_, Q, Rec<D>, D>,
+        own: &mut [Q::V; 16],
+        tj: &mut [Q::V; 16],
+    ) {
+        let xj = if PLAIN {
+            None
+        } else {
+            self.1.get(j.c).map(|x| &x[j.l])
+        };
+        momentum_term::<Q, D, PLAIN>(q, self.0, i, (j, xj), own, tj);
+    }
+
+    #[inline(always)]
+    fn own(s: &mut PairSums<D>, t: &[Real; 16]) {
         for d in 0..D {
-            each_lane(q, out, own[d], |s, t| s.momentum.acc[d] += t);
-            each_lane(q, out, own[D + d], |s, t| s.momentum.hourglass[d] += t);
+            s.momentum.acc[d] += t[d];
+            s.momentum.hourglass[d] += t[D + d];
         }
-        let o = 2 * D;
-        each_lane(q, out, own[o], |s, t| s.continuity.drho += t);
-        each_lane(q, out, own[o + 1], |s, t| s.continuity.w += t);
-        each_lane(q, out, own[o + 2], |s, t| s.continuity.wz += t);
-        each_lane(q, out, own[o + 3], |s, t| s.continuity.wp += t);
-        for k in 0..dp {
-            each_lane(q, out, own[o + 4 + k], |s, t| s.continuity.wdev.0[k] += t);
+        add_weights::<D>(&mut s.continuity, t);
+    }
+
+    #[inline(always)]
+    fn partner(s: &mut PairSums<D>, t: &[Real; 16]) {
+        // j takes −t of the acceleration and the hourglass increment (e_ji = −e_ij)
+        for d in 0..D {
+            s.momentum.acc[d] -= t[d];
+            s.momentum.hourglass[d] -= t[D + d];
         }
+        add_weights::<D>(&mut s.continuity, t);
     }
 }
 
-/// The continuity terms of the four lanes against particle `j`: what the lanes gain
+/// Add the continuity's terms of the momentum pass, `t[2D..]`, to `s`.
+#[inline(always)]
+fn add_weights<const D: usize>(s: &mut ContinuitySums<D>, t: &[Real; 16]) {
+    let o = 2 * D;
+    s.drho += t[o];
+    s.w += t[o + 1];
+    s.wz += t[o + 2];
+    s.wp += t[o + 3];
+    for k in 0..dev_parts(D) {
+        s.wdev.0[k] += t[o + 4 + k];
+    }
+}
+
+/// The continuity terms of the four lanes against partner j: what the lanes gain
 /// (drho, then −v_ij ⊗ e ∂W/∂r V_j by row) into `own`, and what j gains from each
-/// into `tj`, to be summed over the lanes (drho added, the gradient subtracted);
-/// false, with neither touched, if no lane pairs with j.
+/// into `tj`, to be summed over the lanes (drho added, the gradient subtracted).
 #[inline(always)]
 fn continuity_term<Q: Quad, const D: usize, const UNIFORM: bool>(
     q: Q,
-    (kernel, wrap): (&WendlandC2, &Wrap),
     i: &ContinuityLanes<Q, D>,
-    (bj, xj, l, j): (&Block<D>, Option<&ExtraBlock>, usize, usize),
+    (
+        Partner {
+            rij, g, rec: rj, ..
+        },
+        xj,
+    ): (Partner<'_, Q, Rec<D>, D>, Option<&Extra>),
     own: &mut [Q::V; 10],
     tj: &mut [Q::V; 10],
-) -> bool {
+) {
     let zero = q.splat(0.0);
-    let (x, v, vol) = (&i.x, &i.v, i.vol);
-    let rij = separation(q, wrap, x, &bj[l].x);
-    let Geometry { m, inv_r, dw, .. } = geometry(q, kernel, &rij, (i.idx, j));
-    if !q.any(m) {
-        return false;
-    }
+    let (v, vol) = (&i.v, i.vol);
+    let Geometry { m, inv_r, dw, .. } = g;
     let dw = q.select(m, dw, zero);
-    let volj = q.splat(bj[l].vol);
+    let volj = q.splat(rj.vol);
     let mut e = [zero; D];
     let mut g = [zero; D];
     let mut s = zero;
     for d in 0..D {
         e[d] = q.mul(rij[d], inv_r);
         // g = v_ij ∂W/∂r, s = g·e: 2 (U* − U_L) of Eq. (15) without the jump
-        g[d] = q.mul(q.sub(v[d], q.splat(bj[l].v[d])), dw);
+        g[d] = q.mul(q.sub(v[d], q.splat(rj.v[d])), dw);
         s = q.add(s, q.mul(g[d], e[d]));
     }
     if UNIFORM {
@@ -705,7 +697,7 @@ fn continuity_term<Q: Quad, const D: usize, const UNIFORM: bool>(
         tj[0] = q.mul(s, vol);
     } else {
         // 2 Z_j (U_R − U_L)/(Z_i + Z_j), and Z_i for j (Eq. 19)
-        let zj = q.splat(xj.expect("the extra records of several impedances")[l].z);
+        let zj = q.splat(xj.expect("the extra records of several impedances").z);
         let t = q.div(q.mul(q.splat(2.0), s), q.add(i.z, zj));
         own[0] = q.add(own[0], q.mul(q.mul(t, zj), volj));
         tj[0] = q.mul(q.mul(t, i.z), vol);
@@ -718,13 +710,10 @@ fn continuity_term<Q: Quad, const D: usize, const UNIFORM: bool>(
             tj[k] = q.mul(gj, e[b]);
         }
     }
-    true
 }
 
 /// The lanes of a cluster as the continuity terms read them.
 struct ContinuityLanes<Q: Quad, const D: usize> {
-    idx: Q::V,
-    x: [Q::V; D],
     v: [Q::V; D],
     vol: Q::V,
     z: Q::V,
@@ -738,69 +727,64 @@ struct Continuity<'a, const D: usize, const UNIFORM: bool> {
     extra: &'a [ExtraBlock],
 }
 
-impl<const D: usize, const UNIFORM: bool> ClusterPass for Continuity<'_, D, UNIFORM> {
-    type Block = Block<D>;
+impl<const D: usize, const UNIFORM: bool> PairLaw<D, 10> for Continuity<'_, D, UNIFORM> {
+    type Rec = Rec<D>;
     type Sums = PairSums<D>;
+    type Lanes<Q: Quad> = ContinuityLanes<Q, D>;
+    const USED: usize = 1 + D * D;
+
+    fn geometry(&self) -> (&WendlandC2, &Wrap) {
+        (&self.kernel, &self.wrap)
+    }
 
     #[inline(always)]
-    fn cluster<Q: Quad>(
+    fn x(r: &Rec<D>) -> &[Real; D] {
+        &r.x
+    }
+
+    #[inline(always)]
+    fn lanes<Q: Quad>(&self, q: Q, c: usize, recs: &Block<D>) -> ContinuityLanes<Q, D> {
+        ContinuityLanes {
+            v: std::array::from_fn(|d| gather(q, recs, |r| r.v[d])),
+            vol: gather(q, recs, |r| r.vol),
+            z: match (UNIFORM, self.extra.get(c)) {
+                (false, Some(xi)) => gather(q, xi, |r| r.z),
+                _ => q.splat(0.0),
+            },
+        }
+    }
+
+    #[inline(always)]
+    fn pair<Q: Quad>(
         &self,
         q: Q,
-        (blocks, cp): (&[Block<D>], &ClusterPairs),
-        ci: usize,
-        win: &mut Window<'_, PairSums<D>>,
+        i: &ContinuityLanes<Q, D>,
+        j: Partner<'_, Q, Rec<D>, D>,
+        own: &mut [Q::V; 10],
+        tj: &mut [Q::V; 10],
     ) {
-        let terms = (&self.kernel, &self.wrap);
-        let zero = q.splat(0.0);
-        let bi = &blocks[ci];
-        let mut lanes = ContinuityLanes::<Q, D> {
-            idx: lane_indices(q, cp, ci),
-            x: [zero; D],
-            v: [zero; D],
-            vol: gather(q, bi, |r| r.vol),
-            z: match (UNIFORM, self.extra.get(ci)) {
-                (false, Some(xi)) => gather(q, xi, |r| r.z),
-                _ => zero,
-            },
+        let xj = if UNIFORM {
+            None
+        } else {
+            self.extra.get(j.c).map(|x| &x[j.l])
         };
-        for d in 0..D {
-            lanes.x[d] = gather(q, bi, |r| r.x[d]);
-            lanes.v[d] = gather(q, bi, |r| r.v[d]);
-        }
-        let mut own = [zero; 10];
-        let mut tj = [zero; 10];
-        for &j in cp.of(ci) {
-            let (c, l, j) = at(cp, j);
-            let xj = if UNIFORM { None } else { self.extra.get(c) };
-            let block = (&blocks[c], xj, l, j);
-            if !continuity_term::<Q, D, UNIFORM>(q, terms, &lanes, block, &mut own, &mut tj) {
-                continue;
-            }
-            let s: [Real; 10] = if D == 2 {
-                let a: [Q::V; 5] = std::array::from_fn(|k| tj[k]);
-                let mut s = [0.0; 10];
-                s[..5].copy_from_slice(&q.sums(&a));
-                s
-            } else {
-                q.sums(&tj)
-            };
-            let out = &mut win.at(j).continuity;
-            out.drho_v += s[0];
-            for a in 0..D {
-                for b in 0..D {
-                    out.grad[(a, b)] -= s[1 + a * D + b];
-                }
-            }
-        }
-        let out = win.cluster(cp, ci);
-        each_lane(q, out, own[0], |s, t| s.continuity.drho_v += t);
+        continuity_term::<Q, D, UNIFORM>(q, i, (j, xj), own, tj);
+    }
+
+    #[inline(always)]
+    fn own(s: &mut PairSums<D>, t: &[Real; 10]) {
+        let s = &mut s.continuity;
+        s.drho_v += t[0];
         for a in 0..D {
             for b in 0..D {
                 // −v_ij ⊗ e_ij ∂W/∂r V_j, Eq. (24)
-                each_lane(q, out, own[1 + a * D + b], |s, t| {
-                    s.continuity.grad[(a, b)] -= t
-                });
+                s.grad[(a, b)] -= t[1 + a * D + b];
             }
         }
+    }
+
+    #[inline(always)]
+    fn partner(s: &mut PairSums<D>, t: &[Real; 10]) {
+        Self::own(s, t);
     }
 }

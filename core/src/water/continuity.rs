@@ -16,20 +16,17 @@
 // the terms loop over components of several lane arrays at once (x, v, g)
 #![allow(clippy::needless_range_loop)]
 
-use super::lanes::{Block, WaterLanes};
+use super::lanes::{Block, Rec, WaterLanes};
 use super::momentum::{WaterParams, WaterSums};
-use crate::numerics::pairs::cluster_pass::run_pass;
-use crate::numerics::pairs::cluster_pass::{
-    at, each_lane, gather, geometry, lane_indices, separation, ClusterPass, Geometry, Window,
-};
+use crate::numerics::kernel::WendlandC2;
+use crate::numerics::math::Real;
+use crate::numerics::pairs::cluster_pass::{gather, run_pass, PairLaw, Partner};
 use crate::numerics::pairs::clusters::ClusterPairs;
-use crate::numerics::pairs::quad::Lanes;
-use crate::numerics::pairs::quad::Quad;
+use crate::numerics::pairs::quad::{Lanes, Quad};
+use crate::numerics::periodic::Wrap;
 
 /// The lanes of a cluster as its continuity terms read them.
-struct ContinuityLanes<Q: Quad, const D: usize> {
-    idx: Q::V,
-    x: [Q::V; D],
+pub(super) struct ContinuityLanes<Q: Quad, const D: usize> {
     v: [Q::V; D],
     g: [Q::V; D],
     p: Q::V,
@@ -37,95 +34,72 @@ struct ContinuityLanes<Q: Quad, const D: usize> {
     rho: Q::V,
 }
 
-/// The continuity term of the four lanes against particle `j`: what the lanes gain
-/// (times V_j) and what j gains from each (times V_i, to be summed over the lanes);
-/// none if no lane pairs with j.
-#[inline(always)]
-fn continuity_term<Q: Quad, const D: usize>(
-    q: Q,
-    prm: &WaterParams<D>,
-    i: &ContinuityLanes<Q, D>,
-    (bj, l, j): (&Block<D>, usize, usize),
-) -> Option<(Q::V, Q::V)> {
-    let zero = q.splat(0.0);
-    let half = q.splat(0.5);
-    let rij = separation(q, &prm.wrap, &i.x, &bj[l].x);
-    let Geometry { m, inv_r, dw, .. } = geometry(q, &prm.kernel, &rij, (i.idx, j));
-    if !q.any(m) {
-        return None;
-    }
-    // u = v_ij·x_ij / r; the jump relative to ρ̄ ḡ·x_ij
-    let (mut vx, mut gx) = (zero, zero);
-    for d in 0..D {
-        let vij = q.sub(i.v[d], q.splat(bj[l].v[d]));
-        vx = q.add(vx, q.mul(vij, rij[d]));
-        let g = q.mul(half, q.add(i.g[d], q.splat(bj[l].g[d])));
-        gx = q.add(gx, q.mul(g, rij[d]));
-    }
-    let u = q.mul(vx, inv_r);
-    let rho = q.mul(half, q.add(i.rho, q.splat(bj[l].rho)));
-    let dp = q.sub(i.p, q.splat(bj[l].p));
-    let jump = q.mul(q.sub(dp, q.mul(rho, gx)), q.splat(1.0 / prm.z));
-    let dw = q.select(m, dw, zero);
-    let own = q.mul(q.mul(q.add(u, jump), dw), q.splat(bj[l].vol));
-    let tj = q.mul(q.mul(q.sub(u, jump), dw), i.vol);
-    Some((own, tj))
-}
-
-/// The continuity pass.
+/// The continuity pass: dρ/dt's water–water terms (module notes).
 pub(super) struct Continuity<'a, const D: usize>(pub(super) &'a WaterParams<D>);
 
-impl<const D: usize> ClusterPass for Continuity<'_, D> {
-    type Block = Block<D>;
+impl<const D: usize> PairLaw<D, 1> for Continuity<'_, D> {
+    type Rec = Rec<D>;
     type Sums = WaterSums<D>;
+    type Lanes<Q: Quad> = ContinuityLanes<Q, D>;
+
+    fn geometry(&self) -> (&WendlandC2, &Wrap) {
+        (&self.0.kernel, &self.0.wrap)
+    }
 
     #[inline(always)]
-    fn cluster<Q: Quad>(
+    fn x(r: &Rec<D>) -> &[Real; D] {
+        &r.x
+    }
+
+    #[inline(always)]
+    fn lanes<Q: Quad>(&self, q: Q, _: usize, recs: &Block<D>) -> ContinuityLanes<Q, D> {
+        ContinuityLanes {
+            v: std::array::from_fn(|d| gather(q, recs, |r| r.v[d])),
+            g: std::array::from_fn(|d| gather(q, recs, |r| r.g[d])),
+            p: gather(q, recs, |r| r.p),
+            vol: gather(q, recs, |r| r.vol),
+            rho: gather(q, recs, |r| r.rho),
+        }
+    }
+
+    /// (v_ij·e + ΔP_ij/Z) ∂W/∂r V_j for the lanes, (v_ij·e − ΔP_ij/Z) ∂W/∂r V_i for j
+    /// (v_ji·e_ji = v_ij·e_ij, ΔP_ji = −ΔP_ij), with ΔP_ij = P_i − P_j − ρ̄ ḡ·x_ij
+    /// (module notes).
+    #[inline(always)]
+    fn pair<Q: Quad>(
         &self,
         q: Q,
-        (blocks, cp): (&[Block<D>], &ClusterPairs),
-        ci: usize,
-        win: &mut Window<'_, WaterSums<D>>,
+        i: &ContinuityLanes<Q, D>,
+        Partner { rij, g, rec, .. }: Partner<'_, Q, Rec<D>, D>,
+        own: &mut [Q::V; 1],
+        tj: &mut [Q::V; 1],
     ) {
-        let prm = self.0;
         let zero = q.splat(0.0);
-        let bi = &blocks[ci];
-        let mut lanes = ContinuityLanes::<Q, D> {
-            idx: lane_indices(q, cp, ci),
-            x: [zero; D],
-            v: [zero; D],
-            g: [zero; D],
-            p: gather(q, bi, |r| r.p),
-            vol: gather(q, bi, |r| r.vol),
-            rho: gather(q, bi, |r| r.rho),
-        };
+        let half = q.splat(0.5);
+        let (mut vx, mut gx) = (zero, zero);
         for d in 0..D {
-            lanes.x[d] = gather(q, bi, |r| r.x[d]);
-            lanes.v[d] = gather(q, bi, |r| r.v[d]);
-            lanes.g[d] = gather(q, bi, |r| r.g[d]);
+            let vij = q.sub(i.v[d], q.splat(rec.v[d]));
+            vx = q.add(vx, q.mul(vij, rij[d]));
+            let gd = q.mul(half, q.add(i.g[d], q.splat(rec.g[d])));
+            gx = q.add(gx, q.mul(gd, rij[d]));
         }
-        let mut own = zero;
-        // the neighbours' terms, four at a time into one lane sum
-        let (mut t, mut to, mut k) = ([zero; 4], [0; 4], 0);
-        for &j in cp.of(ci) {
-            let (c, l, j) = at(cp, j);
-            let Some((o, tj)) = continuity_term(q, prm, &lanes, (&blocks[c], l, j)) else {
-                continue;
-            };
-            own = q.add(own, o);
-            (t[k], to[k]) = (tj, j);
-            k += 1;
-            if k == 4 {
-                for (j, s) in to.into_iter().zip(q.sums(&t)) {
-                    win.at(j).drho += s;
-                }
-                k = 0;
-            }
-        }
-        for n in 0..k {
-            win.at(to[n]).drho += q.sum(t[n]);
-        }
-        each_lane(q, win.cluster(cp, ci), own, |s, t| s.drho += t);
+        let u = q.mul(vx, g.inv_r);
+        let rho = q.mul(half, q.add(i.rho, q.splat(rec.rho)));
+        let dp = q.sub(i.p, q.splat(rec.p));
+        let jump = q.mul(q.sub(dp, q.mul(rho, gx)), q.splat(1.0 / self.0.z));
+        let dw = q.select(g.m, g.dw, zero);
+        own[0] = q.add(own[0], q.mul(q.mul(q.add(u, jump), dw), q.splat(rec.vol)));
+        tj[0] = q.mul(q.mul(q.sub(u, jump), dw), i.vol);
+    }
+
+    #[inline(always)]
+    fn own(s: &mut WaterSums<D>, t: &[Real; 1]) {
+        s.drho += t[0];
+    }
+
+    #[inline(always)]
+    fn partner(s: &mut WaterSums<D>, t: &[Real; 1]) {
+        s.drho += t[0];
     }
 }
 

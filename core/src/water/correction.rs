@@ -23,16 +23,14 @@
 // the terms loop over the rows and columns of M
 #![allow(clippy::needless_range_loop)]
 
-use super::lanes::{rows, Block, WaterLanes};
+use super::lanes::{rows, Block, Rec, WaterLanes};
 use super::momentum::WaterParams;
+use crate::numerics::kernel::WendlandC2;
 use crate::numerics::math::{Real, Vect};
-use crate::numerics::pairs::cluster_pass::{
-    each_lane, gather, geometry, lane_indices, separation, ClusterPass, Geometry, Window,
-};
-use crate::numerics::pairs::cluster_pass::{repack, run_pass};
+use crate::numerics::pairs::cluster_pass::{gather, repack, run_pass, PairLaw, Partner};
 use crate::numerics::pairs::clusters::ClusterPairs;
-use crate::numerics::pairs::quad::Lanes;
-use crate::numerics::pairs::quad::Quad;
+use crate::numerics::pairs::quad::{Lanes, Quad};
+use crate::numerics::periodic::Wrap;
 use nalgebra::SMatrix;
 
 /// D × D correction matrix.
@@ -75,88 +73,78 @@ pub fn invert<const D: usize>(m: &Corr<D>) -> Corr<D> {
 }
 
 /// The correction's pass: M_i = −Σ_j r ∂W/∂r e⊗e V_j
-/// ([`correction`](super::correction)), its upper triangle.
+/// ([`correction`](super::correction)), its upper triangle row by row.
 pub(super) struct Moment<'a, const D: usize>(pub(super) &'a WaterParams<D>);
 
-impl<const D: usize> ClusterPass for Moment<'_, D> {
-    type Block = Block<D>;
+/// The lanes as [`Moment`] reads them: the volumes.
+pub(super) struct Volumes<Q: Quad>(Q::V);
+
+impl<const D: usize> PairLaw<D, 6> for Moment<'_, D> {
+    type Rec = Rec<D>;
     type Sums = Corr<D>;
+    type Lanes<Q: Quad> = Volumes<Q>;
+    const USED: usize = D * (D + 1) / 2;
+
+    fn geometry(&self) -> (&WendlandC2, &Wrap) {
+        (&self.0.kernel, &self.0.wrap)
+    }
 
     #[inline(always)]
-    fn cluster<Q: Quad>(
+    fn x(r: &Rec<D>) -> &[Real; D] {
+        &r.x
+    }
+
+    #[inline(always)]
+    fn lanes<Q: Quad>(&self, q: Q, _: usize, recs: &Block<D>) -> Volumes<Q> {
+        Volumes(gather(q, recs, |r| r.vol))
+    }
+
+    #[inline(always)]
+    fn pair<Q: Quad>(
         &self,
         q: Q,
-        (blocks, cp): (&[Block<D>], &ClusterPairs),
-        ci: usize,
-        win: &mut Window<'_, Corr<D>>,
+        voli: &Volumes<Q>,
+        Partner { rij, g, rec, .. }: Partner<'_, Q, Rec<D>, D>,
+        own: &mut [Q::V; 6],
+        tj: &mut [Q::V; 6],
     ) {
-        let prm = self.0;
         let zero = q.splat(0.0);
-        let bi = &blocks[ci];
-        let idx = lane_indices(q, cp, ci);
-        let mut xi = [zero; D];
-        for d in 0..D {
-            xi[d] = gather(q, bi, |r| r.x[d]);
-        }
-        let voli = gather(q, bi, |r| r.vol);
-        let mut own = [[zero; D]; D];
-        for &j in cp.of(ci) {
-            let j = j as usize;
-            let cj = cp.of[j] as usize;
-            let (bj, l) = (&blocks[cj], j - cp.start[cj] as usize);
-            let rij = separation(q, &prm.wrap, &xi, &bj[l].x);
-            let Geometry {
-                m, r, inv_r, dw, ..
-            } = geometry(q, &prm.kernel, &rij, (idx, j));
-            if !q.any(m) {
-                // beyond the cut-off of every lane (the lists' skin)
-                continue;
-            }
-            let f = q.select(m, q.sub(zero, q.mul(r, dw)), zero);
-            let volj = q.splat(bj[l].vol);
-            let mut e = [zero; D];
-            for d in 0..D {
-                e[d] = q.mul(rij[d], inv_r);
-            }
-            // the upper triangle, row by row, into one array for the lane sums
-            let mut tj = [zero; 6];
-            let mut k = 0;
-            for d in 0..D {
-                for c in d..D {
-                    let t = q.mul(q.mul(e[d], e[c]), f);
-                    own[d][c] = q.add(own[d][c], q.mul(t, volj));
-                    tj[k] = q.mul(t, voli);
-                    k += 1;
-                }
-            }
-            let sums = if D == 2 {
-                let s = q.sums(&[tj[0], tj[1], tj[2]]);
-                [s[0], s[1], s[2], 0.0, 0.0, 0.0]
-            } else {
-                q.sums(&tj)
-            };
-            let out = win.at(j);
-            let mut k = 0;
-            for d in 0..D {
-                for c in d..D {
-                    out[(d, c)] += sums[k];
-                    if c != d {
-                        out[(c, d)] += sums[k];
-                    }
-                    k += 1;
-                }
-            }
-        }
-        let out = win.cluster(cp, ci);
+        let f = q.select(g.m, q.sub(zero, q.mul(g.r, g.dw)), zero);
+        let volj = q.splat(rec.vol);
+        let e: [Q::V; D] = std::array::from_fn(|d| q.mul(rij[d], g.inv_r));
+        let mut k = 0;
         for d in 0..D {
             for c in d..D {
-                each_lane(q, out, own[d][c], |m, t| {
-                    m[(d, c)] += t;
-                    if c != d {
-                        m[(c, d)] += t;
-                    }
-                });
+                let t = q.mul(q.mul(e[d], e[c]), f);
+                own[k] = q.add(own[k], q.mul(t, volj));
+                tj[k] = q.mul(t, voli.0);
+                k += 1;
             }
+        }
+    }
+
+    #[inline(always)]
+    fn own(m: &mut Corr<D>, t: &[Real; 6]) {
+        add_upper(m, t);
+    }
+
+    #[inline(always)]
+    fn partner(m: &mut Corr<D>, t: &[Real; 6]) {
+        add_upper(m, t);
+    }
+}
+
+/// Add the upper triangle `t` (row by row) to both triangles of `m`.
+#[inline(always)]
+fn add_upper<const D: usize>(m: &mut Corr<D>, t: &[Real; 6]) {
+    let mut k = 0;
+    for d in 0..D {
+        for c in d..D {
+            m[(d, c)] += t[k];
+            if c != d {
+                m[(c, d)] += t[k];
+            }
+            k += 1;
         }
     }
 }

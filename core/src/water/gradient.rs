@@ -17,83 +17,87 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::correction::Corr;
-use super::lanes::{rows, Block, WaterLanes};
+use super::lanes::{rows, Block, Rec, WaterLanes};
 use super::momentum::WaterParams;
-use crate::numerics::pairs::cluster_pass::{
-    at, each_lane, gather, geometry, lane_indices, separation, ClusterPass, Geometry, Window,
-};
-use crate::numerics::pairs::cluster_pass::{repack, run_pass};
+use crate::numerics::kernel::WendlandC2;
+use crate::numerics::math::Real;
+use crate::numerics::pairs::cluster_pass::{gather, repack, run_pass, PairLaw, Partner};
 use crate::numerics::pairs::clusters::ClusterPairs;
-use crate::numerics::pairs::quad::Lanes;
-use crate::numerics::pairs::quad::Quad;
+use crate::numerics::pairs::quad::{Lanes, Quad};
+use crate::numerics::periodic::Wrap;
 
-/// The velocity gradient's pass: L_i = −Σ_j v_ij ⊗ e_ij ∂W/∂r V_j; for j, −v_ji ⊗
-/// ∇_j W is the same tensor, times V_i.
+/// The velocity gradient's pass: L_i = −Σ_j v_ij ⊗ e_ij ∂W/∂r V_j, by row; for j,
+/// −v_ji ⊗ ∇_j W is the same tensor, times V_i.
 pub(super) struct Gradient<'a, const D: usize>(pub(super) &'a WaterParams<D>);
 
-impl<const D: usize> ClusterPass for Gradient<'_, D> {
-    type Block = Block<D>;
+/// The lanes as [`Gradient`] reads them: velocities and volumes.
+pub(super) struct GradientLanes<Q: Quad, const D: usize> {
+    v: [Q::V; D],
+    vol: Q::V,
+}
+
+impl<const D: usize> PairLaw<D, 9> for Gradient<'_, D> {
+    type Rec = Rec<D>;
     type Sums = Corr<D>;
+    type Lanes<Q: Quad> = GradientLanes<Q, D>;
+    const USED: usize = D * D;
+
+    fn geometry(&self) -> (&WendlandC2, &Wrap) {
+        (&self.0.kernel, &self.0.wrap)
+    }
 
     #[inline(always)]
-    fn cluster<Q: Quad>(
+    fn x(r: &Rec<D>) -> &[Real; D] {
+        &r.x
+    }
+
+    #[inline(always)]
+    fn lanes<Q: Quad>(&self, q: Q, _: usize, recs: &Block<D>) -> GradientLanes<Q, D> {
+        GradientLanes {
+            v: std::array::from_fn(|d| gather(q, recs, |r| r.v[d])),
+            vol: gather(q, recs, |r| r.vol),
+        }
+    }
+
+    #[inline(always)]
+    fn pair<Q: Quad>(
         &self,
         q: Q,
-        (blocks, cp): (&[Block<D>], &ClusterPairs),
-        ci: usize,
-        win: &mut Window<'_, Corr<D>>,
+        i: &GradientLanes<Q, D>,
+        Partner { rij, g, rec, .. }: Partner<'_, Q, Rec<D>, D>,
+        own: &mut [Q::V; 9],
+        tj: &mut [Q::V; 9],
     ) {
-        let prm = self.0;
         let zero = q.splat(0.0);
-        let bi = &blocks[ci];
-        let idx = lane_indices(q, cp, ci);
-        let (mut xi, mut vi) = ([zero; D], [zero; D]);
-        for d in 0..D {
-            xi[d] = gather(q, bi, |r| r.x[d]);
-            vi[d] = gather(q, bi, |r| r.v[d]);
-        }
-        let voli = gather(q, bi, |r| r.vol);
-        let mut own = [[zero; D]; D];
-        for &j in cp.of(ci) {
-            let (c, l, j) = at(cp, j);
-            let bj = &blocks[c];
-            let rij = separation(q, &prm.wrap, &xi, &bj[l].x);
-            let Geometry { m, inv_r, dw, .. } = geometry(q, &prm.kernel, &rij, (idx, j));
-            if !q.any(m) {
-                continue;
-            }
-            let f = q.select(m, q.sub(zero, dw), zero);
-            let volj = q.splat(bj[l].vol);
-            // −v_ij ⊗ e ∂W/∂r, row by row into one array for the lane sums
-            let mut tj = [zero; 9];
-            for a in 0..D {
-                let g = q.mul(q.sub(vi[a], q.splat(bj[l].v[a])), f);
-                for b in 0..D {
-                    let t = q.mul(g, q.mul(rij[b], inv_r));
-                    own[a][b] = q.add(own[a][b], q.mul(t, volj));
-                    tj[a * D + b] = q.mul(t, voli);
-                }
-            }
-            let s = if D == 2 {
-                let s = q.sums(&[tj[0], tj[1], tj[2], tj[3]]);
-                let mut out = [0.0; 9];
-                out[..4].copy_from_slice(&s);
-                out
-            } else {
-                q.sums(&tj)
-            };
-            let out = win.at(j);
-            for a in 0..D {
-                for b in 0..D {
-                    out[(a, b)] += s[a * D + b];
-                }
-            }
-        }
-        let out = win.cluster(cp, ci);
+        let f = q.select(g.m, q.sub(zero, g.dw), zero);
+        let volj = q.splat(rec.vol);
         for a in 0..D {
+            let ga = q.mul(q.sub(i.v[a], q.splat(rec.v[a])), f);
             for b in 0..D {
-                each_lane(q, out, own[a][b], |m, t| m[(a, b)] += t);
+                let t = q.mul(ga, q.mul(rij[b], g.inv_r));
+                own[a * D + b] = q.add(own[a * D + b], q.mul(t, volj));
+                tj[a * D + b] = q.mul(t, i.vol);
             }
+        }
+    }
+
+    #[inline(always)]
+    fn own(l: &mut Corr<D>, t: &[Real; 9]) {
+        add_rows(l, t);
+    }
+
+    #[inline(always)]
+    fn partner(l: &mut Corr<D>, t: &[Real; 9]) {
+        add_rows(l, t);
+    }
+}
+
+/// Add `t` (D × D, by row) to `l`.
+#[inline(always)]
+fn add_rows<const D: usize>(l: &mut Corr<D>, t: &[Real; 9]) {
+    for a in 0..D {
+        for b in 0..D {
+            l[(a, b)] += t[a * D + b];
         }
     }
 }

@@ -21,16 +21,12 @@
 // the terms loop over components of several lane arrays at once (x, v, B, ∇v)
 #![allow(clippy::needless_range_loop)]
 
-use super::lanes::{Block, WaterLanes};
+use super::lanes::{Block, Rec, WaterLanes};
 use crate::numerics::kernel::WendlandC2;
 use crate::numerics::math::{Real, Vect};
-use crate::numerics::pairs::cluster_pass::run_pass;
-use crate::numerics::pairs::cluster_pass::{
-    at, each_lane, gather, geometry, lane_indices, separation, ClusterPass, Geometry, Window,
-};
+use crate::numerics::pairs::cluster_pass::{gather, run_pass, Geometry, PairLaw, Partner};
 use crate::numerics::pairs::clusters::ClusterPairs;
-use crate::numerics::pairs::quad::Lanes;
-use crate::numerics::pairs::quad::Quad;
+use crate::numerics::pairs::quad::{Lanes, Quad};
 use crate::numerics::periodic::Wrap;
 use crate::numerics::riemann::minmod_jump;
 
@@ -97,14 +93,8 @@ pub fn p_star<const D: usize>(prm: &WaterParams<D>, pi: Real, pj: Real, du: Real
     0.5 * (pi + pj) + 0.5 * beta * prm.z * du
 }
 
-/// What the four lanes gain from a neighbour (times V_j) and what it gains from each
-/// of them (times V_i), per component.
-type OwnAndPartner<Q, const D: usize> = ([<Q as Quad>::V; D], [<Q as Quad>::V; D]);
-
 /// The lanes of a cluster as its momentum terms read them.
-struct MomentumLanes<Q: Quad, const D: usize> {
-    idx: Q::V,
-    x: [Q::V; D],
+pub(super) struct MomentumLanes<Q: Quad, const D: usize> {
     v: [Q::V; D],
     b: [[Q::V; D]; D],
     /// ∇v, with `MUSCL` only.
@@ -113,142 +103,133 @@ struct MomentumLanes<Q: Quad, const D: usize> {
     vol: Q::V,
 }
 
-/// The momentum term of the four lanes of a cluster against particle `j` (lane `l` of
-/// block `bj`): what the lanes gain (times V_j) and what j gains from each (times
-/// V_i, to be summed over the lanes and subtracted); zero outside the cut-off, and
-/// none if no lane pairs with j. With `MUSCL` the jump U_L − U_R is taken between the
-/// velocities reconstructed to the pair's midpoint, v_i − ½ ∇v_i r e and
-/// v_j + ½ ∇v_j r e (van Leer 1979, as Vila (1999) brings it to SPH), limited by
-/// minmod against the raw jump ([`minmod_jump`]): zero for a linear velocity field.
-#[inline(always)]
-fn momentum_term<Q: Quad, const D: usize, const MUSCL: bool>(
-    q: Q,
-    prm: &WaterParams<D>,
-    i: &MomentumLanes<Q, D>,
-    (bj, l, j): (&Block<D>, usize, usize),
-) -> Option<OwnAndPartner<Q, D>> {
-    let zero = q.splat(0.0);
-    let (half, one) = (q.splat(0.5), q.splat(1.0));
-    let rij = separation(q, &prm.wrap, &i.x, &bj[l].x);
-    let Geometry {
-        m, r, inv_r, dw, ..
-    } = geometry(q, &prm.kernel, &rij, (i.idx, j));
-    if !q.any(m) {
-        return None;
-    }
-    let mut e = [zero; D];
-    let mut vij = [zero; D];
-    // U_L − U_R = −v_ij·e
-    let mut vie = zero;
-    for d in 0..D {
-        e[d] = q.mul(rij[d], inv_r);
-        vij[d] = q.sub(i.v[d], q.splat(bj[l].v[d]));
-        vie = q.add(vie, q.mul(vij[d], e[d]));
-    }
-    let mut du = q.sub(zero, vie);
-    if MUSCL {
-        // U_L − U_R of the reconstructed velocities: du + ½ r e·(∇v_i + ∇v_j) e
-        let mut ege = zero;
-        for d in 0..D {
-            let mut s = zero;
-            for c in 0..D {
-                let g = q.add(i.gv[d][c], q.splat(bj[l].gv[d][c]));
-                s = q.add(s, q.mul(g, e[c]));
-            }
-            ege = q.add(ege, q.mul(e[d], s));
-        }
-        let rec = q.add(du, q.mul(q.mul(half, r), ege));
-        du = minmod_jump(q, du, rec);
-    }
-    // β = min(η du/c0, 1) under compression, 0 in expansion (p_star)
-    let eta_c = q.splat(prm.eta * prm.inv_c);
-    let beta = q.select(q.lt(zero, du), q.min(q.mul(eta_c, du), one), zero);
-    let mean = q.mul(half, q.add(i.p, q.splat(bj[l].p)));
-    let ps = q.add(mean, q.mul(q.mul(q.mul(half, beta), q.splat(prm.z)), du));
-    // B̄e = ½ (B_i + B_j) e
-    let mut eh = [zero; D];
-    for d in 0..D {
-        eh[d] = q.mul(e[d], half);
-    }
-    let mut be = [zero; D];
-    let mut ebe = zero;
-    for d in 0..D {
-        let mut s = zero;
-        for c in 0..D {
-            let bsum = q.add(i.b[d][c], q.splat(bj[l].b[d][c]));
-            s = q.add(s, q.mul(bsum, eh[c]));
-        }
-        be[d] = s;
-        ebe = q.add(ebe, q.mul(e[d], s));
-    }
-    // Morris' term with the corrected gradient: μ ∂W/∂r e·B̄e / r
-    let visc = q.mul(q.mul(q.mul(q.splat(prm.mu), dw), inv_r), ebe);
-    let pd = q.mul(q.sub(zero, ps), dw);
-    let volj = q.splat(bj[l].vol);
-    let (mut own, mut tj) = ([zero; D], [zero; D]);
-    for d in 0..D {
-        let t = q.add(q.mul(be[d], pd), q.mul(vij[d], visc));
-        let t = q.select(m, t, zero);
-        own[d] = q.mul(t, volj);
-        tj[d] = q.mul(t, i.vol);
-    }
-    Some((own, tj))
-}
-
 /// The momentum pass, with the jump reconstructed if `MUSCL`.
 pub(super) struct Momentum<'a, const D: usize, const MUSCL: bool>(pub(super) &'a WaterParams<D>);
 
-impl<const D: usize, const MUSCL: bool> ClusterPass for Momentum<'_, D, MUSCL> {
-    type Block = Block<D>;
+impl<const D: usize, const MUSCL: bool> PairLaw<D, D> for Momentum<'_, D, MUSCL> {
+    type Rec = Rec<D>;
     type Sums = WaterSums<D>;
+    type Lanes<Q: Quad> = MomentumLanes<Q, D>;
+
+    fn geometry(&self) -> (&WendlandC2, &Wrap) {
+        (&self.0.kernel, &self.0.wrap)
+    }
 
     #[inline(always)]
-    fn cluster<Q: Quad>(
-        &self,
-        q: Q,
-        (blocks, cp): (&[Block<D>], &ClusterPairs),
-        ci: usize,
-        win: &mut Window<'_, WaterSums<D>>,
-    ) {
-        let prm = self.0;
+    fn x(r: &Rec<D>) -> &[Real; D] {
+        &r.x
+    }
+
+    #[inline(always)]
+    fn lanes<Q: Quad>(&self, q: Q, _: usize, recs: &Block<D>) -> MomentumLanes<Q, D> {
         let zero = q.splat(0.0);
-        let bi = &blocks[ci];
-        let mut lanes = MomentumLanes::<Q, D> {
-            idx: lane_indices(q, cp, ci),
-            x: [zero; D],
-            v: [zero; D],
+        let mut lanes = MomentumLanes {
+            v: std::array::from_fn(|d| gather(q, recs, |r| r.v[d])),
             b: [[zero; D]; D],
             gv: [[zero; D]; D],
-            p: gather(q, bi, |r| r.p),
-            vol: gather(q, bi, |r| r.vol),
+            p: gather(q, recs, |r| r.p),
+            vol: gather(q, recs, |r| r.vol),
         };
         for d in 0..D {
-            lanes.x[d] = gather(q, bi, |r| r.x[d]);
-            lanes.v[d] = gather(q, bi, |r| r.v[d]);
             for c in 0..D {
-                lanes.b[d][c] = gather(q, bi, |r| r.b[d][c]);
+                lanes.b[d][c] = gather(q, recs, |r| r.b[d][c]);
                 if MUSCL {
-                    lanes.gv[d][c] = gather(q, bi, |r| r.gv[d][c]);
+                    lanes.gv[d][c] = gather(q, recs, |r| r.gv[d][c]);
                 }
             }
         }
-        let mut own = [zero; D];
-        for &j in cp.of(ci) {
-            let (c, l, j) = at(cp, j);
-            let Some((o, t)) = momentum_term::<Q, D, MUSCL>(q, prm, &lanes, (&blocks[c], l, j))
-            else {
-                continue;
-            };
-            for d in 0..D {
-                own[d] = q.add(own[d], o[d]);
-            }
-            for (d, s) in q.sums(&t).into_iter().enumerate() {
-                win.at(j).acc[d] -= s;
-            }
-        }
-        let out = win.cluster(cp, ci);
+        lanes
+    }
+
+    /// The momentum terms of the four lanes against partner j: what the lanes gain
+    /// (times V_j) and what j gains from each (times V_i, subtracted after the lane
+    /// sums); zero outside the cut-off. With `MUSCL` the jump U_L − U_R is taken between the
+    /// velocities reconstructed to the pair's midpoint, v_i − ½ ∇v_i r e and
+    /// v_j + ½ ∇v_j r e (van Leer 1979, as Vila (1999) brings it to SPH), limited by
+    /// minmod against the raw jump ([`minmod_jump`]): zero for a linear velocity field.
+    #[inline(always)]
+    fn pair<Q: Quad>(
+        &self,
+        q: Q,
+        i: &MomentumLanes<Q, D>,
+        Partner { rij, g, rec, .. }: Partner<'_, Q, Rec<D>, D>,
+        own: &mut [Q::V; D],
+        tj: &mut [Q::V; D],
+    ) {
+        let prm = self.0;
+        let zero = q.splat(0.0);
+        let (half, one) = (q.splat(0.5), q.splat(1.0));
+        let Geometry {
+            m, r, inv_r, dw, ..
+        } = g;
+        let mut e = [zero; D];
+        let mut vij = [zero; D];
+        // U_L − U_R = −v_ij·e
+        let mut vie = zero;
         for d in 0..D {
-            each_lane(q, out, own[d], |s, t| s.acc[d] += t);
+            e[d] = q.mul(rij[d], inv_r);
+            vij[d] = q.sub(i.v[d], q.splat(rec.v[d]));
+            vie = q.add(vie, q.mul(vij[d], e[d]));
+        }
+        let mut du = q.sub(zero, vie);
+        if MUSCL {
+            // U_L − U_R of the reconstructed velocities: du + ½ r e·(∇v_i + ∇v_j) e
+            let mut ege = zero;
+            for d in 0..D {
+                let mut s = zero;
+                for c in 0..D {
+                    let g = q.add(i.gv[d][c], q.splat(rec.gv[d][c]));
+                    s = q.add(s, q.mul(g, e[c]));
+                }
+                ege = q.add(ege, q.mul(e[d], s));
+            }
+            let rec = q.add(du, q.mul(q.mul(half, r), ege));
+            du = minmod_jump(q, du, rec);
+        }
+        // β = min(η du/c0, 1) under compression, 0 in expansion (p_star)
+        let eta_c = q.splat(prm.eta * prm.inv_c);
+        let beta = q.select(q.lt(zero, du), q.min(q.mul(eta_c, du), one), zero);
+        let mean = q.mul(half, q.add(i.p, q.splat(rec.p)));
+        let ps = q.add(mean, q.mul(q.mul(q.mul(half, beta), q.splat(prm.z)), du));
+        // B̄e = ½ (B_i + B_j) e
+        let mut eh = [zero; D];
+        for d in 0..D {
+            eh[d] = q.mul(e[d], half);
+        }
+        let mut be = [zero; D];
+        let mut ebe = zero;
+        for d in 0..D {
+            let mut s = zero;
+            for c in 0..D {
+                let bsum = q.add(i.b[d][c], q.splat(rec.b[d][c]));
+                s = q.add(s, q.mul(bsum, eh[c]));
+            }
+            be[d] = s;
+            ebe = q.add(ebe, q.mul(e[d], s));
+        }
+        // Morris' term with the corrected gradient: μ ∂W/∂r e·B̄e / r
+        let visc = q.mul(q.mul(q.mul(q.splat(prm.mu), dw), inv_r), ebe);
+        let pd = q.mul(q.sub(zero, ps), dw);
+        let volj = q.splat(rec.vol);
+        for d in 0..D {
+            let t = q.add(q.mul(be[d], pd), q.mul(vij[d], visc));
+            let t = q.select(m, t, zero);
+            own[d] = q.add(own[d], q.mul(t, volj));
+            tj[d] = q.mul(t, i.vol);
+        }
+    }
+
+    #[inline(always)]
+    fn own(s: &mut WaterSums<D>, t: &[Real; D]) {
+        for d in 0..D {
+            s.acc[d] += t[d];
+        }
+    }
+
+    #[inline(always)]
+    fn partner(s: &mut WaterSums<D>, t: &[Real; D]) {
+        for d in 0..D {
+            s.acc[d] -= t[d];
         }
     }
 }

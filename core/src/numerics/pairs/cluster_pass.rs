@@ -1,17 +1,16 @@
-//! What the cluster-pair passes of every family share (issue 45, docs/method.md
-//! §Throughput): the pair geometry of a cluster's four particles against one
-//! neighbour on [`Quad`] lanes, the two-phase schedule over cluster slabs, and the
-//! return of the lane sums to the particles.
+//! The pair executor of the fine grains and the water (issue 45, docs/method.md
+//! §Throughput): each pair law ([`PairLaw`]) is written once over [`Quad`] and gives
+//! its terms for a cluster's four particles against one neighbour; [`run_pass`] does
+//! everything else, for every law alike.
 //!
-//! A pass packs the state its terms read per cluster ([`clusters`](crate::numerics::pairs::clusters)),
-//! one record per particle: a neighbour's values are read from its record, a few cache
-//! lines, and broadcast ([`Quad::splat`]); a cluster's own four records are gathered
-//! into the lanes once ([`gather`]). Its sums go straight into the family's sums, one
-//! entry per particle: a neighbour's are added to its entry, a cluster's own lane by
-//! lane ([`each_lane`]).
-//! Pairs beyond the cut-off, or with j ≤ i, are masked out, so each pair is taken once,
-//! as in the one-pair passes; the sums a neighbour gains from the four lanes are added
-//! across the lanes in one fixed order ([`Quad::sums`]).
+//! A law's state is packed per cluster ([`pack`], [`repack`]), one record per
+//! particle: a neighbour's values are read from its record, a few cache lines, and
+//! broadcast ([`Quad::splat`]); a cluster's own four records are gathered into the
+//! lanes once ([`gather`]). Pairs beyond the cut-off, or with j ≤ i, are masked out,
+//! so each pair is taken once; the terms a neighbour gains from the four lanes are
+//! added across the lanes in one fixed order ([`Quad::sums`]) and go straight into its
+//! sums, a cluster's own lane by lane. The clusters run in the two-phase schedule over
+//! slabs ([`two_phase_in`]), so the sums do not depend on the thread count.
 
 use crate::numerics::kernel::WendlandC2;
 use crate::numerics::math::Real;
@@ -28,7 +27,7 @@ pub const FAR: Real = 1e30;
 /// x_i − x_j of the four particles of a cluster (`xi`) against particle j at `xj`,
 /// minimum images across a periodic seam.
 #[inline(always)]
-pub fn separation<Q: Quad, const D: usize>(
+fn separation<Q: Quad, const D: usize>(
     q: Q,
     wrap: &Wrap,
     xi: &[Q::V; D],
@@ -85,18 +84,6 @@ pub fn repack<R: Send>(
     });
 }
 
-/// `op(sums of lane l, lane l of v)` for the lanes of a cluster (`sums` holds its
-/// particles' sums, at most four): how a cluster's own lane sums go back to its
-/// particles (`|s, t| s.acc[d] += t`).
-#[inline(always)]
-pub fn each_lane<Q: Quad, S>(q: Q, sums: &mut [S], v: Q::V, op: impl Fn(&mut S, Real)) {
-    let mut t = [0.0; WIDTH];
-    q.store(&mut t, v);
-    for (s, t) in sums.iter_mut().zip(t) {
-        op(s, t);
-    }
-}
-
 /// One lane pass's pair geometry: which lanes pair, and r², r, 1/r and ∂W/∂r there.
 pub struct Geometry<Q: Quad> {
     /// Within the cut-off and i < j.
@@ -111,7 +98,7 @@ pub struct Geometry<Q: Quad> {
 /// The lanes that pair with particle `j`: within the cut-off and i < j (`idx` holds
 /// the lanes' particle indices), with the kernel's ∂W/∂r.
 #[inline(always)]
-pub fn geometry<Q: Quad, const D: usize>(
+fn geometry<Q: Quad, const D: usize>(
     q: Q,
     kernel: &WendlandC2,
     rij: &[Q::V; D],
@@ -143,14 +130,14 @@ pub fn geometry<Q: Quad, const D: usize>(
 
 /// The particle indices of cluster `c`'s lanes.
 #[inline(always)]
-pub fn lane_indices<Q: Quad>(q: Q, cp: &ClusterPairs, c: usize) -> Q::V {
+fn lane_indices<Q: Quad>(q: Q, cp: &ClusterPairs, c: usize) -> Q::V {
     let first = cp.start[c] as Real;
     q.add(q.splat(first), q.load(&[0.0, 1.0, 2.0, 3.0]))
 }
 
 /// Particle `j`'s cluster, its lane there, and `j`.
 #[inline(always)]
-pub fn at(cp: &ClusterPairs, j: u32) -> (usize, usize, usize) {
+fn at(cp: &ClusterPairs, j: u32) -> (usize, usize, usize) {
     let j = j as usize;
     let c = cp.of[j] as usize;
     (c, j - cp.start[c] as usize, j)
@@ -179,39 +166,152 @@ impl<S> Window<'_, S> {
     }
 }
 
-/// A cluster-pair pass: the state it reads per cluster ([`Block`](Self::Block)), the
-/// sums it adds per particle ([`Sums`](Self::Sums)), and its terms for one cluster
-/// against every particle of the cluster's list.
-pub trait ClusterPass: Sync {
-    type Block: Sync;
+/// One neighbour j of a cluster as a pair law sees it: the four lanes' separations
+/// x_i − x_j, their pair geometry (only the lanes of `g.m` pair), j's record, and
+/// where it sits (cluster `c`, lane `l`: a law's side records are read there).
+pub struct Partner<'a, Q: Quad, R, const D: usize> {
+    pub rij: [Q::V; D],
+    pub g: Geometry<Q>,
+    pub rec: &'a R,
+    pub c: usize,
+    pub l: usize,
+}
+
+/// A pair law on [`Quad`] lanes: what it reads per particle ([`Rec`](Self::Rec),
+/// packed four to a cluster by [`pack`]), what it adds per particle
+/// ([`Sums`](Self::Sums)), and its `N` terms for the four lanes of a cluster against
+/// one partner j: what the lanes gain and what j gains from each. The executor
+/// ([`run_pass`]) owns the rest: the cluster's positions on the lanes, the
+/// partners of its list, their separations across a periodic seam, the pair
+/// geometry and the lanes it masks in, the lane sums of j's terms in one fixed order,
+/// and their return to both particles' sums, in the two-phase slab schedule.
+pub trait PairLaw<const D: usize, const N: usize>: Sync {
+    type Rec: Sync;
     type Sums: Send;
-    /// The terms of cluster `ci`'s four lanes against its list, added into `out`. Must
-    /// be `#[inline(always)]`, as [`QuadTask::run`] must.
-    fn cluster<Q: Quad>(
+    /// The cluster's own state on the lanes, as the terms read it.
+    type Lanes<Q: Quad>;
+    /// How many of the `N` terms the law fills (the others stay zero and are not
+    /// summed; e.g. the 2D terms of a law sized for 3D).
+    const USED: usize = N;
+    /// The kernel and the periodic seam of the pairs.
+    fn geometry(&self) -> (&WendlandC2, &Wrap);
+    /// The position of a record's particle.
+    fn x(r: &Self::Rec) -> &[Real; D];
+    /// The lanes of cluster `c`, whose records are `recs`.
+    fn lanes<Q: Quad>(&self, q: Q, c: usize, recs: &[Self::Rec; WIDTH]) -> Self::Lanes<Q>;
+    /// The terms of the lanes `i` against partner `j`: the lanes' own added into
+    /// `own`, j's from each lane written into `tj` (to be summed over the lanes). Only
+    /// called when some lane pairs with j. Must be `#[inline(always)]`, as
+    /// [`QuadTask::run`] must.
+    fn pair<Q: Quad>(
         &self,
         q: Q,
-        state: (&[Self::Block], &ClusterPairs),
-        ci: usize,
-        out: &mut Window<'_, Self::Sums>,
+        i: &Self::Lanes<Q>,
+        j: Partner<'_, Q, Self::Rec, D>,
+        own: &mut [Q::V; N],
+        tj: &mut [Q::V; N],
     );
+    /// Add a lane's own terms `t` (summed over its partners) to its particle's sums.
+    fn own(s: &mut Self::Sums, t: &[Real; N]);
+    /// Add the lane sums `t` of a partner's terms to the partner's sums.
+    fn partner(s: &mut Self::Sums, t: &[Real; N]);
+}
+
+/// The lane sums of the first `used` entries of `t` ([`Quad::sums`] of that many; the
+/// rest zero): `used` is a constant of the law, so one arm remains.
+#[inline(always)]
+fn lane_sums<Q: Quad, const N: usize>(q: Q, t: &[Q::V; N], used: usize) -> [Real; N] {
+    #[inline(always)]
+    fn first<Q: Quad, const K: usize, const N: usize>(q: Q, t: &[Q::V; N]) -> [Real; N] {
+        let mut out = [0.0; N];
+        if K <= N {
+            let a: [Q::V; K] = std::array::from_fn(|k| t[k]);
+            out[..K].copy_from_slice(&q.sums(&a));
+        }
+        out
+    }
+    match used {
+        3 => first::<Q, 3, N>(q, t),
+        4 => first::<Q, 4, N>(q, t),
+        5 => first::<Q, 5, N>(q, t),
+        12 => first::<Q, 12, N>(q, t),
+        _ => q.sums(t),
+    }
+}
+
+/// Law `law` for cluster `ci` against every partner of its list, into `win`.
+#[inline(always)]
+fn cluster<Q: Quad, P: PairLaw<D, N>, const D: usize, const N: usize>(
+    q: Q,
+    law: &P,
+    (blocks, cp): (&[[P::Rec; WIDTH]], &ClusterPairs),
+    ci: usize,
+    win: &mut Window<'_, P::Sums>,
+) {
+    let (kernel, wrap) = law.geometry();
+    let zero = q.splat(0.0);
+    let bi = &blocks[ci];
+    let idx = lane_indices(q, cp, ci);
+    let xi: [Q::V; D] = std::array::from_fn(|d| gather(q, bi, |r| P::x(r)[d]));
+    let lanes = law.lanes(q, ci, bi);
+    let (mut own, mut tj) = ([zero; N], [zero; N]);
+    // a law of one term sums four partners' at once
+    let (mut t1, mut to, mut k) = ([zero; WIDTH], [0; WIDTH], 0);
+    for &j in cp.of(ci) {
+        let (c, l, j) = at(cp, j);
+        let rec = &blocks[c][l];
+        let rij = separation(q, wrap, &xi, P::x(rec));
+        let g = geometry(q, kernel, &rij, (idx, j));
+        if !q.any(g.m) {
+            // beyond the cut-off of every lane (the lists' skin)
+            continue;
+        }
+        law.pair(q, &lanes, Partner { rij, g, rec, c, l }, &mut own, &mut tj);
+        if P::USED == 1 {
+            (t1[k], to[k]) = (tj[0], j);
+            k += 1;
+            if k == WIDTH {
+                for (j, s) in to.into_iter().zip(q.sums(&t1)) {
+                    let mut t = [0.0; N];
+                    t[0] = s;
+                    P::partner(win.at(j), &t);
+                }
+                k = 0;
+            }
+        } else {
+            P::partner(win.at(j), &lane_sums(q, &tj, P::USED));
+        }
+    }
+    for n in 0..k {
+        let mut t = [0.0; N];
+        t[0] = q.sum(t1[n]);
+        P::partner(win.at(to[n]), &t);
+    }
+    let mut by_lane = [[0.0; WIDTH]; N];
+    for (t, o) in by_lane.iter_mut().zip(&own).take(P::USED) {
+        q.store(t, *o);
+    }
+    for (l, s) in win.cluster(cp, ci).iter_mut().enumerate() {
+        P::own(s, &std::array::from_fn(|k| by_lane[k][l]));
+    }
 }
 
 /// One slab of a pass: its clusters in index order.
-struct Slab<'a, P: ClusterPass> {
-    pass: &'a P,
-    blocks: &'a [P::Block],
+struct Slab<'a, P: PairLaw<D, N>, const D: usize, const N: usize> {
+    law: &'a P,
+    blocks: &'a [[P::Rec; WIDTH]],
     cp: &'a ClusterPairs,
     slab: usize,
     out: Window<'a, P::Sums>,
 }
 
-impl<P: ClusterPass> QuadTask for Slab<'_, P> {
+impl<P: PairLaw<D, N>, const D: usize, const N: usize> QuadTask for Slab<'_, P, D, N> {
     type Output = ();
 
     #[inline(always)]
     fn run<Q: Quad>(self, q: Q) {
         let Slab {
-            pass,
+            law,
             blocks,
             cp,
             slab,
@@ -224,23 +324,23 @@ impl<P: ClusterPass> QuadTask for Slab<'_, P> {
                 sums: &mut *sums,
                 base,
             };
-            pass.cluster(q, (blocks, cp), ci, &mut out);
+            cluster(q, law, (blocks, cp), ci, &mut out);
         }
     }
 }
 
-/// Run `pass` over the clusters of every slab on `lanes`, two-phase
+/// Run `law` over the clusters of every slab on `lanes`, two-phase
 /// ([`two_phase_in`]), its terms added into `sums` (one entry per particle).
-pub fn run_pass<P: ClusterPass>(
-    pass: &P,
-    (blocks, cp): (&[P::Block], &ClusterPairs),
+pub fn run_pass<P: PairLaw<D, N>, const D: usize, const N: usize>(
+    law: &P,
+    (blocks, cp): (&[[P::Rec; WIDTH]], &ClusterPairs),
     lanes: Lanes,
     sums: &mut [P::Sums],
 ) {
     let task = |slab: usize, sums: &mut [P::Sums], base: usize| {
         let out = Window { sums, base };
         lanes.run(Slab {
-            pass,
+            law,
             blocks,
             cp,
             slab,
