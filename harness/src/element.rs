@@ -9,6 +9,7 @@ use clap::{Args, ValueEnum};
 use granmix_core::fine::element::{simple_shear, triaxial_compression};
 use granmix_core::fine::material::FineMaterial;
 use granmix_core::input::load_scene_file;
+use granmix_core::scene::MaterialSpec;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -59,10 +60,22 @@ struct Run {
     end: f64,
 }
 
+/// `granmix element`: the material's single-element tests (drained triaxial
+/// compression or simple shear) at each confining stress, printed against the yield
+/// surface's reference and written to element.csv and element.png.
 pub fn element(a: &ElementArgs) -> Result<()> {
     let loaded = load_scene_file(&a.scene, &a.set)?;
-    let specs = &loaded.scene.materials;
-    let spec = match &a.material {
+    let spec = material(a, &loaded.scene.materials)?;
+    check(a)?;
+    let m = FineMaterial::from_spec(spec);
+    let runs = run(a, &m);
+    print_table(a, &m, &runs);
+    write_outputs(a, &m, &runs)
+}
+
+/// The material `--material` names (the scene's first without it).
+fn material<'a>(a: &ElementArgs, specs: &'a [MaterialSpec]) -> Result<&'a MaterialSpec> {
+    Ok(match &a.material {
         None => specs
             .first()
             .with_context(|| format!("{}: no [[materials]] entry", a.scene.display()))?,
@@ -74,7 +87,11 @@ pub fn element(a: &ElementArgs) -> Result<()> {
                 known.join(", ")
             )
         })?,
-    };
+    })
+}
+
+/// Refuse confining stresses, strains, step counts and rates that name no test.
+fn check(a: &ElementArgs) -> Result<()> {
     if a.confining.is_empty() || a.confining.iter().any(|c| !(*c > 0.0 && c.is_finite())) {
         bail!(
             "--confining: give positive stresses in Pa, found {:?}",
@@ -90,13 +107,16 @@ pub fn element(a: &ElementArgs) -> Result<()> {
             a.rate
         );
     }
-    let m = FineMaterial::from_spec(spec);
-    let runs: Vec<Run> = a
-        .confining
+    Ok(())
+}
+
+/// One test per confining stress along the chosen path.
+fn run(a: &ElementArgs, m: &FineMaterial) -> Vec<Run> {
+    a.confining
         .iter()
         .map(|&s3| match a.path {
             Path::Triaxial => {
-                let p = triaxial_compression(&m, s3, a.strain, a.steps);
+                let p = triaxial_compression(m, s3, a.strain, a.steps);
                 let pts: Vec<_> = p
                     .iter()
                     .map(|s| (s.axial_strain, s.q, s.volumetric_strain))
@@ -105,7 +125,7 @@ pub fn element(a: &ElementArgs) -> Result<()> {
             }
             Path::Shear => {
                 let dt = a.strain / (a.steps as f64 * a.rate);
-                let p = simple_shear(&m, s3, a.strain, a.steps, dt);
+                let p = simple_shear(m, s3, a.strain, a.steps, dt);
                 let pts: Vec<_> = p
                     .iter()
                     .map(|s| (s.gamma, s.shear_stress, s.shear_stress / s.p))
@@ -113,8 +133,19 @@ pub fn element(a: &ElementArgs) -> Result<()> {
                 summarise(s3, pts)
             }
         })
-        .collect();
+        .collect()
+}
 
+/// The measured stress and its unit.
+fn measure(path: Path) -> &'static str {
+    match path {
+        Path::Triaxial => "q [kPa]",
+        Path::Shear => "√J2 [kPa]",
+    }
+}
+
+/// The material, and per run its peak and end against the reference.
+fn print_table(a: &ElementArgs, m: &FineMaterial, runs: &[Run]) {
     let phi = m.phi;
     let (s, t) = (phi.sin(), phi.tan());
     println!(
@@ -133,10 +164,13 @@ pub fn element(a: &ElementArgs) -> Result<()> {
             ""
         }
     );
-    let (measure, reference) = match a.path {
-        Path::Triaxial => ("q [kPa]", "Mohr–Coulomb q = 2 sin φ σ3/(1 − sin φ)"),
-        Path::Shear => ("√J2 [kPa]", "√J2 = tan φ p (the shear cone)"),
-    };
+    let (measure, reference) = (
+        measure(a.path),
+        match a.path {
+            Path::Triaxial => "Mohr–Coulomb q = 2 sin φ σ3/(1 − sin φ)",
+            Path::Shear => "√J2 = tan φ p (the shear cone)",
+        },
+    );
     println!(
         "{:>10} {:>14} {:>12} {:>14} {:>16}",
         "σ3 [kPa]",
@@ -145,7 +179,7 @@ pub fn element(a: &ElementArgs) -> Result<()> {
         format!("end {measure}"),
         "reference [kPa]"
     );
-    for r in &runs {
+    for r in runs {
         let want = match a.path {
             Path::Triaxial => 2.0 * s * r.confining / (1.0 - s),
             Path::Shear => t * r.confining,
@@ -160,7 +194,10 @@ pub fn element(a: &ElementArgs) -> Result<()> {
         );
     }
     println!("reference: {reference} at the static φ");
+}
 
+/// element.csv and element.png in `--out`.
+fn write_outputs(a: &ElementArgs, m: &FineMaterial, runs: &[Run]) -> Result<()> {
     let out = a
         .out
         .clone()
@@ -171,7 +208,7 @@ pub fn element(a: &ElementArgs) -> Result<()> {
         Path::Shear => ("gamma", "sqrt_j2 [Pa]", "sqrt_j2_over_p"),
     };
     let mut csv = format!("confining [Pa],{xname},{yname},{zname}\n");
-    for r in &runs {
+    for r in runs {
         for (x, y, z) in &r.points {
             writeln!(csv, "{:e},{x:e},{y:e},{z:e}", r.confining)?;
         }
@@ -207,7 +244,7 @@ pub fn element(a: &ElementArgs) -> Result<()> {
         &[
             Panel {
                 title: "stress against strain".into(),
-                ylabel: measure.into(),
+                ylabel: measure(a.path).into(),
                 curves: curves(|p| p.1 * 1e-3),
                 include: Some((0.0, 0.0)),
             },

@@ -40,6 +40,7 @@ use super::water_wall::boundary_pair;
 use crate::geometry::walls::Walls;
 use crate::numerics::math::{Real, Vect};
 use crate::numerics::neighbors::{NeighborLists, CHUNK};
+use crate::numerics::pairs::clusters::ClusterPairs;
 use crate::numerics::periodic::Separation;
 use crate::numerics::sparse_cg::{conjugate_gradient, Symmetric};
 use crate::water::momentum::WaterParams;
@@ -80,45 +81,13 @@ pub fn incompressible_start<const D: usize>(
     dp: Real,
 ) -> Option<Start> {
     let n = w.len();
-    let kernel = &prm.kernel;
-    let cut2 = kernel.cutoff * kernel.cutoff;
-    // the water–water couplings a_ij, each pair once; each particle's support Σ a and
-    // the pull Σ a (x_i − x_j) of its neighbours, away from which its support is missing
-    let mut edges: Vec<(u32, u32, Real)> = Vec::new();
-    let mut support = vec![0.0; n];
-    let mut diag = vec![0.0; n];
-    let mut away = vec![Vect::<D>::zeros(); n];
-    // −∇²p_h: zero for one region's hydrostatic start, ρ g η'' under a column
-    // fill's surface η
-    let mut source = vec![0.0; n];
-    let cp = &lists.clusters;
-    for i in 0..n {
-        // i's half list: the entries j > i of its cluster's list, in ascending order
-        for &j in cp.of(cp.of[i] as usize) {
-            let j = j as usize;
-            if j <= i {
-                continue;
-            }
-            let rij = prm.wrap.of(w.pos[i] - w.pos[j]);
-            let r2 = rij.norm_squared();
-            if r2 >= cut2 || r2 == 0.0 {
-                continue;
-            }
-            let r = r2.sqrt();
-            let a = (vol(i) + vol(j)) * -kernel.dw(r) / r;
-            support[i] += a;
-            support[j] += a;
-            away[i] += rij * a;
-            away[j] -= rij * a;
-            // ∇·(∇p/ρ): 1/ρ at the pair's midpoint
-            let a = a * 2.0 / (w.rho[i] + w.rho[j]);
-            edges.push((i as u32, j as u32, a));
-            diag[i] += a;
-            diag[j] += a;
-            source[i] += a * (p0[i] - p0[j]);
-            source[j] += a * (p0[j] - p0[i]);
-        }
-    }
+    let Couplings {
+        edges,
+        mut support,
+        mut diag,
+        mut away,
+        mut source,
+    } = couplings(w, (&vol, p0), &lists.clusters, prm);
     // walls and bodies: their share of the support (their terms vanish for q)
     let boundaries = |i: usize, f: &mut dyn FnMut(&Vect<D>, Real)| {
         let (cl, k) = (&lists.chunks[i / CHUNK], i % CHUNK);
@@ -172,6 +141,72 @@ pub fn incompressible_start<const D: usize>(
         iterations,
         residual,
     })
+}
+
+/// The water–water couplings a_ij of the start's Poisson problem, each pair once,
+/// from the half lists held in the cluster lists `cp`; each particle's support Σ a,
+/// the diagonal, the pull Σ a (x_i − x_j) of its neighbours (away from which its
+/// support is missing) and the source −∇²p_h of the hydrostatic start `p0`.
+struct Couplings<const D: usize> {
+    edges: Vec<(u32, u32, Real)>,
+    support: Vec<Real>,
+    diag: Vec<Real>,
+    away: Vec<Vect<D>>,
+    source: Vec<Real>,
+}
+
+fn couplings<const D: usize>(
+    w: &WaterParticles<D>,
+    (vol, p0): (&impl Fn(usize) -> Real, &[Real]),
+    cp: &ClusterPairs,
+    prm: &WaterParams<D>,
+) -> Couplings<D> {
+    let n = w.len();
+    let kernel = &prm.kernel;
+    let cut2 = kernel.cutoff * kernel.cutoff;
+    // the water–water couplings a_ij, each pair once; each particle's support Σ a and
+    // the pull Σ a (x_i − x_j) of its neighbours, away from which its support is missing
+    let mut edges: Vec<(u32, u32, Real)> = Vec::new();
+    let mut support = vec![0.0; n];
+    let mut diag = vec![0.0; n];
+    let mut away = vec![Vect::<D>::zeros(); n];
+    // −∇²p_h: zero for one region's hydrostatic start, ρ g η'' under a column
+    // fill's surface η
+    let mut source = vec![0.0; n];
+    for i in 0..n {
+        // i's half list: the entries j > i of its cluster's list, in ascending order
+        for &j in cp.of(cp.of[i] as usize) {
+            let j = j as usize;
+            if j <= i {
+                continue;
+            }
+            let rij = prm.wrap.of(w.pos[i] - w.pos[j]);
+            let r2 = rij.norm_squared();
+            if r2 >= cut2 || r2 == 0.0 {
+                continue;
+            }
+            let r = r2.sqrt();
+            let a = (vol(i) + vol(j)) * -kernel.dw(r) / r;
+            support[i] += a;
+            support[j] += a;
+            away[i] += rij * a;
+            away[j] -= rij * a;
+            // ∇·(∇p/ρ): 1/ρ at the pair's midpoint
+            let a = a * 2.0 / (w.rho[i] + w.rho[j]);
+            edges.push((i as u32, j as u32, a));
+            diag[i] += a;
+            diag[j] += a;
+            source[i] += a * (p0[i] - p0[j]);
+            source[j] += a * (p0[j] - p0[i]);
+        }
+    }
+    Couplings {
+        edges,
+        support,
+        diag,
+        away,
+        source,
+    }
 }
 
 /// Which particles lie at the free surface: their support (`support`, with the fullest

@@ -422,13 +422,29 @@ fn lobovsky_checks(r: &Value) -> Vec<Value> {
     out
 }
 
+/// The checks across cases of a bench run (`comparisons` in its report).
 fn compare(records: &[Value]) -> Vec<Value> {
     let mut out = Vec::new();
-    let find = |case: &str, level: &str| {
-        records
-            .iter()
-            .find(|r| r["case"] == case && r["level"] == level)
-    };
+    crater_grid(records, &mut out);
+    standing_wave_period(records, &mut out);
+    mu_i_costs(records, &mut out);
+    if let Some(r) = find(records, "lobovsky", "H/160").map(|r| &r["lobovsky"]) {
+        out.extend(lobovsky_checks(r));
+    }
+    multi_rate(records, &mut out);
+    rigid_against_elastic(records, &mut out);
+    out
+}
+
+/// The record of `case` at `level`.
+fn find<'a>(records: &'a [Value], case: &str, level: &str) -> Option<&'a Value> {
+    records
+        .iter()
+        .find(|r| r["case"] == case && r["level"] == level)
+}
+
+/// The crater grid's mean error over its twelve runs.
+fn crater_grid(records: &[Value], out: &mut Vec<Value>) {
     let grid: Vec<f64> = records
         .iter()
         .filter(|r| {
@@ -454,7 +470,11 @@ fn compare(records: &[Value]) -> Vec<Value> {
             ),
         }));
     }
-    if let Some(w) = find("standing_wave", "dp=h/50").map(|r| &r["wave"]) {
+}
+
+/// The standing wave's period against linear theory.
+fn standing_wave_period(records: &[Value], out: &mut Vec<Value>) {
+    if let Some(w) = find(records, "standing_wave", "dp=h/50").map(|r| &r["wave"]) {
         if let Some(e) = w["period_rel_error"].as_f64() {
             out.push(json!({
                 "name": "standing_wave_period",
@@ -468,11 +488,16 @@ fn compare(records: &[Value]) -> Vec<Value> {
             }));
         }
     }
+}
+
+/// What μ(I) costs over Drucker–Prager on the speed cases.
+fn mu_i_costs(records: &[Value], out: &mut Vec<Value>) {
     for (dp_case, mu_case, level) in [
         ("speed_2d", "speed_2d_mu_i", "dp=2mm"),
         ("speed_3d", "speed_3d_mu_i", "r0/20"),
     ] {
-        let rate = |case| find(case, level).and_then(|r| r["particle_steps_per_s"].as_f64());
+        let rate =
+            |case| find(records, case, level).and_then(|r| r["particle_steps_per_s"].as_f64());
         if let (Some(dp), Some(mu)) = (rate(dp_case), rate(mu_case)) {
             let cost = dp / mu - 1.0;
             out.push(json!({
@@ -487,12 +512,13 @@ fn compare(records: &[Value]) -> Vec<Value> {
             }));
         }
     }
-    if let Some(r) = find("lobovsky", "H/160").map(|r| &r["lobovsky"]) {
-        out.extend(lobovsky_checks(r));
-    }
+}
+
+/// Multi-rate against single-rate stepping on the crater.
+fn multi_rate(records: &[Value], out: &mut Vec<Value>) {
     if let (Some(m), Some(s)) = (
-        find("crater_schemes", "multi-rate"),
-        find("crater_schemes", "single-rate"),
+        find(records, "crater_schemes", "multi-rate"),
+        find(records, "crater_schemes", "single-rate"),
     ) {
         let (dm, ds) = (m["value"].as_f64(), s["value"].as_f64());
         let (tm, ts) = (m["wall_time_s"].as_f64(), s["wall_time_s"].as_f64());
@@ -515,9 +541,13 @@ fn compare(records: &[Value]) -> Vec<Value> {
             }));
         }
     }
+}
+
+/// A rigid ball against an elastic one on the crater.
+fn rigid_against_elastic(records: &[Value], out: &mut Vec<Value>) {
     if let (Some(e), Some(r)) = (
-        find("crater_models", "elastic"),
-        find("crater_models", "rigid"),
+        find(records, "crater_models", "elastic"),
+        find(records, "crater_models", "rigid"),
     ) {
         if let (Some(de), Some(dr), Some(te), Some(tr)) = (
             e["value"].as_f64(),
@@ -539,7 +569,6 @@ fn compare(records: &[Value]) -> Vec<Value> {
             }));
         }
     }
-    out
 }
 
 /// §6 blocks: arrival, topple and landing times and β(t) of block 2, as JSON and a line

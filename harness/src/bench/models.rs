@@ -287,8 +287,52 @@ fn criteria(runs: &[Value], model: &str) -> Vec<(&'static str, Verdict)> {
     let err = |case: &str, level: &str| {
         find(runs, case, model, level).and_then(|r| r["rel_error"].as_f64())
     };
-    let mut v = Vec::new();
-    // the 3D collapses: 5 % at r0/25, and the error falling from r0/20 to r0/25
+    let single = |case: &str, level: &str, tol: f64| -> Verdict {
+        match err(case, level) {
+            Some(e) => (Some(e <= tol), format!("{:.2} %", 100.0 * e)),
+            None => (None, "not run".into()),
+        }
+    };
+    let mut v = vec![
+        (
+            "3D collapse (Lube): within 5 % at r0/25 for a = 0.5, 1, 1.5, the error falling from r0/20",
+            collapse_verdict(runs, model),
+        ),
+        (
+            "crater grid at dp = 4 mm: each within 15 %, mean within 7 %",
+            crater_grid_verdict(runs, model, "dp=4mm", false),
+        ),
+        (
+            "crater corners (H = 0.2 m) at dp = 2 mm: each within 15 %, mean within 7 %",
+            crater_grid_verdict(runs, model, "dp=2mm", true),
+        ),
+        (
+            "retained layer inside [K_a, K0] (dp = 3.75 mm)",
+            retained_verdict(runs, model),
+        ),
+    ];
+    v.push((
+        "geostatic layer within 3 % (finest level)",
+        finest(runs)
+            .into_iter()
+            .find(|r| r["case"] == "geostatic" && r["model"] == model)
+            .and_then(|r| r["rel_error"].as_f64())
+            .map_or((None, "not run".into()), |e| {
+                (Some(e < 0.03), format!("{:.2} %", 100.0 * e))
+            }),
+    ));
+    v.push((
+        "SPHinXsys collapse energy at 0.8 s within 2 % (dp = 2 mm)",
+        single("sphinxsys_collapse", "2 mm", 0.02),
+    ));
+    v
+}
+
+/// The 3D collapses: 5 % at r0/25, and the error falling from r0/20 to r0/25.
+fn collapse_verdict(runs: &[Value], model: &str) -> Verdict {
+    let err = |case: &str, level: &str| {
+        find(runs, case, model, level).and_then(|r| r["rel_error"].as_f64())
+    };
     let collapse: Vec<Option<(f64, f64)>> = ["0.5", "1", "1.5"]
         .iter()
         .map(|a| {
@@ -307,104 +351,74 @@ fn criteria(runs: &[Value], model: &str) -> Vec<(&'static str, Verdict)> {
             })
             .collect()
     };
-    v.push((
-        "3D collapse (Lube): within 5 % at r0/25 for a = 0.5, 1, 1.5, the error falling from r0/20",
-        match collapse.iter().copied().collect::<Option<Vec<_>>>() {
-            Some(e) => (
-                Some(e.iter().all(|(e20, e25)| *e25 < 0.05 && e25 <= e20)),
-                e.iter()
-                    .map(|(a, b)| format!("{:.1} → {:.1} %", 100.0 * a, 100.0 * b))
-                    .collect::<Vec<_>>()
-                    .join("; "),
-            ),
-            // r0/20 alone: no verdict, but the run-outs so far
-            None => match signed("r0/20") {
-                at20 if at20.is_empty() => (None, "not run".into()),
-                at20 => (None, format!("r0/25 not run; at r0/20 {}", at20.join(", "))),
-            },
+    match collapse.iter().copied().collect::<Option<Vec<_>>>() {
+        Some(e) => (
+            Some(e.iter().all(|(e20, e25)| *e25 < 0.05 && e25 <= e20)),
+            e.iter()
+                .map(|(a, b)| format!("{:.1} → {:.1} %", 100.0 * a, 100.0 * b))
+                .collect::<Vec<_>>()
+                .join("; "),
+        ),
+        // r0/20 alone: no verdict, but the run-outs so far
+        None => match signed("r0/20") {
+            at20 if at20.is_empty() => (None, "not run".into()),
+            at20 => (None, format!("r0/25 not run; at r0/20 {}", at20.join(", "))),
         },
-    ));
-    // the crater grid at 4 mm, its corners at 2 mm
-    let grid = |level: &str, corners: bool| -> Verdict {
-        let e: Vec<f64> = runs
-            .iter()
-            .filter(|r| r["model"] == model && r["level"] == level)
-            .filter(|r| {
-                r["case"]
-                    .as_str()
-                    .is_some_and(|c| c.starts_with("crater_R"))
-            })
-            .filter(|r| !corners || r["case"].as_str().is_some_and(|c| c.ends_with("_H0.2")))
-            .filter_map(|r| r["rel_error"].as_f64())
-            .collect();
-        let want = if corners { 4 } else { 12 };
-        if e.is_empty() {
-            return (None, "not run".into());
-        }
-        let max = e.iter().copied().fold(0.0, f64::max);
-        let mean = e.iter().sum::<f64>() / e.len() as f64;
-        let within = e.iter().filter(|x| **x < 0.15).count();
-        let text = format!(
-            "largest {:.1} %, mean {:.1} %, {within} within 15 %",
-            100.0 * max,
-            100.0 * mean
+    }
+}
+
+/// The crater grid at `level` (only its H = 0.2 m corners if `corners`).
+fn crater_grid_verdict(runs: &[Value], model: &str, level: &str, corners: bool) -> Verdict {
+    let e: Vec<f64> = runs
+        .iter()
+        .filter(|r| r["model"] == model && r["level"] == level)
+        .filter(|r| {
+            r["case"]
+                .as_str()
+                .is_some_and(|c| c.starts_with("crater_R"))
+        })
+        .filter(|r| !corners || r["case"].as_str().is_some_and(|c| c.ends_with("_H0.2")))
+        .filter_map(|r| r["rel_error"].as_f64())
+        .collect();
+    let want = if corners { 4 } else { 12 };
+    if e.is_empty() {
+        return (None, "not run".into());
+    }
+    let max = e.iter().copied().fold(0.0, f64::max);
+    let mean = e.iter().sum::<f64>() / e.len() as f64;
+    let within = e.iter().filter(|x| **x < 0.15).count();
+    let text = format!(
+        "largest {:.1} %, mean {:.1} %, {within} within 15 %",
+        100.0 * max,
+        100.0 * mean
+    );
+    if e.len() < want {
+        // a partial grid: no verdict yet, unless a run already fails it
+        let failed = max >= 0.15;
+        return (
+            failed.then_some(false),
+            format!("{} of {want} runs: {text}", e.len()),
         );
-        if e.len() < want {
-            // a partial grid: no verdict yet, unless a run already fails it
-            let failed = max >= 0.15;
-            return (
-                failed.then_some(false),
-                format!("{} of {want} runs: {text}", e.len()),
-            );
-        }
-        (Some(max < 0.15 && mean < 0.07), text)
-    };
-    v.push((
-        "crater grid at dp = 4 mm: each within 15 %, mean within 7 %",
-        grid("dp=4mm", false),
-    ));
-    v.push((
-        "crater corners (H = 0.2 m) at dp = 2 mm: each within 15 %, mean within 7 %",
-        grid("dp=2mm", true),
-    ));
-    let single = |case: &str, level: &str, tol: f64| -> Verdict {
-        match err(case, level) {
-            Some(e) => (Some(e <= tol), format!("{:.2} %", 100.0 * e)),
-            None => (None, "not run".into()),
-        }
-    };
-    v.push((
-        "retained layer inside [K_a, K0] (dp = 3.75 mm)",
-        match find(runs, "retained_layer", model, "dp=3.75mm") {
-            Some(r) => {
-                let (k, k0) = (r["value"].as_f64(), r["reference"].as_f64());
-                let e = r["rel_error"].as_f64();
-                match (k, k0, e) {
-                    (Some(k), Some(k0), Some(e)) => (
-                        Some(e <= 0.0),
-                        format!("K = {k:.3} (K0 = {k0:.3}; {:.2} % outside)", 100.0 * e),
-                    ),
-                    _ => (Some(false), "no K (blow-up?)".into()),
-                }
+    }
+    (Some(max < 0.15 && mean < 0.07), text)
+}
+
+/// The retained layer's K inside [K_a, K0].
+fn retained_verdict(runs: &[Value], model: &str) -> Verdict {
+    match find(runs, "retained_layer", model, "dp=3.75mm") {
+        Some(r) => {
+            let (k, k0) = (r["value"].as_f64(), r["reference"].as_f64());
+            let e = r["rel_error"].as_f64();
+            match (k, k0, e) {
+                (Some(k), Some(k0), Some(e)) => (
+                    Some(e <= 0.0),
+                    format!("K = {k:.3} (K0 = {k0:.3}; {:.2} % outside)", 100.0 * e),
+                ),
+                _ => (Some(false), "no K (blow-up?)".into()),
             }
-            None => (None, "not run".into()),
-        },
-    ));
-    v.push((
-        "geostatic layer within 3 % (finest level)",
-        finest(runs)
-            .into_iter()
-            .find(|r| r["case"] == "geostatic" && r["model"] == model)
-            .and_then(|r| r["rel_error"].as_f64())
-            .map_or((None, "not run".into()), |e| {
-                (Some(e < 0.03), format!("{:.2} %", 100.0 * e))
-            }),
-    ));
-    v.push((
-        "SPHinXsys collapse energy at 0.8 s within 2 % (dp = 2 mm)",
-        single("sphinxsys_collapse", "2 mm", 0.02),
-    ));
-    v
+        }
+        None => (None, "not run".into()),
+    }
 }
 
 /// The crater grid's μ dependence: for each ball and height run at both frictions, the
@@ -493,6 +507,16 @@ pub(crate) fn markdown(doc: &Value, plot: &str) -> String {
               Not a verdict.**\n";
     }
     s += &format!("\n![error against run time, one curve per model]({plot})\n");
+    s += &criteria_table(&runs);
+    s += &crater_ratios(&runs);
+    s += &finest_table(&runs);
+    s += &every_run(&runs);
+    s
+}
+
+/// The issue's criteria, one column per model.
+fn criteria_table(runs: &[Value]) -> String {
+    let mut s = String::new();
     s += "\n## The issue's criteria\n\n| criterion |";
     for m in MODELS {
         s += &format!(" `{}` |", m.name());
@@ -501,7 +525,7 @@ pub(crate) fn markdown(doc: &Value, plot: &str) -> String {
     s += &"---|".repeat(MODELS.len());
     s += "\n";
     let per_model: Vec<Vec<(&str, Verdict)>> =
-        MODELS.iter().map(|m| criteria(&runs, m.name())).collect();
+        MODELS.iter().map(|m| criteria(runs, m.name())).collect();
     for (k, (what, _)) in per_model[0].iter().enumerate() {
         s += &format!("| {what} |");
         for c in &per_model {
@@ -515,7 +539,12 @@ pub(crate) fn markdown(doc: &Value, plot: &str) -> String {
         }
         s += "\n";
     }
-    s += &crater_ratios(&runs);
+    s
+}
+
+/// Each case at its finest level: its error and wall time under each model.
+fn finest_table(runs: &[Value]) -> String {
+    let mut s = String::new();
     s += "\n## Error at each case's finest level (wall time)\n\n| case | level |";
     for m in MODELS {
         s += &format!(" `{}` |", m.name());
@@ -523,7 +552,7 @@ pub(crate) fn markdown(doc: &Value, plot: &str) -> String {
     s += "\n|---|---|";
     s += &"---|".repeat(MODELS.len());
     s += "\n";
-    let fin = finest(&runs);
+    let fin = finest(runs);
     let mut cases: Vec<(&str, &str)> = Vec::new();
     for r in &fin {
         let key = (
@@ -556,8 +585,14 @@ pub(crate) fn markdown(doc: &Value, plot: &str) -> String {
         }
         s += "\n";
     }
+    s
+}
+
+/// Every run, one row each.
+fn every_run(runs: &[Value]) -> String {
+    let mut s = String::new();
     s += "\n## Every run\n\n| case | model | level | particles | wall [s] | value | reference | error |\n|---|---|---|---|---|---|---|---|\n";
-    for r in &runs {
+    for r in runs {
         s += &format!(
             "| {} | {} | {} | {} | {:.1} | {} | {} | {} |\n",
             r["case"].as_str().unwrap_or(""),

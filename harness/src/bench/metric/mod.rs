@@ -7,6 +7,8 @@ pub mod pores;
 pub mod rondon;
 pub mod wave;
 
+use granmix_core::run::simulation::Sample;
+
 /// How a case is scored.
 #[derive(Clone, Copy)]
 pub(crate) enum Metric {
@@ -115,10 +117,7 @@ pub(crate) const DISC_IN_TANK_CA: f64 = 1.046765;
 
 /// The mean acceleration of the first body over its first `radius`/10 of travel from
 /// rest, 2 (R/10)/t² with t interpolated between samples; None if it never got there.
-pub(crate) fn starting_acceleration(
-    samples: &[granmix_core::run::simulation::Sample],
-    radius: f64,
-) -> Option<f64> {
+pub(crate) fn starting_acceleration(samples: &[Sample], radius: f64) -> Option<f64> {
     let path: Vec<(f64, f64)> = samples
         .iter()
         .filter_map(|s| s.bodies.first().map(|b| (s.time, b.position)))
@@ -170,7 +169,7 @@ impl PoiseuilleRef {
 
     /// Largest relative error of the probe `centre`'s water velocity against
     /// [`velocity`](Self::velocity) at y = H/2, at t = 5, 10, 20 s and the last sample.
-    pub(crate) fn error(&self, samples: &[granmix_core::run::simulation::Sample]) -> Option<f64> {
+    pub(crate) fn error(&self, samples: &[Sample]) -> Option<f64> {
         let end = samples.last()?.time;
         let mut worst: Option<f64> = None;
         for t in [5.0, 10.0, 20.0, end].into_iter().filter(|&t| t <= end) {
@@ -209,10 +208,7 @@ pub(crate) const MARTIN_MOYCE: [(f64, f64); 13] = [
 
 /// Largest relative error of the water front of `samples` against [`MARTIN_MOYCE`]
 /// (front interpolated linearly between samples); None if the run ended first.
-pub(crate) fn dam_front_error(
-    samples: &[granmix_core::run::simulation::Sample],
-    a: f64,
-) -> Option<f64> {
+pub(crate) fn dam_front_error(samples: &[Sample], a: f64) -> Option<f64> {
     let scale = (2.0 * 9.81 / a).sqrt();
     let pts: Vec<(f64, f64)> = samples
         .iter()
@@ -270,10 +266,7 @@ impl BagnoldRef {
     }
 
     /// The layer's depth-averaged velocity over the last second of `samples`.
-    pub(crate) fn measured(
-        &self,
-        samples: &[granmix_core::run::simulation::Sample],
-    ) -> Option<f64> {
+    pub(crate) fn measured(&self, samples: &[Sample]) -> Option<f64> {
         let end = samples.last()?.time;
         let mass = self.solid_fraction * self.grain_density * self.depth * self.period;
         let tail: Vec<f64> = samples
@@ -302,6 +295,48 @@ impl EarthPressureRef {
     }
 }
 
+/// The mean of `value` over the samples from time `from` on that have one.
+fn mean_from(samples: &[Sample], from: f64, value: impl Fn(&Sample) -> Option<f64>) -> Option<f64> {
+    let tail: Vec<f64> = samples
+        .iter()
+        .filter(|s| s.time >= from)
+        .filter_map(value)
+        .collect();
+    (!tail.is_empty()).then(|| tail.iter().sum::<f64>() / tail.len() as f64)
+}
+
+/// How far the first body moved from the first sample to the last.
+fn slide(samples: &[Sample]) -> Option<f64> {
+    let first = samples.first()?.bodies.first()?;
+    let end = samples.last()?.bodies.first()?;
+    let d2: f64 = (0..3)
+        .map(|k| (end.position[k] - first.position[k]).powi(2))
+        .sum();
+    Some(d2.sqrt())
+}
+
+/// The largest drift of the total momentum from its start, over the momentum scale
+/// 2 E_k / |v| of the first body's start.
+fn momentum_drift(samples: &[Sample]) -> Option<f64> {
+    let s0 = samples.first()?;
+    let v0 = s0
+        .bodies
+        .first()
+        .map(|b| b.velocity.iter().map(|x| x * x).sum::<f64>().sqrt())
+        .unwrap_or(0.0);
+    let scale = 2.0 * s0.coarse_kinetic_energy / v0.max(1e-300);
+    let drift = samples
+        .iter()
+        .map(|s| {
+            (0..3)
+                .map(|k| (s.momentum[k] - s0.momentum[k]).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
+        .fold(0.0, f64::max);
+    Some(drift / scale.max(1e-300))
+}
+
 impl Metric {
     /// (value, reference) of a finished run.
     pub(crate) fn evaluate(&self, rep: &crate::run::RunReport) -> (Option<f64>, Option<f64>) {
@@ -326,39 +361,8 @@ impl Metric {
                 granmix_core::run::observe::block_events(&rep.samples, "block1", "block2").landing,
                 Some(r),
             ),
-            Metric::Slide(r) => {
-                let first = rep.samples.first().and_then(|s| s.bodies.first().cloned());
-                let end = last.bodies.first().cloned();
-                let d = first.zip(end).map(|(a, b)| {
-                    (0..3)
-                        .map(|k| (b.position[k] - a.position[k]).powi(2))
-                        .sum::<f64>()
-                        .sqrt()
-                });
-                (d, Some(r))
-            }
-            Metric::MomentumDrift => {
-                let Some(s0) = rep.samples.first() else {
-                    return (None, Some(0.0));
-                };
-                let v0 = s0
-                    .bodies
-                    .first()
-                    .map(|b| b.velocity.iter().map(|x| x * x).sum::<f64>().sqrt())
-                    .unwrap_or(0.0);
-                let scale = 2.0 * s0.coarse_kinetic_energy / v0.max(1e-300);
-                let drift = rep
-                    .samples
-                    .iter()
-                    .map(|s| {
-                        (0..3)
-                            .map(|k| (s.momentum[k] - s0.momentum[k]).powi(2))
-                            .sum::<f64>()
-                            .sqrt()
-                    })
-                    .fold(0.0, f64::max);
-                (Some(drift / scale.max(1e-300)), Some(0.0))
-            }
+            Metric::Slide(r) => (slide(&rep.samples), Some(r)),
+            Metric::MomentumDrift => (momentum_drift(&rep.samples), Some(0.0)),
             Metric::WaterWallLoad(r) => (
                 last.barriers
                     .iter()
@@ -381,27 +385,21 @@ impl Metric {
                 Some(r),
             ),
             Metric::ForceReport(name, window) => {
-                let tail: Vec<f64> = rep
-                    .samples
-                    .iter()
-                    .filter(|s| s.time >= last.time - window - 1e-9)
-                    .filter_map(|s| s.barriers.iter().find(|b| b.name == name))
-                    .map(|b| b.force[0])
-                    .collect();
-                let mean = (!tail.is_empty()).then(|| tail.iter().sum::<f64>() / tail.len() as f64);
-                (mean, None)
+                let from = last.time - window - 1e-9;
+                let load = |s: &Sample| {
+                    s.barriers
+                        .iter()
+                        .find(|b| b.name == name)
+                        .map(|b| b.force[0])
+                };
+                (mean_from(&rep.samples, from, load), None)
             }
             Metric::RestingContact(from, r) => {
-                let window: Vec<f64> = rep
-                    .samples
-                    .iter()
-                    .filter(|s| s.time >= from - 1e-9)
-                    .filter_map(|s| s.bodies.first())
-                    .map(|b| b.force[1] - b.water_force[1] - b.fine_force[1])
-                    .collect();
-                let mean =
-                    (!window.is_empty()).then(|| window.iter().sum::<f64>() / window.len() as f64);
-                (mean, Some(r))
+                let contact = |s: &Sample| {
+                    let b = s.bodies.first()?;
+                    Some(b.force[1] - b.water_force[1] - b.fine_force[1])
+                };
+                (mean_from(&rep.samples, from - 1e-9, contact), Some(r))
             }
             Metric::StandingWave(r) => (
                 crate::bench::metric::wave::WaveRef::fit(&rep.samples).map(|f| f.decrement()),
@@ -411,14 +409,11 @@ impl Metric {
                 (starting_acceleration(&rep.samples, radius), Some(r))
             }
             Metric::RestingEnergy(volume, bound) => {
-                let tail: Vec<f64> = rep
-                    .samples
-                    .iter()
-                    .filter(|s| s.time >= last.time - 5.0)
-                    .filter_map(|s| s.water.as_ref().map(|w| w.kinetic_energy / volume))
-                    .collect();
-                let mean = (!tail.is_empty()).then(|| tail.iter().sum::<f64>() / tail.len() as f64);
-                (mean, Some(bound))
+                let energy = |s: &Sample| s.water.as_ref().map(|w| w.kinetic_energy / volume);
+                (
+                    mean_from(&rep.samples, last.time - 5.0, energy),
+                    Some(bound),
+                )
             }
             Metric::EarthPressure(r) => {
                 let unit = 0.5 * r.density * 9.81 * r.height * r.height;
