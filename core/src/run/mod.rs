@@ -6,6 +6,7 @@
 
 pub(crate) mod any;
 pub mod cosim;
+pub mod observables;
 pub mod observe;
 pub mod oscillation;
 pub mod pore_field;

@@ -1,0 +1,413 @@
+//! The observables of a sample, written once: each with its name, its unit and how it
+//! is read from a [`Sample`]. The CSV series takes its header and its rows from the
+//! same table ([`observables`]), so the two cannot fall out of step, and the summary
+//! and the quick-look plot read the same derived values ([`total_kinetic_energy`]).
+//!
+//! The table follows the scene's [`Layout`]: the families and objects it has. Units of
+//! loads and energies follow the dimension (per metre of width in 2D). Counts (steps,
+//! κ, contacts, water particles) are integers.
+
+use crate::numerics::math::Real;
+use crate::run::any::AnySimulation;
+use crate::run::sample::{self, BarrierSample, BodySample, ProbeValue, Sample};
+
+const AX: [&str; 3] = ["x", "y", "z"];
+const SIG: [&str; 6] = ["xx", "yy", "zz", "xy", "xz", "yz"];
+/// The summaries of the fine grains' ρ/ρ0 ([`sample::DensityRatio`]).
+const DENSITY_RATIO: [&str; 3] = ["median", "p10", "min"];
+
+/// Which families and objects a scene has: what the observables are built from.
+#[derive(Clone, Debug, Default)]
+pub struct Layout {
+    pub dim: usize,
+    /// The scene has fine grains (soil).
+    pub fine: bool,
+    /// The scene has `[water]`.
+    pub water: bool,
+    /// Barrier names with their panel counts (empty: one panel, no panel columns).
+    pub barriers: Vec<(String, Vec<usize>)>,
+    pub probes: Vec<String>,
+    pub gauges: Vec<String>,
+    pub bodies: Vec<String>,
+}
+
+impl Layout {
+    /// The layout of a built simulation.
+    pub fn of(sim: &AnySimulation) -> Self {
+        Layout {
+            dim: sim.dimension(),
+            fine: sim.fine_count() > 0,
+            water: sim.has_water(),
+            barriers: sim
+                .barrier_names()
+                .into_iter()
+                .zip(sim.barrier_panels())
+                .collect(),
+            probes: sim.probe_names(),
+            gauges: sim.gauge_names(),
+            bodies: sim.body_names(),
+        }
+    }
+
+    /// Grains (fine or coarse) whose deposit has a run-out.
+    fn grains(&self) -> bool {
+        self.fine || !self.bodies.is_empty()
+    }
+}
+
+/// A physical unit that depends on the dimension.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Unit {
+    /// N/m in 2D (per metre of width), N in 3D.
+    Force,
+    /// N·m/m = N in 2D, N·m in 3D.
+    Moment,
+    /// J/m in 2D, J in 3D.
+    Energy,
+    /// N·s/m in 2D, N·s in 3D.
+    Momentum,
+    /// The same in 2D and 3D; "" is dimensionless.
+    Fixed(&'static str),
+}
+
+impl Unit {
+    /// The unit's symbol in a `dim`-dimensional scene ("" when dimensionless).
+    pub fn symbol(self, dim: usize) -> &'static str {
+        let two = dim == 2;
+        match (self, two) {
+            (Unit::Force, true) => "N/m",
+            (Unit::Force, false) => "N",
+            (Unit::Moment, true) => "N",
+            (Unit::Moment, false) => "N m",
+            (Unit::Energy, true) => "J/m",
+            (Unit::Energy, false) => "J",
+            (Unit::Momentum, true) => "N s/m",
+            (Unit::Momentum, false) => "N s",
+            (Unit::Fixed(u), _) => u,
+        }
+    }
+}
+
+const S: Unit = Unit::Fixed("s");
+const M: Unit = Unit::Fixed("m");
+const MS: Unit = Unit::Fixed("m/s");
+const PA: Unit = Unit::Fixed("Pa");
+const NONE: Unit = Unit::Fixed("");
+
+/// One value of a sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Cell {
+    Real(Real),
+    Count(u64),
+    /// A value that does not exist in this sample (the front of water that has all
+    /// left): an empty cell, never ±inf or NaN.
+    Empty,
+}
+
+impl Cell {
+    /// A real that may not exist.
+    fn maybe(v: Option<Real>) -> Cell {
+        v.map_or(Cell::Empty, Cell::Real)
+    }
+}
+
+/// How an observable is read from a sample.
+type Read = Box<dyn Fn(&Sample) -> Cell + Send + Sync>;
+
+/// One observable: its name, its unit, whether it is a count, and its value in a sample.
+pub struct Observable {
+    pub name: String,
+    pub unit: Unit,
+    pub integer: bool,
+    read: Read,
+}
+
+impl Observable {
+    fn real(
+        name: impl Into<String>,
+        unit: Unit,
+        f: impl Fn(&Sample) -> Real + Send + Sync + 'static,
+    ) -> Self {
+        Observable {
+            name: name.into(),
+            unit,
+            integer: false,
+            read: Box::new(move |s| Cell::Real(f(s))),
+        }
+    }
+
+    fn count(name: impl Into<String>, f: impl Fn(&Sample) -> u64 + Send + Sync + 'static) -> Self {
+        Observable {
+            name: name.into(),
+            unit: NONE,
+            integer: true,
+            read: Box::new(move |s| Cell::Count(f(s))),
+        }
+    }
+
+    /// Its value in sample `s`.
+    pub fn value(&self, s: &Sample) -> Cell {
+        (self.read)(s)
+    }
+
+    /// `name [unit]`, or the name alone where dimensionless.
+    pub fn heading(&self, dim: usize) -> String {
+        match self.unit.symbol(dim) {
+            "" => self.name.clone(),
+            u => format!("{} [{u}]", self.name),
+        }
+    }
+}
+
+/// The table under construction, for a scene of dimension `d`.
+struct Table {
+    d: usize,
+    rows: Vec<Observable>,
+}
+
+impl Table {
+    fn real(
+        &mut self,
+        name: impl Into<String>,
+        unit: Unit,
+        f: impl Fn(&Sample) -> Real + Send + Sync + 'static,
+    ) {
+        self.rows.push(Observable::real(name, unit, f));
+    }
+
+    fn count(
+        &mut self,
+        name: impl Into<String>,
+        f: impl Fn(&Sample) -> u64 + Send + Sync + 'static,
+    ) {
+        self.rows.push(Observable::count(name, f));
+    }
+
+    /// The `d` components `q.x`, `q.y` (, `q.z`) of the vector `f` reads.
+    fn axes<F>(&mut self, q: &str, unit: Unit, f: F)
+    where
+        F: Fn(&Sample) -> [Real; 3] + Clone + Send + Sync + 'static,
+    {
+        for (a, name) in AX.iter().enumerate().take(self.d) {
+            let f = f.clone();
+            self.real(format!("{q}.{name}"), unit, move |s| f(s)[a]);
+        }
+    }
+
+    /// The components of the rotation `f` reads: its z component alone in 2D.
+    fn rotation<F>(&mut self, q: &str, unit: Unit, f: F)
+    where
+        F: Fn(&Sample) -> [Real; 3] + Clone + Send + Sync + 'static,
+    {
+        let from = if self.d == 2 { 2 } else { 0 };
+        for (a, name) in AX.iter().enumerate().skip(from) {
+            let f = f.clone();
+            self.real(format!("{q}.{name}"), unit, move |s| f(s)[a]);
+        }
+    }
+}
+
+/// The observables of a scene of this layout, in order: time and steps, the fine
+/// grains, the run-out, the energies, the coarse grains, the water, each barrier and
+/// its panels, each probe, each gauge, each body.
+pub fn observables(l: &Layout) -> Vec<Observable> {
+    let mut t = Table {
+        d: l.dim,
+        rows: Vec::new(),
+    };
+    t.real("time", S, |s| s.time);
+    t.count("steps", |s| s.steps);
+    t.real("dt", S, |s| s.dt);
+    if l.fine {
+        fine(&mut t);
+    }
+    if l.grains() {
+        t.real("runout", M, |s| s.runout);
+    }
+    t.real("kinetic_energy_total", Unit::Energy, total_kinetic_energy);
+    if !l.bodies.is_empty() {
+        coarse(&mut t);
+    }
+    if l.water {
+        water(&mut t);
+    }
+    for (k, (b, panels)) in l.barriers.iter().enumerate() {
+        barrier(&mut t, (k, b), panels, l.water);
+    }
+    for (k, p) in l.probes.iter().enumerate() {
+        probe(&mut t, (k, p), l.water);
+    }
+    for (k, g) in l.gauges.iter().enumerate() {
+        t.real(format!("{g}.level"), M, move |s| {
+            s.gauges.get(k).map_or(0.0, |g| g.1)
+        });
+    }
+    for (k, b) in l.bodies.iter().enumerate() {
+        body(&mut t, (k, b), l.water);
+    }
+    t.rows
+}
+
+/// The values of `table` in sample `s`, in order.
+pub fn row(table: &[Observable], s: &Sample) -> Vec<Cell> {
+    table.iter().map(|o| o.value(s)).collect()
+}
+
+/// Σ ½ m v² of every family present: fine, coarse and water (J, or J/m in 2D).
+pub fn total_kinetic_energy(s: &Sample) -> Real {
+    s.kinetic_energy + s.coarse_kinetic_energy + s.water.as_ref().map_or(0.0, |w| w.kinetic_energy)
+}
+
+/// The fine grains: energies, largest speed and ρ/ρ0.
+fn fine(t: &mut Table) {
+    t.real("kinetic_energy", Unit::Energy, |s| s.kinetic_energy);
+    t.real("potential_energy", Unit::Energy, |s| s.potential_energy);
+    t.real("max_speed", MS, |s| s.max_speed);
+    for (k, q) in DENSITY_RATIO.iter().enumerate() {
+        t.real(format!("density_ratio.{q}"), NONE, move |s| {
+            let d = s.density_ratio.unwrap_or_default();
+            [d.median, d.p10, d.min][k]
+        });
+    }
+}
+
+/// The coarse grains: energies, largest speed, sub-steps, κ and momentum.
+fn coarse(t: &mut Table) {
+    t.real("kinetic_energy_coarse", Unit::Energy, |s| {
+        s.coarse_kinetic_energy
+    });
+    t.real("potential_energy_coarse", Unit::Energy, |s| {
+        s.coarse_potential_energy
+    });
+    t.real("strain_energy", Unit::Energy, |s| s.strain_energy);
+    t.real("contact_energy", Unit::Energy, |s| s.contact_energy);
+    t.real("max_speed_coarse", MS, |s| s.coarse_max_speed);
+    t.count("steps_coarse", |s| s.steps_coarse);
+    t.count("kappa", |s| s.kappa as u64);
+    t.axes("momentum", Unit::Momentum, |s| s.momentum);
+}
+
+/// The water: particles, energies, front, largest speed, momentum, least pressure.
+fn water(t: &mut Table) {
+    let w = |s: &Sample| s.water.clone().unwrap_or_default();
+    t.count("water.particles", move |s| w(s).particles as u64);
+    t.real("water.kinetic_energy", Unit::Energy, move |s| {
+        w(s).kinetic_energy
+    });
+    t.real("water.potential_energy", Unit::Energy, move |s| {
+        w(s).potential_energy
+    });
+    t.rows.push(Observable {
+        name: "water.front".into(),
+        unit: M,
+        integer: false,
+        read: Box::new(move |s| Cell::maybe(w(s).front)),
+    });
+    t.real("water.max_speed", MS, move |s| w(s).max_speed);
+    t.axes("water.momentum", Unit::Momentum, move |s| w(s).momentum);
+    t.real("water.min_pressure", PA, move |s| w(s).min_pressure);
+}
+
+/// Barrier `k` named `b` with `panels` panels per direction: its load (split into
+/// water and grains with water), moment and peak, then each panel's load.
+fn barrier(t: &mut Table, (k, b): (usize, &str), panels: &[usize], water: bool) {
+    let of =
+        move |s: &Sample, f: fn(&BarrierSample) -> [Real; 3]| s.barriers.get(k).map_or([0.0; 3], f);
+    t.axes(&format!("{b}.force"), Unit::Force, move |s| {
+        of(s, |b| b.force)
+    });
+    if water {
+        t.axes(&format!("{b}.force_water"), Unit::Force, move |s| {
+            of(s, |b| b.force_water)
+        });
+        t.axes(&format!("{b}.force_grains"), Unit::Force, move |s| {
+            of(s, |b| b.force_grains)
+        });
+    }
+    t.rotation(&format!("{b}.moment"), Unit::Moment, move |s| {
+        of(s, |b| b.moment)
+    });
+    t.real(format!("{b}.peak_force"), Unit::Force, move |s| {
+        s.barriers.get(k).map_or(0.0, |b| b.peak_force)
+    });
+    let labels = sample::panel_labels(panels).unwrap_or_default();
+    for (p, label) in labels.iter().enumerate() {
+        // panel p's load in `f` of barrier k
+        let at = move |s: &Sample, f: fn(&BarrierSample) -> &[[Real; 3]]| {
+            s.barriers
+                .get(k)
+                .and_then(|b| f(b).get(p).copied())
+                .unwrap_or_default()
+        };
+        t.axes(&format!("{b}.{label}.force"), Unit::Force, move |s| {
+            at(s, |b| &b.panels)
+        });
+        if water {
+            let q = format!("{b}.{label}.force_water");
+            t.axes(&q, Unit::Force, move |s| at(s, |b| &b.panels_water));
+            let q = format!("{b}.{label}.force_grains");
+            t.axes(&q, Unit::Force, move |s| at(s, |b| &b.panels_grains));
+        }
+    }
+}
+
+/// Probe `k` named `p`: its stress, pressure and velocity, and the water's there.
+fn probe(t: &mut Table, (k, p): (usize, &str), water: bool) {
+    let of = move |s: &Sample, f: fn(&ProbeValue) -> Real| s.probes.get(k).map_or(0.0, |p| f(&p.1));
+    let vec = move |s: &Sample, f: fn(&ProbeValue) -> [Real; 3]| {
+        s.probes.get(k).map_or([0.0; 3], |p| f(&p.1))
+    };
+    let parts = if t.d == 2 { 4 } else { 6 };
+    for (c, name) in SIG.iter().enumerate().take(parts) {
+        let sigma = move |s: &Sample| s.probes.get(k).map_or(0.0, |p| p.1.stress.0[c]);
+        t.real(format!("{p}.sigma_{name}"), PA, sigma);
+    }
+    t.real(format!("{p}.pressure"), PA, move |s| {
+        of(s, |p| -p.stress.trace() / 3.0)
+    });
+    t.axes(&format!("{p}.velocity"), MS, move |s| {
+        vec(s, |p| p.velocity)
+    });
+    if water {
+        // gauge pressure: 0 where no water reaches the probe
+        let q = format!("{p}.water_pressure");
+        t.real(q, PA, move |s| of(s, |p| p.water_pressure.unwrap_or(0.0)));
+        let q = format!("{p}.water_velocity");
+        t.axes(&q, MS, move |s| {
+            vec(s, |p| p.water_velocity.unwrap_or_default())
+        });
+    }
+}
+
+/// Body `k` named `b`: its pose, velocities, loads (the water's with water), torque
+/// and contacts.
+fn body(t: &mut Table, (k, b): (usize, &str), water: bool) {
+    let of = move |s: &Sample, f: fn(&BodySample) -> [Real; 3]| s.bodies.get(k).map_or([0.0; 3], f);
+    t.axes(&format!("{b}.position"), M, move |s| of(s, |b| b.position));
+    t.axes(&format!("{b}.velocity"), MS, move |s| of(s, |b| b.velocity));
+    for (c, q) in ["w", "x", "y", "z"].iter().enumerate() {
+        let o = move |s: &Sample| s.bodies.get(k).map_or(0.0, |b| b.orientation[c]);
+        t.real(format!("{b}.orientation.{q}"), NONE, o);
+    }
+    let rad = Unit::Fixed("rad/s");
+    t.rotation(&format!("{b}.angular_velocity"), rad, move |s| {
+        of(s, |b| b.angular_velocity)
+    });
+    t.axes(&format!("{b}.force"), Unit::Force, move |s| {
+        of(s, |b| b.force)
+    });
+    t.axes(&format!("{b}.fine_force"), Unit::Force, move |s| {
+        of(s, |b| b.fine_force)
+    });
+    if water {
+        t.axes(&format!("{b}.water_force"), Unit::Force, move |s| {
+            of(s, |b| b.water_force)
+        });
+    }
+    t.rotation(&format!("{b}.torque"), Unit::Moment, move |s| {
+        of(s, |b| b.torque)
+    });
+    t.count(format!("{b}.contacts"), move |s| {
+        s.bodies.get(k).map_or(0, |b| b.contacts as u64)
+    });
+}
