@@ -31,7 +31,7 @@ use super::state::FineParticles;
 use crate::numerics::kernel::WendlandC2;
 use crate::numerics::math::{Real, Sym, Vect};
 use crate::numerics::pairs::cluster_pass::{
-    gather, pack, repack, run_pass, Geometry, PairLaw, Partner, FAR,
+    gather, pack, repack, run_pass, Geometry, PairLaw, Partner, Positioned, FAR,
 };
 use crate::numerics::pairs::clusters::ClusterPairs;
 use crate::numerics::pairs::quad::{Lanes, Quad, WIDTH};
@@ -88,6 +88,13 @@ impl<const D: usize> Default for Rec<D> {
             g: 0.0,
             l: [[0.0; D]; D],
         }
+    }
+}
+
+impl<const D: usize> Positioned<D> for Rec<D> {
+    #[inline(always)]
+    fn x(&self) -> &[Real; D] {
+        &self.x
     }
 }
 
@@ -247,10 +254,15 @@ impl<const D: usize> FineLanes<D> {
         };
         let blocks = (&self.blocks[..], cp);
         if sc.uniform && !sc.muscl && sc.artificial.is_none() {
-            run_pass(&Momentum::<D, true>(&sc, &[]), blocks, lanes, sums);
+            let law = (&Momentum::<D, true>(&sc, &[]), &sc.kernel, &sc.wrap);
+            run_pass(law, blocks, lanes, sums);
         } else {
-            let pass = Momentum::<D, false>(&sc, &self.extra);
-            run_pass(&pass, blocks, lanes, sums);
+            let law = (
+                &Momentum::<D, false>(&sc, &self.extra),
+                &sc.kernel,
+                &sc.wrap,
+            );
+            run_pass(law, blocks, lanes, sums);
         }
     }
 
@@ -272,19 +284,19 @@ impl<const D: usize> FineLanes<D> {
         });
         let (blocks, extra) = ((&self.blocks[..], cp), &self.extra[..]);
         if uniform {
-            let pass = Continuity::<D, true> {
-                kernel,
-                wrap,
-                extra,
-            };
-            run_pass(&pass, blocks, lanes, sums);
+            run_pass(
+                (&Continuity::<D, true>(extra), &kernel, &wrap),
+                blocks,
+                lanes,
+                sums,
+            );
         } else {
-            let pass = Continuity::<D, false> {
-                kernel,
-                wrap,
-                extra,
-            };
-            run_pass(&pass, blocks, lanes, sums);
+            run_pass(
+                (&Continuity::<D, false>(extra), &kernel, &wrap),
+                blocks,
+                lanes,
+                sums,
+            );
         }
     }
 }
@@ -567,15 +579,6 @@ impl<const D: usize, const PLAIN: bool> PairLaw<D, 16> for Momentum<'_, D, PLAIN
     /// w, wz and wp, and the σˢ weights.
     const USED: usize = 2 * D + 4 + dev_parts(D);
 
-    fn geometry(&self) -> (&WendlandC2, &Wrap) {
-        (&self.0.kernel, &self.0.wrap)
-    }
-
-    #[inline(always)]
-    fn x(r: &Rec<D>) -> &[Real; D] {
-        &r.x
-    }
-
     #[inline(always)]
     fn lanes<Q: Quad>(&self, q: Q, c: usize, bi: &Block<D>) -> MomentumLanes<Q, D> {
         let zero = q.splat(0.0);
@@ -719,13 +722,9 @@ struct ContinuityLanes<Q: Quad, const D: usize> {
     z: Q::V,
 }
 
-/// The continuity pass, with the one-impedance form of Eq. (19) if `UNIFORM`.
-struct Continuity<'a, const D: usize, const UNIFORM: bool> {
-    kernel: WendlandC2,
-    wrap: Wrap,
-    /// The clusters' [`Extra`] records (the impedances without `UNIFORM`).
-    extra: &'a [ExtraBlock],
-}
+/// The continuity pass, with the one-impedance form of Eq. (19) if `UNIFORM`, and the
+/// clusters' [`Extra`] records (the impedances without `UNIFORM`).
+struct Continuity<'a, const D: usize, const UNIFORM: bool>(&'a [ExtraBlock]);
 
 impl<const D: usize, const UNIFORM: bool> PairLaw<D, 10> for Continuity<'_, D, UNIFORM> {
     type Rec = Rec<D>;
@@ -733,21 +732,12 @@ impl<const D: usize, const UNIFORM: bool> PairLaw<D, 10> for Continuity<'_, D, U
     type Lanes<Q: Quad> = ContinuityLanes<Q, D>;
     const USED: usize = 1 + D * D;
 
-    fn geometry(&self) -> (&WendlandC2, &Wrap) {
-        (&self.kernel, &self.wrap)
-    }
-
-    #[inline(always)]
-    fn x(r: &Rec<D>) -> &[Real; D] {
-        &r.x
-    }
-
     #[inline(always)]
     fn lanes<Q: Quad>(&self, q: Q, c: usize, recs: &Block<D>) -> ContinuityLanes<Q, D> {
         ContinuityLanes {
             v: std::array::from_fn(|d| gather(q, recs, |r| r.v[d])),
             vol: gather(q, recs, |r| r.vol),
-            z: match (UNIFORM, self.extra.get(c)) {
+            z: match (UNIFORM, self.0.get(c)) {
                 (false, Some(xi)) => gather(q, xi, |r| r.z),
                 _ => q.splat(0.0),
             },
@@ -766,7 +756,7 @@ impl<const D: usize, const UNIFORM: bool> PairLaw<D, 10> for Continuity<'_, D, U
         let xj = if UNIFORM {
             None
         } else {
-            self.extra.get(j.c).map(|x| &x[j.l])
+            self.0.get(j.c).map(|x| &x[j.l])
         };
         continuity_term::<Q, D, UNIFORM>(q, i, (j, xj), own, tj);
     }
@@ -781,10 +771,5 @@ impl<const D: usize, const UNIFORM: bool> PairLaw<D, 10> for Continuity<'_, D, U
                 s.grad[(a, b)] -= t[1 + a * D + b];
             }
         }
-    }
-
-    #[inline(always)]
-    fn partner(s: &mut PairSums<D>, t: &[Real; 10]) {
-        Self::own(s, t);
     }
 }

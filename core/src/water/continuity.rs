@@ -18,12 +18,10 @@
 
 use super::lanes::{Block, Rec, WaterLanes};
 use super::momentum::{WaterParams, WaterSums};
-use crate::numerics::kernel::WendlandC2;
 use crate::numerics::math::Real;
 use crate::numerics::pairs::cluster_pass::{gather, run_pass, PairLaw, Partner};
 use crate::numerics::pairs::clusters::ClusterPairs;
 use crate::numerics::pairs::quad::{Lanes, Quad};
-use crate::numerics::periodic::Wrap;
 
 /// The lanes of a cluster as its continuity terms read them.
 pub(super) struct ContinuityLanes<Q: Quad, const D: usize> {
@@ -41,15 +39,6 @@ impl<const D: usize> PairLaw<D, 1> for Continuity<'_, D> {
     type Rec = Rec<D>;
     type Sums = WaterSums<D>;
     type Lanes<Q: Quad> = ContinuityLanes<Q, D>;
-
-    fn geometry(&self) -> (&WendlandC2, &Wrap) {
-        (&self.0.kernel, &self.0.wrap)
-    }
-
-    #[inline(always)]
-    fn x(r: &Rec<D>) -> &[Real; D] {
-        &r.x
-    }
 
     #[inline(always)]
     fn lanes<Q: Quad>(&self, q: Q, _: usize, recs: &Block<D>) -> ContinuityLanes<Q, D> {
@@ -96,11 +85,6 @@ impl<const D: usize> PairLaw<D, 1> for Continuity<'_, D> {
     fn own(s: &mut WaterSums<D>, t: &[Real; 1]) {
         s.drho += t[0];
     }
-
-    #[inline(always)]
-    fn partner(s: &mut WaterSums<D>, t: &[Real; 1]) {
-        s.drho += t[0];
-    }
 }
 
 impl<const D: usize> WaterLanes<D> {
@@ -113,6 +97,11 @@ impl<const D: usize> WaterLanes<D> {
         lanes: Lanes,
         sums: &mut [WaterSums<D>],
     ) {
-        run_pass(&Continuity(prm), (&self.blocks, cp), lanes, sums);
+        run_pass(
+            (&Continuity(prm), &prm.kernel, &prm.wrap),
+            (&self.blocks, cp),
+            lanes,
+            sums,
+        );
     }
 }

@@ -25,12 +25,10 @@
 
 use super::lanes::{rows, Block, Rec, WaterLanes};
 use super::momentum::WaterParams;
-use crate::numerics::kernel::WendlandC2;
 use crate::numerics::math::{Real, Vect};
 use crate::numerics::pairs::cluster_pass::{gather, repack, run_pass, PairLaw, Partner};
 use crate::numerics::pairs::clusters::ClusterPairs;
 use crate::numerics::pairs::quad::{Lanes, Quad};
-use crate::numerics::periodic::Wrap;
 use nalgebra::SMatrix;
 
 /// D × D correction matrix.
@@ -74,25 +72,16 @@ pub fn invert<const D: usize>(m: &Corr<D>) -> Corr<D> {
 
 /// The correction's pass: M_i = −Σ_j r ∂W/∂r e⊗e V_j
 /// ([`correction`](super::correction)), its upper triangle row by row.
-pub(super) struct Moment<'a, const D: usize>(pub(super) &'a WaterParams<D>);
+pub(super) struct Moment;
 
 /// The lanes as [`Moment`] reads them: the volumes.
 pub(super) struct Volumes<Q: Quad>(Q::V);
 
-impl<const D: usize> PairLaw<D, 6> for Moment<'_, D> {
+impl<const D: usize> PairLaw<D, 6> for Moment {
     type Rec = Rec<D>;
     type Sums = Corr<D>;
     type Lanes<Q: Quad> = Volumes<Q>;
     const USED: usize = D * (D + 1) / 2;
-
-    fn geometry(&self) -> (&WendlandC2, &Wrap) {
-        (&self.0.kernel, &self.0.wrap)
-    }
-
-    #[inline(always)]
-    fn x(r: &Rec<D>) -> &[Real; D] {
-        &r.x
-    }
 
     #[inline(always)]
     fn lanes<Q: Quad>(&self, q: Q, _: usize, recs: &Block<D>) -> Volumes<Q> {
@@ -127,11 +116,6 @@ impl<const D: usize> PairLaw<D, 6> for Moment<'_, D> {
     fn own(m: &mut Corr<D>, t: &[Real; 6]) {
         add_upper(m, t);
     }
-
-    #[inline(always)]
-    fn partner(m: &mut Corr<D>, t: &[Real; 6]) {
-        add_upper(m, t);
-    }
 }
 
 /// Add the upper triangle `t` (row by row) to both triangles of `m`.
@@ -164,7 +148,12 @@ impl<const D: usize> WaterLanes<D> {
         lanes: Lanes,
         m: &mut [Corr<D>],
     ) {
-        run_pass(&Moment(prm), (&self.blocks, cp), lanes, m);
+        run_pass(
+            (&Moment, &prm.kernel, &prm.wrap),
+            (&self.blocks, cp),
+            lanes,
+            m,
+        );
     }
 }
 

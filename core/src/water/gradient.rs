@@ -19,16 +19,14 @@
 use super::correction::Corr;
 use super::lanes::{rows, Block, Rec, WaterLanes};
 use super::momentum::WaterParams;
-use crate::numerics::kernel::WendlandC2;
 use crate::numerics::math::Real;
 use crate::numerics::pairs::cluster_pass::{gather, repack, run_pass, PairLaw, Partner};
 use crate::numerics::pairs::clusters::ClusterPairs;
 use crate::numerics::pairs::quad::{Lanes, Quad};
-use crate::numerics::periodic::Wrap;
 
 /// The velocity gradient's pass: L_i = −Σ_j v_ij ⊗ e_ij ∂W/∂r V_j, by row; for j,
 /// −v_ji ⊗ ∇_j W is the same tensor, times V_i.
-pub(super) struct Gradient<'a, const D: usize>(pub(super) &'a WaterParams<D>);
+pub(super) struct Gradient;
 
 /// The lanes as [`Gradient`] reads them: velocities and volumes.
 pub(super) struct GradientLanes<Q: Quad, const D: usize> {
@@ -36,20 +34,11 @@ pub(super) struct GradientLanes<Q: Quad, const D: usize> {
     vol: Q::V,
 }
 
-impl<const D: usize> PairLaw<D, 9> for Gradient<'_, D> {
+impl<const D: usize> PairLaw<D, 9> for Gradient {
     type Rec = Rec<D>;
     type Sums = Corr<D>;
     type Lanes<Q: Quad> = GradientLanes<Q, D>;
     const USED: usize = D * D;
-
-    fn geometry(&self) -> (&WendlandC2, &Wrap) {
-        (&self.0.kernel, &self.0.wrap)
-    }
-
-    #[inline(always)]
-    fn x(r: &Rec<D>) -> &[Real; D] {
-        &r.x
-    }
 
     #[inline(always)]
     fn lanes<Q: Quad>(&self, q: Q, _: usize, recs: &Block<D>) -> GradientLanes<Q, D> {
@@ -85,11 +74,6 @@ impl<const D: usize> PairLaw<D, 9> for Gradient<'_, D> {
     fn own(l: &mut Corr<D>, t: &[Real; 9]) {
         add_rows(l, t);
     }
-
-    #[inline(always)]
-    fn partner(l: &mut Corr<D>, t: &[Real; 9]) {
-        add_rows(l, t);
-    }
 }
 
 /// Add `t` (D × D, by row) to `l`.
@@ -118,6 +102,11 @@ impl<const D: usize> WaterLanes<D> {
         lanes: Lanes,
         l: &mut [Corr<D>],
     ) {
-        run_pass(&Gradient(prm), (&self.blocks, cp), lanes, l);
+        run_pass(
+            (&Gradient, &prm.kernel, &prm.wrap),
+            (&self.blocks, cp),
+            lanes,
+            l,
+        );
     }
 }

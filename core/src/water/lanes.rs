@@ -22,7 +22,7 @@
 use super::source::WaterSource;
 use super::state::WaterParticles;
 use crate::numerics::math::{Real, Vect};
-use crate::numerics::pairs::cluster_pass::{pack, repack, FAR};
+use crate::numerics::pairs::cluster_pass::{pack, repack, Positioned, FAR};
 use crate::numerics::pairs::clusters::ClusterPairs;
 use crate::numerics::pairs::quad::WIDTH;
 use nalgebra::SMatrix;
@@ -61,6 +61,13 @@ impl<const D: usize> Default for Rec<D> {
 }
 
 /// The state of the four particles of a cluster, one record each.
+impl<const D: usize> Positioned<D> for Rec<D> {
+    #[inline(always)]
+    fn x(&self) -> &[Real; D] {
+        &self.x
+    }
+}
+
 pub type Block<const D: usize> = [Rec<D>; WIDTH];
 
 /// The cluster-pair passes' packed state.

@@ -111,15 +111,6 @@ impl<const D: usize, const MUSCL: bool> PairLaw<D, D> for Momentum<'_, D, MUSCL>
     type Sums = WaterSums<D>;
     type Lanes<Q: Quad> = MomentumLanes<Q, D>;
 
-    fn geometry(&self) -> (&WendlandC2, &Wrap) {
-        (&self.0.kernel, &self.0.wrap)
-    }
-
-    #[inline(always)]
-    fn x(r: &Rec<D>) -> &[Real; D] {
-        &r.x
-    }
-
     #[inline(always)]
     fn lanes<Q: Quad>(&self, q: Q, _: usize, recs: &Block<D>) -> MomentumLanes<Q, D> {
         let zero = q.splat(0.0);
@@ -247,9 +238,19 @@ impl<const D: usize> WaterLanes<D> {
     ) {
         let blocks = (&self.blocks[..], cp);
         if muscl {
-            run_pass(&Momentum::<D, true>(prm), blocks, lanes, sums);
+            run_pass(
+                (&Momentum::<D, true>(prm), &prm.kernel, &prm.wrap),
+                blocks,
+                lanes,
+                sums,
+            );
         } else {
-            run_pass(&Momentum::<D, false>(prm), blocks, lanes, sums);
+            run_pass(
+                (&Momentum::<D, false>(prm), &prm.kernel, &prm.wrap),
+                blocks,
+                lanes,
+                sums,
+            );
         }
     }
 }

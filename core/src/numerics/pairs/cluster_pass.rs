@@ -185,18 +185,19 @@ pub struct Partner<'a, Q: Quad, R, const D: usize> {
 /// partners of its list, their separations across a periodic seam, the pair
 /// geometry and the lanes it masks in, the lane sums of j's terms in one fixed order,
 /// and their return to both particles' sums, in the two-phase slab schedule.
+/// A record that knows its particle's position.
+pub trait Positioned<const D: usize> {
+    fn x(&self) -> &[Real; D];
+}
+
 pub trait PairLaw<const D: usize, const N: usize>: Sync {
-    type Rec: Sync;
+    type Rec: Sync + Positioned<D>;
     type Sums: Send;
     /// The cluster's own state on the lanes, as the terms read it.
     type Lanes<Q: Quad>;
     /// How many of the `N` terms the law fills (the others stay zero and are not
     /// summed; e.g. the 2D terms of a law sized for 3D).
     const USED: usize = N;
-    /// The kernel and the periodic seam of the pairs.
-    fn geometry(&self) -> (&WendlandC2, &Wrap);
-    /// The position of a record's particle.
-    fn x(r: &Self::Rec) -> &[Real; D];
     /// The lanes of cluster `c`, whose records are `recs`.
     fn lanes<Q: Quad>(&self, q: Q, c: usize, recs: &[Self::Rec; WIDTH]) -> Self::Lanes<Q>;
     /// The terms of the lanes `i` against partner `j`: the lanes' own added into
@@ -213,8 +214,12 @@ pub trait PairLaw<const D: usize, const N: usize>: Sync {
     );
     /// Add a lane's own terms `t` (summed over its partners) to its particle's sums.
     fn own(s: &mut Self::Sums, t: &[Real; N]);
-    /// Add the lane sums `t` of a partner's terms to the partner's sums.
-    fn partner(s: &mut Self::Sums, t: &[Real; N]);
+    /// Add the lane sums `t` of a partner's terms to the partner's sums (by default
+    /// as a lane's own: a law whose partner gains what it gives).
+    #[inline(always)]
+    fn partner(s: &mut Self::Sums, t: &[Real; N]) {
+        Self::own(s, t)
+    }
 }
 
 /// The lane sums of the first `used` entries of `t` ([`Quad::sums`] of that many; the
@@ -243,16 +248,15 @@ fn lane_sums<Q: Quad, const N: usize>(q: Q, t: &[Q::V; N], used: usize) -> [Real
 #[inline(always)]
 fn cluster<Q: Quad, P: PairLaw<D, N>, const D: usize, const N: usize>(
     q: Q,
-    law: &P,
+    (law, kernel, wrap): (&P, &WendlandC2, &Wrap),
     (blocks, cp): (&[[P::Rec; WIDTH]], &ClusterPairs),
     ci: usize,
     win: &mut Window<'_, P::Sums>,
 ) {
-    let (kernel, wrap) = law.geometry();
     let zero = q.splat(0.0);
     let bi = &blocks[ci];
     let idx = lane_indices(q, cp, ci);
-    let xi: [Q::V; D] = std::array::from_fn(|d| gather(q, bi, |r| P::x(r)[d]));
+    let xi: [Q::V; D] = std::array::from_fn(|d| gather(q, bi, |r| r.x()[d]));
     let lanes = law.lanes(q, ci, bi);
     let (mut own, mut tj) = ([zero; N], [zero; N]);
     // a law of one term sums four partners' at once
@@ -260,7 +264,7 @@ fn cluster<Q: Quad, P: PairLaw<D, N>, const D: usize, const N: usize>(
     for &j in cp.of(ci) {
         let (c, l, j) = at(cp, j);
         let rec = &blocks[c][l];
-        let rij = separation(q, wrap, &xi, P::x(rec));
+        let rij = separation(q, wrap, &xi, rec.x());
         let g = geometry(q, kernel, &rij, (idx, j));
         if !q.any(g.m) {
             // beyond the cut-off of every lane (the lists' skin)
@@ -298,7 +302,7 @@ fn cluster<Q: Quad, P: PairLaw<D, N>, const D: usize, const N: usize>(
 
 /// One slab of a pass: its clusters in index order.
 struct Slab<'a, P: PairLaw<D, N>, const D: usize, const N: usize> {
-    law: &'a P,
+    law: (&'a P, &'a WendlandC2, &'a Wrap),
     blocks: &'a [[P::Rec; WIDTH]],
     cp: &'a ClusterPairs,
     slab: usize,
@@ -329,10 +333,11 @@ impl<P: PairLaw<D, N>, const D: usize, const N: usize> QuadTask for Slab<'_, P, 
     }
 }
 
-/// Run `law` over the clusters of every slab on `lanes`, two-phase
-/// ([`two_phase_in`]), its terms added into `sums` (one entry per particle).
+/// Run `law` with `kernel` across the periodic seam `wrap` over the clusters of every
+/// slab on `lanes`, two-phase ([`two_phase_in`]), its terms added into `sums` (one
+/// entry per particle).
 pub fn run_pass<P: PairLaw<D, N>, const D: usize, const N: usize>(
-    law: &P,
+    law: (&P, &WendlandC2, &Wrap),
     (blocks, cp): (&[[P::Rec; WIDTH]], &ClusterPairs),
     lanes: Lanes,
     sums: &mut [P::Sums],
