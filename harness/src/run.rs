@@ -1,9 +1,10 @@
 //! `granmix run`: step a scene to its end time, writing VTK, CSV and summary.json.
 
-use crate::series::{self, CsvSeries, Layout};
+use crate::series::{CsvSeries, Layout};
 use crate::vtk::VtkSeries;
 use anyhow::{bail, Context, Result};
 use granmix_core::input::{load_scene_file, LoadedScene};
+use granmix_core::run::observables::{observables, Cell};
 use granmix_core::run::runner::{self, RunEnd};
 use granmix_core::run::sample::BodySample;
 use granmix_core::run::simulation::Sample;
@@ -374,66 +375,26 @@ fn summary_json(
         "skipped": skipped,
         "publish": ran.publish,
         "record": ran.record,
-        "observables": observables(layout, &last, ran.ke_peak),
+        "observables": summary_values(layout, &last, ran.ke_peak),
     })
 }
 
-/// The final values of the observables of the families present (docs/scenes.md):
-/// each family's kinetic energy and largest speed, their total, the run-out of the
-/// grains, the barrier loads split into water and grains, and the panels' loads.
-fn observables(l: &Layout, last: &Sample, ke_peak: f64) -> Map<String, Value> {
-    let dim = l.dim;
+/// The final values of the observables the table marks for the summary
+/// ([`observables`]: each family's kinetic energy and largest speed, their total, the
+/// run-out of the grains, the barrier loads split into water and grains, and the
+/// panels' loads; docs/scenes.md), with the fine grains' peak kinetic energy.
+fn summary_values(l: &Layout, last: &Sample, ke_peak: f64) -> Map<String, Value> {
     let mut obs = Map::new();
-    obs.insert("time".into(), json!(last.time));
+    for o in observables(l).iter().filter(|o| o.summary) {
+        let v = match o.value(last) {
+            Cell::Real(v) => json!(v),
+            Cell::Count(n) => json!(n),
+            Cell::Empty => Value::Null,
+        };
+        obs.insert(o.name.clone(), v);
+    }
     if l.fine {
-        obs.insert("kinetic_energy".into(), json!(last.kinetic_energy));
         obs.insert("kinetic_energy_peak".into(), json!(ke_peak));
-        obs.insert("max_speed".into(), json!(last.max_speed));
-        if let Some(d) = last.density_ratio {
-            obs.insert("density_ratio.median".into(), json!(d.median));
-            obs.insert("density_ratio.p10".into(), json!(d.p10));
-            obs.insert("density_ratio.min".into(), json!(d.min));
-        }
-    }
-    if l.fine || !l.bodies.is_empty() {
-        obs.insert("runout".into(), json!(last.runout));
-    }
-    obs.insert(
-        "kinetic_energy_total".into(),
-        json!(series::total_kinetic_energy(last)),
-    );
-    if !l.bodies.is_empty() {
-        obs.insert(
-            "kinetic_energy_coarse".into(),
-            json!(last.coarse_kinetic_energy),
-        );
-        obs.insert("max_speed_coarse".into(), json!(last.coarse_max_speed));
-    }
-    let ax = ["x", "y", "z"];
-    for (b, (_, counts)) in last.barriers.iter().zip(&l.barriers) {
-        for (a, v) in ax.iter().zip(b.force.iter()).take(dim) {
-            obs.insert(format!("{}.force.{a}", b.name), json!(v));
-        }
-        if l.water {
-            for (k, a) in ax.iter().enumerate().take(dim) {
-                let (fw, fg) = (b.force_water[k], b.force_grains[k]);
-                obs.insert(format!("{}.force_water.{a}", b.name), json!(fw));
-                obs.insert(format!("{}.force_grains.{a}", b.name), json!(fg));
-            }
-        }
-        for (p, label) in series::panel_labels(counts).iter().enumerate() {
-            let f = b.panels.get(p).copied().unwrap_or_default();
-            for (a, v) in ax.iter().zip(f.iter()).take(dim) {
-                obs.insert(format!("{}.{label}.force.{a}", b.name), json!(v));
-            }
-        }
-    }
-    if let Some(w) = &last.water {
-        obs.insert("water.particles".into(), json!(w.particles));
-        obs.insert("water.kinetic_energy".into(), json!(w.kinetic_energy));
-        obs.insert("water.front".into(), json!(w.front));
-        obs.insert("water.max_speed".into(), json!(w.max_speed));
-        obs.insert("water.min_pressure".into(), json!(w.min_pressure));
     }
     obs
 }

@@ -8,17 +8,10 @@
 
 use granmix_core::run::observables::{observables, Cell, Observable};
 pub use granmix_core::run::observables::{total_kinetic_energy, Layout, Unit};
-use granmix_core::run::sample;
 use granmix_core::run::simulation::Sample;
 use granmix_core::AnySimulation;
 use granmix_ipc::{Sink, SinkError};
 use std::io::Write;
-
-/// The labels of a barrier's panels ([`sample::panel_labels`]), none for a count the
-/// scene's check refuses.
-pub fn panel_labels(counts: &[usize]) -> Vec<String> {
-    sample::panel_labels(counts).unwrap_or_default()
-}
 
 /// A cell as the CSV writes it.
 fn text(c: Cell) -> String {

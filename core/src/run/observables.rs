@@ -119,6 +119,8 @@ pub struct Observable {
     pub name: String,
     pub unit: Unit,
     pub integer: bool,
+    /// The run's summary gives its final value.
+    pub summary: bool,
     read: Read,
 }
 
@@ -132,6 +134,7 @@ impl Observable {
             name: name.into(),
             unit,
             integer: false,
+            summary: false,
             read: Box::new(move |s| Cell::Real(f(s))),
         }
     }
@@ -141,6 +144,7 @@ impl Observable {
             name: name.into(),
             unit: NONE,
             integer: true,
+            summary: false,
             read: Box::new(move |s| Cell::Count(f(s))),
         }
     }
@@ -166,6 +170,14 @@ struct Table {
 }
 
 impl Table {
+    /// The last `n` observables go into the run's summary.
+    fn in_summary(&mut self, n: usize) {
+        let k = self.rows.len() - n;
+        for o in &mut self.rows[k..] {
+            o.summary = true;
+        }
+    }
+
     fn real(
         &mut self,
         name: impl Into<String>,
@@ -216,6 +228,7 @@ pub fn observables(l: &Layout) -> Vec<Observable> {
         rows: Vec::new(),
     };
     t.real("time", S, |s| s.time);
+    t.in_summary(1);
     t.count("steps", |s| s.steps);
     t.real("dt", S, |s| s.dt);
     if l.fine {
@@ -223,8 +236,10 @@ pub fn observables(l: &Layout) -> Vec<Observable> {
     }
     if l.grains() {
         t.real("runout", M, |s| s.runout);
+        t.in_summary(1);
     }
     t.real("kinetic_energy_total", Unit::Energy, total_kinetic_energy);
+    t.in_summary(1);
     if !l.bodies.is_empty() {
         coarse(&mut t);
     }
@@ -261,12 +276,19 @@ pub fn total_kinetic_energy(s: &Sample) -> Real {
 /// The fine grains: energies, largest speed and ρ/ρ0.
 fn fine(t: &mut Table) {
     t.real("kinetic_energy", Unit::Energy, |s| s.kinetic_energy);
+    t.in_summary(1);
     t.real("potential_energy", Unit::Energy, |s| s.potential_energy);
     t.real("max_speed", MS, |s| s.max_speed);
+    t.in_summary(1);
     for (k, q) in DENSITY_RATIO.iter().enumerate() {
-        t.real(format!("density_ratio.{q}"), NONE, move |s| {
-            let d = s.density_ratio.unwrap_or_default();
-            [d.median, d.p10, d.min][k]
+        // none without fine particles
+        let ratio = move |s: &Sample| s.density_ratio.map(|d| [d.median, d.p10, d.min][k]);
+        t.rows.push(Observable {
+            name: format!("density_ratio.{q}"),
+            unit: NONE,
+            integer: false,
+            summary: true,
+            read: Box::new(move |s| Cell::maybe(ratio(s))),
         });
     }
 }
@@ -276,12 +298,14 @@ fn coarse(t: &mut Table) {
     t.real("kinetic_energy_coarse", Unit::Energy, |s| {
         s.coarse_kinetic_energy
     });
+    t.in_summary(1);
     t.real("potential_energy_coarse", Unit::Energy, |s| {
         s.coarse_potential_energy
     });
     t.real("strain_energy", Unit::Energy, |s| s.strain_energy);
     t.real("contact_energy", Unit::Energy, |s| s.contact_energy);
     t.real("max_speed_coarse", MS, |s| s.coarse_max_speed);
+    t.in_summary(1);
     t.count("steps_coarse", |s| s.steps_coarse);
     t.count("kappa", |s| s.kappa as u64);
     t.axes("momentum", Unit::Momentum, |s| s.momentum);
@@ -294,6 +318,7 @@ fn water(t: &mut Table) {
     t.real("water.kinetic_energy", Unit::Energy, move |s| {
         w(s).kinetic_energy
     });
+    t.in_summary(2);
     t.real("water.potential_energy", Unit::Energy, move |s| {
         w(s).potential_energy
     });
@@ -301,11 +326,14 @@ fn water(t: &mut Table) {
         name: "water.front".into(),
         unit: M,
         integer: false,
+        summary: true,
         read: Box::new(move |s| Cell::maybe(w(s).front)),
     });
     t.real("water.max_speed", MS, move |s| w(s).max_speed);
+    t.in_summary(1);
     t.axes("water.momentum", Unit::Momentum, move |s| w(s).momentum);
     t.real("water.min_pressure", PA, move |s| w(s).min_pressure);
+    t.in_summary(1);
 }
 
 /// Barrier `k` named `b` with `panels` panels per direction: its load (split into
@@ -316,6 +344,7 @@ fn barrier(t: &mut Table, (k, b): (usize, &str), panels: &[usize], water: bool) 
     t.axes(&format!("{b}.force"), Unit::Force, move |s| {
         of(s, |b| b.force)
     });
+    t.in_summary(t.d);
     if water {
         t.axes(&format!("{b}.force_water"), Unit::Force, move |s| {
             of(s, |b| b.force_water)
@@ -323,6 +352,7 @@ fn barrier(t: &mut Table, (k, b): (usize, &str), panels: &[usize], water: bool) 
         t.axes(&format!("{b}.force_grains"), Unit::Force, move |s| {
             of(s, |b| b.force_grains)
         });
+        t.in_summary(2 * t.d);
     }
     t.rotation(&format!("{b}.moment"), Unit::Moment, move |s| {
         of(s, |b| b.moment)
@@ -342,6 +372,7 @@ fn barrier(t: &mut Table, (k, b): (usize, &str), panels: &[usize], water: bool) 
         t.axes(&format!("{b}.{label}.force"), Unit::Force, move |s| {
             at(s, |b| &b.panels)
         });
+        t.in_summary(t.d);
         if water {
             let q = format!("{b}.{label}.force_water");
             t.axes(&q, Unit::Force, move |s| at(s, |b| &b.panels_water));

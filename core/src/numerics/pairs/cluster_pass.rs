@@ -177,6 +177,11 @@ pub struct Partner<'a, Q: Quad, R, const D: usize> {
     pub l: usize,
 }
 
+/// A record that knows its particle's position.
+pub trait Positioned<const D: usize> {
+    fn x(&self) -> &[Real; D];
+}
+
 /// A pair law on [`Quad`] lanes: what it reads per particle ([`Rec`](Self::Rec),
 /// packed four to a cluster by [`pack`]), what it adds per particle
 /// ([`Sums`](Self::Sums)), and its `N` terms for the four lanes of a cluster against
@@ -185,11 +190,6 @@ pub struct Partner<'a, Q: Quad, R, const D: usize> {
 /// partners of its list, their separations across a periodic seam, the pair
 /// geometry and the lanes it masks in, the lane sums of j's terms in one fixed order,
 /// and their return to both particles' sums, in the two-phase slab schedule.
-/// A record that knows its particle's position.
-pub trait Positioned<const D: usize> {
-    fn x(&self) -> &[Real; D];
-}
-
 pub trait PairLaw<const D: usize, const N: usize>: Sync {
     type Rec: Sync + Positioned<D>;
     type Sums: Send;
