@@ -125,30 +125,6 @@ pub struct Observable {
 }
 
 impl Observable {
-    fn real(
-        name: impl Into<String>,
-        unit: Unit,
-        f: impl Fn(&Sample) -> Real + Send + Sync + 'static,
-    ) -> Self {
-        Observable {
-            name: name.into(),
-            unit,
-            integer: false,
-            summary: false,
-            read: Box::new(move |s| Cell::Real(f(s))),
-        }
-    }
-
-    fn count(name: impl Into<String>, f: impl Fn(&Sample) -> u64 + Send + Sync + 'static) -> Self {
-        Observable {
-            name: name.into(),
-            unit: NONE,
-            integer: true,
-            summary: false,
-            read: Box::new(move |s| Cell::Count(f(s))),
-        }
-    }
-
     /// Its value in sample `s`.
     pub fn value(&self, s: &Sample) -> Cell {
         (self.read)(s)
@@ -178,13 +154,34 @@ impl Table {
         }
     }
 
+    fn push(&mut self, name: impl Into<String>, (unit, integer): (Unit, bool), read: Read) {
+        let (name, summary) = (name.into(), false);
+        self.rows.push(Observable {
+            name,
+            unit,
+            integer,
+            summary,
+            read,
+        });
+    }
+
     fn real(
         &mut self,
         name: impl Into<String>,
         unit: Unit,
         f: impl Fn(&Sample) -> Real + Send + Sync + 'static,
     ) {
-        self.rows.push(Observable::real(name, unit, f));
+        self.push(name, (unit, false), Box::new(move |s| Cell::Real(f(s))));
+    }
+
+    /// A real that some samples lack (an empty cell there).
+    fn maybe(
+        &mut self,
+        name: impl Into<String>,
+        unit: Unit,
+        f: impl Fn(&Sample) -> Option<Real> + Send + Sync + 'static,
+    ) {
+        self.push(name, (unit, false), Box::new(move |s| Cell::maybe(f(s))));
     }
 
     fn count(
@@ -192,7 +189,7 @@ impl Table {
         name: impl Into<String>,
         f: impl Fn(&Sample) -> u64 + Send + Sync + 'static,
     ) {
-        self.rows.push(Observable::count(name, f));
+        self.push(name, (NONE, true), Box::new(move |s| Cell::Count(f(s))));
     }
 
     /// The `d` components `q.x`, `q.y` (, `q.z`) of the vector `f` reads.
@@ -283,14 +280,9 @@ fn fine(t: &mut Table) {
     for (k, q) in DENSITY_RATIO.iter().enumerate() {
         // none without fine particles
         let ratio = move |s: &Sample| s.density_ratio.map(|d| [d.median, d.p10, d.min][k]);
-        t.rows.push(Observable {
-            name: format!("density_ratio.{q}"),
-            unit: NONE,
-            integer: false,
-            summary: true,
-            read: Box::new(move |s| Cell::maybe(ratio(s))),
-        });
+        t.maybe(format!("density_ratio.{q}"), NONE, ratio);
     }
+    t.in_summary(DENSITY_RATIO.len());
 }
 
 /// The coarse grains: energies, largest speed, sub-steps, κ and momentum.
@@ -322,15 +314,9 @@ fn water(t: &mut Table) {
     t.real("water.potential_energy", Unit::Energy, move |s| {
         w(s).potential_energy
     });
-    t.rows.push(Observable {
-        name: "water.front".into(),
-        unit: M,
-        integer: false,
-        summary: true,
-        read: Box::new(move |s| Cell::maybe(w(s).front)),
-    });
+    t.maybe("water.front", M, move |s| w(s).front);
     t.real("water.max_speed", MS, move |s| w(s).max_speed);
-    t.in_summary(1);
+    t.in_summary(2);
     t.axes("water.momentum", Unit::Momentum, move |s| w(s).momentum);
     t.real("water.min_pressure", PA, move |s| w(s).min_pressure);
     t.in_summary(1);

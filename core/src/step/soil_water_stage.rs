@@ -202,6 +202,7 @@ impl<const D: usize> SoilWater<D> {
         self.soil.clear();
         self.soil.par_extend((0..f.len()).into_par_iter().map(|i| {
             let m: &FineMaterial = &mats[f.material[i] as usize];
+            // ρ as m/V, the volume's, as the soil's record has always taken it
             let vol = f.mass[i] / f.rho[i];
             SoilPoint::of(m, mu, (f.pos[i], f.vel[i]), vol, f.mass[i] / vol)
         }));
