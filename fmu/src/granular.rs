@@ -20,7 +20,7 @@ use granmix_core::AnySimulation;
 use granmix_ipc::{ChannelSink, FramePublisher, Recorder, SceneInfo, Sinks};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
-use table::{build_table, BodyQ, Slot, Table};
+use table::{build_table, Slot, Table};
 
 /// What one communication step applies: where it ends and the barrier drives.
 #[derive(Clone, Debug)]
@@ -280,22 +280,6 @@ pub fn guid(scene_text: &str) -> String {
     xml::guid_of(&content)
 }
 
-fn body_value(s: &Sample, i: usize, q: BodyQ, k: usize) -> f64 {
-    let b = &s.bodies[i];
-    match q {
-        BodyQ::Position => b.position[k],
-        BodyQ::Orientation => b.orientation[k],
-        BodyQ::Angle => {
-            let [w, _, _, z] = b.orientation;
-            2.0 * z.atan2(w)
-        }
-        BodyQ::Velocity => b.velocity[k],
-        BodyQ::AngularVelocity => b.angular_velocity[k],
-        BodyQ::Force => b.mean_force[k],
-        BodyQ::Torque => b.mean_torque[k],
-    }
-}
-
 impl Model for Granular {
     fn variables(&self) -> &[Variable] {
         &self.table.variables
@@ -308,22 +292,7 @@ impl Model for Granular {
         let i = vr as usize;
         let s = &self.last;
         Ok(match &self.table.slots[i] {
-            Slot::BarrierForce(b, k) => s.barriers[*b].force[*k],
-            Slot::BarrierMoment(b, k) => s.barriers[*b].moment[*k],
-            Slot::BarrierPeak(b) => s.barriers[*b].peak_force,
-            Slot::BarrierForceWater(b, k) => s.barriers[*b].force_water[*k],
-            Slot::BarrierForceGrains(b, k) => s.barriers[*b].force_grains[*k],
-            Slot::PanelForce(b, p, k) => s.barriers[*b].panels[*p][*k],
-            Slot::PanelForceWater(b, p, k) => {
-                s.barriers[*b].panels_water.get(*p).map_or(0.0, |f| f[*k])
-            }
-            Slot::PanelForceGrains(b, p, k) => s.barriers[*b].panels_grains[*p][*k],
-            Slot::Body(b, q, k) => body_value(s, *b, *q, *k),
-            Slot::KineticFine => s.kinetic_energy,
-            Slot::KineticCoarse => s.coarse_kinetic_energy,
-            Slot::KineticWater => s.water.as_ref().map_or(0.0, |w| w.kinetic_energy),
-            Slot::StepsFine => s.steps as f64,
-            Slot::StepsCoarse => s.steps_coarse as f64,
+            Slot::Output(k) => self.table.outputs[*k].real(s),
             Slot::BarrierInput(..)
             | Slot::SceneValue(_)
             | Slot::MultiRate

@@ -31,6 +31,7 @@ use foxglove::messages::{
 };
 use foxglove::Encode;
 use granmix_core::geometry::solids::WallSolid;
+use granmix_core::run::observables;
 use granmix_core::run::simulation::Sample;
 use granmix_core::AnySimulation;
 use serde_json::json;
@@ -557,7 +558,7 @@ impl Recorder {
             "contact": s.contact_energy,
             "kinetic_water": water_ke,
             "potential_water": s.water.as_ref().map_or(0.0, |w| w.potential_energy),
-            "kinetic_total": s.kinetic_energy + s.coarse_kinetic_energy + water_ke,
+            "kinetic_total": observables::total_kinetic_energy(s),
         });
         let data = serde_json::to_vec(&energy).map_err(|e| rec_err(&self.path, e))?;
         self.write(self.channels.energy, self.counts.energy, s.time, &data)?;

@@ -6,6 +6,11 @@
 //! The table follows the scene's [`Layout`]: the families and objects it has. Units of
 //! loads and energies follow the dimension (per metre of width in 2D). Counts (steps,
 //! κ, contacts, water particles) are integers.
+//!
+//! The FMU's outputs are observables of the same table ([`all`]): an observable the FMU
+//! exposes carries its [`Fmu`] variable (name, owner, description). A few are the
+//! FMU's alone (a body's step-averaged load, its angle in 2D, the energies of families
+//! a scene lacks): they are not part of the series ([`Observable::series`]).
 
 use crate::numerics::math::Real;
 use crate::run::any::AnySimulation;
@@ -86,6 +91,16 @@ impl Unit {
             (Unit::Fixed(u), _) => u,
         }
     }
+
+    /// The unit's name in an FMU's model description: the symbol, with `N.m` for a
+    /// moment in 3D (None when dimensionless).
+    pub fn fmi(self, dim: usize) -> Option<&'static str> {
+        match self.symbol(dim) {
+            "" => None,
+            "N m" => Some("N.m"),
+            u => Some(u),
+        }
+    }
 }
 
 const S: Unit = Unit::Fixed("s");
@@ -114,6 +129,24 @@ impl Cell {
 /// How an observable is read from a sample.
 type Read = Box<dyn Fn(&Sample) -> Cell + Send + Sync>;
 
+/// The entity an FMU output belongs to: its variables are listed with that entity's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Owner {
+    Barrier(usize),
+    Body(usize),
+    /// The energies and step counts.
+    Totals,
+}
+
+/// The FMU output variable of an observable.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Fmu {
+    /// Structured name (`barrier.force.x`; a 2D rotation has no `.z`).
+    pub name: String,
+    pub owner: Owner,
+    pub description: String,
+}
+
 /// One observable: its name, its unit, whether it is a count, and its value in a sample.
 pub struct Observable {
     pub name: String,
@@ -121,6 +154,14 @@ pub struct Observable {
     pub integer: bool,
     /// The run's summary gives its final value.
     pub summary: bool,
+    /// The CSV series (and the summary) carry it; false for the FMU's own outputs.
+    pub series: bool,
+    /// Its FMU output variable, if the FMU exposes it.
+    pub fmu: Option<Fmu>,
+    /// Its component suffix (`x`, `y`, `z`, `w`), "" for a scalar.
+    axis: &'static str,
+    /// The name its FMU variable takes (a 2D rotation drops the `.z`).
+    fmu_name: String,
     read: Read,
 }
 
@@ -128,6 +169,15 @@ impl Observable {
     /// Its value in sample `s`.
     pub fn value(&self, s: &Sample) -> Cell {
         (self.read)(s)
+    }
+
+    /// Its value in sample `s` as a real (a count converted, an empty cell 0).
+    pub fn real(&self, s: &Sample) -> Real {
+        match self.value(s) {
+            Cell::Real(v) => v,
+            Cell::Count(c) => c as Real,
+            Cell::Empty => 0.0,
+        }
     }
 
     /// `name [unit]`, or the name alone where dimensionless.
@@ -154,15 +204,61 @@ impl Table {
         }
     }
 
+    /// The last `n` observables are the FMU's alone: not in the series.
+    fn fmu_only(&mut self, n: usize) {
+        let k = self.rows.len() - n;
+        for o in &mut self.rows[k..] {
+            o.series = false;
+        }
+    }
+
+    /// The last `n` observables are FMU outputs of `owner`; `what` describes the one of
+    /// component suffix `axis` ("" for a scalar).
+    fn expose(&mut self, n: usize, owner: Owner, what: impl Fn(&str) -> String) {
+        let k = self.rows.len() - n;
+        for o in &mut self.rows[k..] {
+            o.fmu = Some(Fmu {
+                name: o.fmu_name.clone(),
+                owner,
+                description: what(o.axis),
+            });
+        }
+    }
+
     fn push(&mut self, name: impl Into<String>, (unit, integer): (Unit, bool), read: Read) {
-        let (name, summary) = (name.into(), false);
+        let name = name.into();
         self.rows.push(Observable {
+            fmu_name: name.clone(),
             name,
             unit,
             integer,
-            summary,
+            summary: false,
+            series: true,
+            fmu: None,
+            axis: "",
             read,
         });
+    }
+
+    /// The last observable is the FMU's total `fmu`, described by `what`.
+    fn total(&mut self, fmu: &str, what: &str) {
+        self.component("", fmu.to_string());
+        self.expose(1, Owner::Totals, |_| what.to_string());
+    }
+
+    /// The FMU names of the last `n` observables with `from` replaced by `to`.
+    fn rename(&mut self, n: usize, from: &str, to: &str) {
+        let k = self.rows.len() - n;
+        for o in &mut self.rows[k..] {
+            o.fmu_name = o.fmu_name.replacen(from, to, 1);
+        }
+    }
+
+    /// The last observable's component suffix, and its FMU variable's name.
+    fn component(&mut self, axis: &'static str, fmu_name: String) {
+        let o = self.rows.last_mut().expect("a row was pushed");
+        o.axis = axis;
+        o.fmu_name = fmu_name;
     }
 
     fn real(
@@ -200,10 +296,12 @@ impl Table {
         for (a, name) in AX.iter().enumerate().take(self.d) {
             let f = f.clone();
             self.real(format!("{q}.{name}"), unit, move |s| f(s)[a]);
+            self.component(name, format!("{q}.{name}"));
         }
     }
 
-    /// The components of the rotation `f` reads: its z component alone in 2D.
+    /// The components of the rotation `f` reads: its z component alone in 2D (whose
+    /// FMU variable is named without suffix).
     fn rotation<F>(&mut self, q: &str, unit: Unit, f: F)
     where
         F: Fn(&Sample) -> [Real; 3] + Clone + Send + Sync + 'static,
@@ -212,14 +310,26 @@ impl Table {
         for (a, name) in AX.iter().enumerate().skip(from) {
             let f = f.clone();
             self.real(format!("{q}.{name}"), unit, move |s| f(s)[a]);
+            let fmu = if self.d == 2 {
+                q.to_string()
+            } else {
+                format!("{q}.{name}")
+            };
+            self.component(name, fmu);
         }
     }
 }
 
-/// The observables of a scene of this layout, in order: time and steps, the fine
-/// grains, the run-out, the energies, the coarse grains, the water, each barrier and
-/// its panels, each probe, each gauge, each body.
+/// The observables the series and the summary carry, of a scene of this layout, in
+/// order: time and steps, the fine grains, the run-out, the energies, the coarse grains,
+/// the water, each barrier and its panels, each probe, each gauge, each body.
 pub fn observables(l: &Layout) -> Vec<Observable> {
+    all(l).into_iter().filter(|o| o.series).collect()
+}
+
+/// Every observable of a scene of this layout: the series' ([`observables`]) and the
+/// FMU's own ([`Observable::fmu`], [`Observable::series`]).
+pub fn all(l: &Layout) -> Vec<Observable> {
     let mut t = Table {
         d: l.dim,
         rows: Vec::new(),
@@ -227,19 +337,16 @@ pub fn observables(l: &Layout) -> Vec<Observable> {
     t.real("time", S, |s| s.time);
     t.in_summary(1);
     t.count("steps", |s| s.steps);
+    t.total("steps.fine", "fine solver steps taken so far");
     t.real("dt", S, |s| s.dt);
-    if l.fine {
-        fine(&mut t);
-    }
+    fine(&mut t, l.fine);
     if l.grains() {
         t.real("runout", M, |s| s.runout);
         t.in_summary(1);
     }
     t.real("kinetic_energy_total", Unit::Energy, total_kinetic_energy);
     t.in_summary(1);
-    if !l.bodies.is_empty() {
-        coarse(&mut t);
-    }
+    coarse(&mut t, !l.bodies.is_empty());
     if l.water {
         water(&mut t);
     }
@@ -270,9 +377,15 @@ pub fn total_kinetic_energy(s: &Sample) -> Real {
     s.kinetic_energy + s.coarse_kinetic_energy + s.water.as_ref().map_or(0.0, |w| w.kinetic_energy)
 }
 
-/// The fine grains: energies, largest speed and ρ/ρ0.
-fn fine(t: &mut Table) {
+/// The fine grains: energies, largest speed and ρ/ρ0 (`shown`: the scene has them;
+/// otherwise only the FMU's kinetic energy, zero).
+fn fine(t: &mut Table, shown: bool) {
     t.real("kinetic_energy", Unit::Energy, |s| s.kinetic_energy);
+    t.total("kinetic_energy.fine", "kinetic energy of the fine grains");
+    if !shown {
+        t.fmu_only(1);
+        return;
+    }
     t.in_summary(1);
     t.real("potential_energy", Unit::Energy, |s| s.potential_energy);
     t.real("max_speed", MS, |s| s.max_speed);
@@ -285,11 +398,25 @@ fn fine(t: &mut Table) {
     t.in_summary(DENSITY_RATIO.len());
 }
 
-/// The coarse grains: energies, largest speed, sub-steps, κ and momentum.
-fn coarse(t: &mut Table) {
+/// The coarse grains: energies, largest speed, sub-steps, κ and momentum (`shown`: the
+/// scene has bodies; otherwise only the FMU's kinetic energy and sub-steps, zero).
+fn coarse(t: &mut Table, shown: bool) {
+    let steps = |t: &mut Table| {
+        t.count("steps_coarse", |s| s.steps_coarse);
+        t.total("steps.coarse", "coarse sub-steps taken so far");
+    };
     t.real("kinetic_energy_coarse", Unit::Energy, |s| {
         s.coarse_kinetic_energy
     });
+    t.total(
+        "kinetic_energy.coarse",
+        "kinetic energy of the coarse grains",
+    );
+    if !shown {
+        steps(t);
+        t.fmu_only(2);
+        return;
+    }
     t.in_summary(1);
     t.real("potential_energy_coarse", Unit::Energy, |s| {
         s.coarse_potential_energy
@@ -298,7 +425,7 @@ fn coarse(t: &mut Table) {
     t.real("contact_energy", Unit::Energy, |s| s.contact_energy);
     t.real("max_speed_coarse", MS, |s| s.coarse_max_speed);
     t.in_summary(1);
-    t.count("steps_coarse", |s| s.steps_coarse);
+    steps(t);
     t.count("kappa", |s| s.kappa as u64);
     t.axes("momentum", Unit::Momentum, |s| s.momentum);
 }
@@ -310,6 +437,7 @@ fn water(t: &mut Table) {
     t.real("water.kinetic_energy", Unit::Energy, move |s| {
         w(s).kinetic_energy
     });
+    t.total("kinetic_energy.water", "kinetic energy of the water");
     t.in_summary(2);
     t.real("water.potential_energy", Unit::Energy, move |s| {
         w(s).potential_energy
@@ -325,46 +453,102 @@ fn water(t: &mut Table) {
 /// Barrier `k` named `b` with `panels` panels per direction: its load (split into
 /// water and grains with water), moment and peak, then each panel's load.
 fn barrier(t: &mut Table, (k, b): (usize, &str), panels: &[usize], water: bool) {
+    let (d, owner) = (t.d, Owner::Barrier(k));
     let of =
         move |s: &Sample, f: fn(&BarrierSample) -> [Real; 3]| s.barriers.get(k).map_or([0.0; 3], f);
     t.axes(&format!("{b}.force"), Unit::Force, move |s| {
         of(s, |b| b.force)
     });
-    t.in_summary(t.d);
+    t.expose(d, owner, |a| {
+        format!("load on barrier `{b}`, impulse over the step / step, {a} component")
+    });
+    t.in_summary(d);
     if water {
         t.axes(&format!("{b}.force_water"), Unit::Force, move |s| {
             of(s, |b| b.force_water)
         });
+        t.expose(d, owner, |a| {
+            format!(
+                "the water's part of the load on barrier `{b}` (pressure and viscous \
+                 traction), impulse over the step / step, {a} component"
+            )
+        });
         t.axes(&format!("{b}.force_grains"), Unit::Force, move |s| {
             of(s, |b| b.force_grains)
         });
-        t.in_summary(2 * t.d);
+        t.expose(d, owner, |a| {
+            format!(
+                "the grains' part of the load on barrier `{b}` (fine and coarse), impulse \
+                 over the step / step, {a} component"
+            )
+        });
+        t.in_summary(2 * d);
     }
     t.rotation(&format!("{b}.moment"), Unit::Moment, move |s| {
         of(s, |b| b.moment)
     });
+    t.expose(rotations(d), owner, |_| {
+        format!("moment on barrier `{b}` about its reference point, step-averaged")
+    });
     t.real(format!("{b}.peak_force"), Unit::Force, move |s| {
         s.barriers.get(k).map_or(0.0, |b| b.peak_force)
     });
+    t.expose(1, owner, |_| {
+        format!(
+            "largest resultant load on barrier `{b}` of any solver step within the \
+             communication step"
+        )
+    });
     let labels = sample::panel_labels(panels).unwrap_or_default();
     for (p, label) in labels.iter().enumerate() {
-        // panel p's load in `f` of barrier k
-        let at = move |s: &Sample, f: fn(&BarrierSample) -> &[[Real; 3]]| {
-            s.barriers
-                .get(k)
-                .and_then(|b| f(b).get(p).copied())
-                .unwrap_or_default()
-        };
-        t.axes(&format!("{b}.{label}.force"), Unit::Force, move |s| {
-            at(s, |b| &b.panels)
+        panel(t, (k, b), (p, label), water);
+    }
+}
+
+/// Panel `p` labelled `label` of barrier `k` named `b`: its load (split into water and
+/// grains with water).
+fn panel(t: &mut Table, (k, b): (usize, &str), (p, label): (usize, &str), water: bool) {
+    let (d, owner) = (t.d, Owner::Barrier(k));
+    // panel p's load in `f` of barrier k
+    let at = move |s: &Sample, f: fn(&BarrierSample) -> &[[Real; 3]]| {
+        s.barriers
+            .get(k)
+            .and_then(|b| f(b).get(p).copied())
+            .unwrap_or_default()
+    };
+    t.axes(&format!("{b}.{label}.force"), Unit::Force, move |s| {
+        at(s, |b| &b.panels)
+    });
+    t.expose(d, owner, |a| {
+        format!("load on panel {label} of barrier `{b}`, step-averaged, {a} component")
+    });
+    t.in_summary(d);
+    if water {
+        let q = format!("{b}.{label}.force_water");
+        t.axes(&q, Unit::Force, move |s| at(s, |b| &b.panels_water));
+        t.expose(d, owner, |a| {
+            format!(
+                "the water's part of the load on panel {label} of barrier `{b}`, \
+                 step-averaged, {a} component"
+            )
         });
-        t.in_summary(t.d);
-        if water {
-            let q = format!("{b}.{label}.force_water");
-            t.axes(&q, Unit::Force, move |s| at(s, |b| &b.panels_water));
-            let q = format!("{b}.{label}.force_grains");
-            t.axes(&q, Unit::Force, move |s| at(s, |b| &b.panels_grains));
-        }
+        let q = format!("{b}.{label}.force_grains");
+        t.axes(&q, Unit::Force, move |s| at(s, |b| &b.panels_grains));
+        t.expose(d, owner, |a| {
+            format!(
+                "the grains' part of the load on panel {label} of barrier `{b}`, \
+                 step-averaged, {a} component"
+            )
+        });
+    }
+}
+
+/// The components of a rotation in dimension `d`: z alone in 2D.
+fn rotations(d: usize) -> usize {
+    if d == 2 {
+        1
+    } else {
+        3
     }
 }
 
@@ -397,18 +581,40 @@ fn probe(t: &mut Table, (k, p): (usize, &str), water: bool) {
 }
 
 /// Body `k` named `b`: its pose, velocities, loads (the water's with water), torque
-/// and contacts.
+/// and contacts; and the FMU's own: its angle in 2D, its step-averaged load and torque.
 fn body(t: &mut Table, (k, b): (usize, &str), water: bool) {
+    let (d, owner) = (t.d, Owner::Body(k));
     let of = move |s: &Sample, f: fn(&BodySample) -> [Real; 3]| s.bodies.get(k).map_or([0.0; 3], f);
     t.axes(&format!("{b}.position"), M, move |s| of(s, |b| b.position));
+    t.expose(d, owner, |_| format!("body `{b}`: centre of mass"));
     t.axes(&format!("{b}.velocity"), MS, move |s| of(s, |b| b.velocity));
+    t.expose(d, owner, |_| {
+        format!("body `{b}`: velocity of the centre of mass")
+    });
+    let quaternion = move |s: &Sample| s.bodies.get(k).map_or([0.0; 4], |b| b.orientation);
     for (c, q) in ["w", "x", "y", "z"].iter().enumerate() {
-        let o = move |s: &Sample| s.bodies.get(k).map_or(0.0, |b| b.orientation[c]);
-        t.real(format!("{b}.orientation.{q}"), NONE, o);
+        t.real(format!("{b}.orientation.{q}"), NONE, move |s| {
+            quaternion(s)[c]
+        });
+        t.component(q, format!("{b}.orientation.{q}"));
+    }
+    if d == 3 {
+        t.expose(4, owner, |_| format!("body `{b}`: unit quaternion"));
+    } else {
+        // the rotation about z of the quaternion (w, 0, 0, z)
+        t.real(format!("{b}.angle"), Unit::Fixed("rad"), move |s| {
+            let [w, _, _, z] = quaternion(s);
+            2.0 * z.atan2(w)
+        });
+        t.expose(1, owner, |_| format!("body `{b}`: rotation angle about z"));
+        t.fmu_only(1);
     }
     let rad = Unit::Fixed("rad/s");
     t.rotation(&format!("{b}.angular_velocity"), rad, move |s| {
         of(s, |b| b.angular_velocity)
+    });
+    t.expose(rotations(d), owner, |_| {
+        format!("body `{b}`: angular velocity")
     });
     t.axes(&format!("{b}.force"), Unit::Force, move |s| {
         of(s, |b| b.force)
@@ -427,4 +633,23 @@ fn body(t: &mut Table, (k, b): (usize, &str), water: bool) {
     t.count(format!("{b}.contacts"), move |s| {
         s.bodies.get(k).map_or(0, |b| b.contacts as u64)
     });
+    // the FMU's: the load and torque averaged over the communication step
+    t.axes(&format!("{b}.mean_force"), Unit::Force, move |s| {
+        of(s, |b| b.mean_force)
+    });
+    t.rename(d, "mean_force", "force");
+    t.expose(d, owner, |_| {
+        format!(
+            "body `{b}`: load from grains and contacts, impulse over the step / step, \
+             gravity excluded"
+        )
+    });
+    t.rotation(&format!("{b}.mean_torque"), Unit::Moment, move |s| {
+        of(s, |b| b.mean_torque)
+    });
+    t.rename(rotations(d), "mean_torque", "torque");
+    t.expose(rotations(d), owner, |_| {
+        format!("body `{b}`: torque about the centre of mass, step-averaged")
+    });
+    t.fmu_only(d + rotations(d));
 }

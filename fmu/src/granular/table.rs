@@ -1,57 +1,27 @@
-//! The variable table of a granular scene, built from data: one [`Row`] per kind of
-//! variable of a barrier, a panel or a body, and one [`Param`] per parameter of a
-//! material or a solid ([`Params`]), expanded over the scene's entities in this order: each barrier
-//! (its outputs, its panels' outputs, its inputs when driven), each body, the energies
-//! and step counts, each fine-grain material, each coarse-grain solid, then the
-//! simulation settings. The value reference of a variable is its index in the table;
-//! variability follows from causality and base type ([`crate::xml`]).
+//! The variable table of a granular scene: the outputs are the observables core gives
+//! an FMU variable ([`observables::all`], [`Observable::fmu`]), expanded in this order:
+//! each barrier (its outputs, its panels' outputs, its inputs when driven), each body,
+//! the energies and step counts; then one [`Param`] per parameter of a material or a
+//! solid ([`Params`]), then the simulation settings. The value reference of a variable
+//! is its index in the table; variability follows from causality and base type
+//! ([`crate::xml`]).
 
 use crate::error::GranularError;
 use crate::variables::{Causality, Kind, Variable};
 use granmix_core::input::LoadedScene;
+use granmix_core::run::observables::{self, Layout, Observable, Owner};
 use granmix_core::scene::{BarrierInput, MaterialSpec, SimulationSpec, SolidSpec};
 use granmix_core::AnySimulation;
 
 const AXES: [&str; 3] = ["x", "y", "z"];
 
-/// Body quantity behind an output.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum BodyQ {
-    Position,
-    /// Quaternion component (3D) w, x, y, z.
-    Orientation,
-    /// Rotation angle about z (2D).
-    Angle,
-    Velocity,
-    AngularVelocity,
-    Force,
-    Torque,
-}
-
 /// Where a variable's value lives.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Slot {
-    BarrierForce(usize, usize),
-    BarrierMoment(usize, usize),
-    BarrierPeak(usize),
-    /// Component `k` of the water's part of the load on barrier `b`.
-    BarrierForceWater(usize, usize),
-    /// Component `k` of the grains' part of the load on barrier `b`.
-    BarrierForceGrains(usize, usize),
-    /// Component `k` of the force on panel `p` of barrier `b`.
-    PanelForce(usize, usize, usize),
-    /// The water's part of a panel's load (barrier, panel, axis).
-    PanelForceWater(usize, usize, usize),
-    /// The grains' part of a panel's load (barrier, panel, axis).
-    PanelForceGrains(usize, usize, usize),
+    /// Observable `k` of [`Table::outputs`].
+    Output(usize),
     /// Component `k` of the input of driven barrier `b`.
     BarrierInput(usize, usize),
-    Body(usize, BodyQ, usize),
-    KineticFine,
-    KineticCoarse,
-    KineticWater,
-    StepsFine,
-    StepsCoarse,
     /// A scene value set through an override `key.path=value`.
     SceneValue(String),
     MultiRate,
@@ -67,281 +37,11 @@ pub enum Slot {
 pub struct Table {
     pub variables: Vec<Variable>,
     pub slots: Vec<Slot>,
+    /// The observables behind the outputs ([`Slot::Output`]).
+    pub outputs: Vec<Observable>,
     /// Input mode of each barrier (None: not driven).
     pub inputs: Vec<Option<BarrierInput>>,
 }
-
-/// The components a [`Row`] expands to.
-#[derive(Clone, Copy, Debug)]
-enum Comps {
-    /// One variable, named without suffix.
-    One,
-    /// One per axis of the scene: `.x`, `.y` and, in 3D, `.z`.
-    Axes,
-    /// About z alone in 2D (named without suffix); `.x`, `.y`, `.z` in 3D.
-    Rotation,
-    /// The unit quaternion's `.w`, `.x`, `.y`, `.z`.
-    Quaternion,
-}
-
-impl Comps {
-    /// Component index and name suffix of each variable, in dimension `d`.
-    fn of(self, d: usize) -> Vec<(usize, Option<&'static str>)> {
-        let axes = |n: usize| (0..n).map(|k| (k, Some(AXES[k]))).collect();
-        match self {
-            Comps::One => vec![(0, None)],
-            Comps::Axes => axes(d),
-            Comps::Rotation if d == 2 => vec![(2, None)],
-            Comps::Rotation => axes(3),
-            Comps::Quaternion => ["w", "x", "y", "z"]
-                .into_iter()
-                .enumerate()
-                .map(|(k, c)| (k, Some(c)))
-                .collect(),
-        }
-    }
-}
-
-/// A unit that may depend on the dimension: 2D scenes are per metre of depth.
-#[derive(Clone, Copy, Debug)]
-enum Unit {
-    /// N/m in 2D, N in 3D.
-    Force,
-    /// N in 2D, N.m in 3D.
-    Moment,
-    /// J/m in 2D, J in 3D.
-    Energy,
-    /// The same in 2D and 3D (None: dimensionless).
-    Fixed(Option<&'static str>),
-}
-
-impl Unit {
-    fn of(self, d: usize) -> Option<&'static str> {
-        let per_m = d == 2;
-        match self {
-            Unit::Force => Some(if per_m { "N/m" } else { "N" }),
-            Unit::Moment => Some(if per_m { "N" } else { "N.m" }),
-            Unit::Energy => Some(if per_m { "J/m" } else { "J" }),
-            Unit::Fixed(u) => u,
-        }
-    }
-}
-
-/// Which entity a [`Row`] is expanded for: barrier or body `entity`, and for panel rows
-/// panel `panel` of barrier `entity`.
-#[derive(Clone, Copy, Debug)]
-struct At {
-    entity: usize,
-    panel: usize,
-}
-
-/// One kind of Real variable of a barrier, a panel or a body.
-struct Row {
-    /// Name after the entity's: `force` gives `<barrier>.force.x`.
-    key: &'static str,
-    /// Output, or input (start value 0).
-    causality: Causality,
-    comps: Comps,
-    unit: Unit,
-    /// Description: `{name}` stands for the barrier's or body's name, `{label}` for a
-    /// panel's label, `{axis}` for the component's suffix.
-    what: &'static str,
-    /// Only in scenes of this dimension (None: in both).
-    dimension: Option<usize>,
-    /// The slot of component `k`.
-    slot: fn(At, usize) -> Slot,
-}
-
-impl Row {
-    const fn output(
-        key: &'static str,
-        comps: Comps,
-        unit: Unit,
-        what: &'static str,
-        slot: fn(At, usize) -> Slot,
-    ) -> Row {
-        Row {
-            key,
-            causality: Causality::Output,
-            comps,
-            unit,
-            what,
-            dimension: None,
-            slot,
-        }
-    }
-
-    /// The same row as inputs (start value 0).
-    const fn input(self) -> Row {
-        Row {
-            causality: Causality::Input,
-            ..self
-        }
-    }
-
-    /// The same row, only in scenes of dimension `dimension`.
-    const fn only_in(self, dimension: usize) -> Row {
-        Row {
-            dimension: Some(dimension),
-            ..self
-        }
-    }
-}
-
-const METRE: Unit = Unit::Fixed(Some("m"));
-
-/// The outputs of every barrier.
-const BARRIER: &[Row] = &[
-    Row::output(
-        "force",
-        Comps::Axes,
-        Unit::Force,
-        "load on barrier `{name}`, impulse over the step / step, {axis} component",
-        |at, k| Slot::BarrierForce(at.entity, k),
-    ),
-    Row::output(
-        "moment",
-        Comps::Rotation,
-        Unit::Moment,
-        "moment on barrier `{name}` about its reference point, step-averaged",
-        |at, k| Slot::BarrierMoment(at.entity, k),
-    ),
-    Row::output(
-        "peak_force",
-        Comps::One,
-        Unit::Force,
-        "largest resultant load on barrier `{name}` of any solver step within the \
-         communication step",
-        |at, _| Slot::BarrierPeak(at.entity),
-    ),
-];
-
-/// The outputs of every barrier of a scene with water: the load split into the water's
-/// part and the grains'.
-const WATER_BARRIER: &[Row] = &[
-    Row::output(
-        "force_water",
-        Comps::Axes,
-        Unit::Force,
-        "the water's part of the load on barrier `{name}` (pressure and viscous traction), \
-         impulse over the step / step, {axis} component",
-        |at, k| Slot::BarrierForceWater(at.entity, k),
-    ),
-    Row::output(
-        "force_grains",
-        Comps::Axes,
-        Unit::Force,
-        "the grains' part of the load on barrier `{name}` (fine and coarse), impulse over \
-         the step / step, {axis} component",
-        |at, k| Slot::BarrierForceGrains(at.entity, k),
-    ),
-];
-
-/// The outputs of every panel of a barrier (named `<barrier>.<label>.…`).
-const PANEL: &[Row] = &[Row::output(
-    "force",
-    Comps::Axes,
-    Unit::Force,
-    "load on panel {label} of barrier `{name}`, step-averaged, {axis} component",
-    |at, k| Slot::PanelForce(at.entity, at.panel, k),
-)];
-
-/// The outputs of every panel in a scene with water: its load split as the barrier's.
-const WATER_PANEL: &[Row] = &[
-    Row::output(
-        "force_water",
-        Comps::Axes,
-        Unit::Force,
-        "the water's part of the load on panel {label} of barrier `{name}`, step-averaged, \
-         {axis} component",
-        |at, k| Slot::PanelForceWater(at.entity, at.panel, k),
-    ),
-    Row::output(
-        "force_grains",
-        Comps::Axes,
-        Unit::Force,
-        "the grains' part of the load on panel {label} of barrier `{name}`, step-averaged, \
-         {axis} component",
-        |at, k| Slot::PanelForceGrains(at.entity, at.panel, k),
-    ),
-];
-
-/// The inputs of a barrier driven by displacement.
-const DISPLACEMENT_INPUT: Row = Row::output(
-    "displacement",
-    Comps::Axes,
-    METRE,
-    "barrier `{name}`: rigid displacement from the initial place, reached at the end of \
-     the step, {axis} component",
-    |at, k| Slot::BarrierInput(at.entity, k),
-)
-.input();
-
-/// The inputs of a barrier driven by velocity.
-const VELOCITY_INPUT: Row = Row::output(
-    "velocity",
-    Comps::Axes,
-    Unit::Fixed(Some("m/s")),
-    "barrier `{name}`: rigid velocity during the step, {axis} component",
-    |at, k| Slot::BarrierInput(at.entity, k),
-)
-.input();
-
-/// The outputs of every body.
-const BODY: &[Row] = &[
-    Row::output(
-        "position",
-        Comps::Axes,
-        METRE,
-        "body `{name}`: centre of mass",
-        |at, k| Slot::Body(at.entity, BodyQ::Position, k),
-    ),
-    Row::output(
-        "angle",
-        Comps::Rotation,
-        Unit::Fixed(Some("rad")),
-        "body `{name}`: rotation angle about z",
-        |at, k| Slot::Body(at.entity, BodyQ::Angle, k),
-    )
-    .only_in(2),
-    Row::output(
-        "orientation",
-        Comps::Quaternion,
-        Unit::Fixed(None),
-        "body `{name}`: unit quaternion",
-        |at, k| Slot::Body(at.entity, BodyQ::Orientation, k),
-    )
-    .only_in(3),
-    Row::output(
-        "velocity",
-        Comps::Axes,
-        Unit::Fixed(Some("m/s")),
-        "body `{name}`: velocity of the centre of mass",
-        |at, k| Slot::Body(at.entity, BodyQ::Velocity, k),
-    ),
-    Row::output(
-        "angular_velocity",
-        Comps::Rotation,
-        Unit::Fixed(Some("rad/s")),
-        "body `{name}`: angular velocity",
-        |at, k| Slot::Body(at.entity, BodyQ::AngularVelocity, k),
-    ),
-    Row::output(
-        "force",
-        Comps::Axes,
-        Unit::Force,
-        "body `{name}`: load from grains and contacts, impulse over the step / step, \
-         gravity excluded",
-        |at, k| Slot::Body(at.entity, BodyQ::Force, k),
-    ),
-    Row::output(
-        "torque",
-        Comps::Rotation,
-        Unit::Moment,
-        "body `{name}`: torque about the centre of mass, step-averaged",
-        |at, k| Slot::Body(at.entity, BodyQ::Torque, k),
-    ),
-];
 
 /// One Real parameter of every material or solid of type `T`: the scene key it
 /// overrides and its value in the scene.
@@ -421,41 +121,13 @@ const SOLIDS: Params<SolidSpec> = Params {
     ],
 };
 
-/// `template` with each `{key}` of `values` replaced by its value, in one pass (a
-/// replaced value is not searched again, so names may hold braces).
-fn fill(template: &str, values: &[(&str, &str)]) -> String {
-    let mut out = String::with_capacity(template.len() + 32);
-    let mut rest = template;
-    while let Some(open) = rest.find('{') {
-        out.push_str(&rest[..open]);
-        let after = &rest[open + 1..];
-        let value = after.find('}').and_then(|close| {
-            let key = &after[..close];
-            let (_, v) = values.iter().find(|(k, _)| *k == key)?;
-            Some((*v, close))
-        });
-        match value {
-            Some((v, close)) => {
-                out.push_str(v);
-                rest = &after[close + 1..];
-            }
-            None => {
-                out.push('{');
-                rest = after;
-            }
-        }
-    }
-    out.push_str(rest);
-    out
-}
-
 /// The table as it is built.
 struct Builder {
     /// Dimension of the scene.
     d: usize,
-    /// The scene has water: barriers split their loads, the water has its energy.
-    water: bool,
     table: Table,
+    /// Every observable of the scene; those with an FMU variable are taken as outputs.
+    observables: Vec<Observable>,
 }
 
 impl Builder {
@@ -464,38 +136,19 @@ impl Builder {
         self.table.slots.push(slot);
     }
 
-    /// The variables of `rows` for the entity named `prefix` at `at`; `names` fills the
-    /// descriptions.
-    fn rows<'a>(
-        &mut self,
-        rows: impl IntoIterator<Item = &'a Row>,
-        prefix: &str,
-        at: At,
-        names: &[(&str, &str)],
-    ) {
-        let d = self.d;
-        for row in rows {
-            if row.dimension.is_some_and(|only| only != d) {
-                continue;
-            }
-            for (k, axis) in row.comps.of(d) {
-                let name = match axis {
-                    Some(axis) => format!("{prefix}.{}.{axis}", row.key),
-                    None => format!("{prefix}.{}", row.key),
-                };
-                let mut values = names.to_vec();
-                values.push(("axis", axis.unwrap_or("")));
-                let variable = Variable {
-                    name,
-                    kind: Kind::Real,
-                    causality: row.causality,
-                    unit: row.unit.of(d),
-                    description: fill(row.what, &values),
-                    start: (row.causality != Causality::Output).then_some(0.0),
-                    start_text: None,
-                };
-                self.push(variable, (row.slot)(at, k));
-            }
+    /// The outputs of `owner`, in the observables' order.
+    fn outputs(&mut self, owner: Owner) {
+        let (mine, rest) = std::mem::take(&mut self.observables)
+            .into_iter()
+            .partition(|o| o.fmu.as_ref().is_some_and(|f| f.owner == owner));
+        self.observables = rest;
+        for o in mine {
+            let f = o.fmu.as_ref().expect("an FMU output");
+            let kind = if o.integer { Kind::Integer } else { Kind::Real };
+            let v = Variable::output(f.name.clone(), o.unit.fmi(self.d), f.description.clone())
+                .of_kind(kind);
+            self.push(v, Slot::Output(self.table.outputs.len()));
+            self.table.outputs.push(o);
         }
     }
 
@@ -521,89 +174,30 @@ impl Builder {
         }
     }
 
-    /// The outputs of barrier `b` named `name`, those of its panels (`counts` per
-    /// direction, empty: none) and its inputs when it is driven in `mode`.
-    fn barrier(
-        &mut self,
-        b: usize,
-        name: &str,
-        counts: &[usize],
-        mode: Option<BarrierInput>,
-    ) -> Result<(), GranularError> {
-        let at = At {
-            entity: b,
-            panel: 0,
+    /// The outputs of barrier `b` named `name` (its panels' among them), and its inputs
+    /// when it is driven in `mode`.
+    fn barrier(&mut self, b: usize, name: &str, mode: Option<BarrierInput>) {
+        self.outputs(Owner::Barrier(b));
+        let (key, unit, what) = match mode {
+            Some(BarrierInput::Displacement) => (
+                "displacement",
+                "m",
+                "rigid displacement from the initial place, reached at the end of the step",
+            ),
+            Some(BarrierInput::Velocity) => ("velocity", "m/s", "rigid velocity during the step"),
+            None => return,
         };
-        self.rows(BARRIER, name, at, &[("name", name)]);
-        if self.water {
-            self.rows(WATER_BARRIER, name, at, &[("name", name)]);
-        }
-        for (p, label) in panel_labels(name, counts, self.d)?.iter().enumerate() {
-            let at = At {
-                entity: b,
-                panel: p,
+        for (k, axis) in AXES.iter().enumerate().take(self.d) {
+            let variable = Variable {
+                causality: Causality::Input,
+                start: Some(0.0),
+                ..Variable::output(
+                    format!("{name}.{key}.{axis}"),
+                    Some(unit),
+                    format!("barrier `{name}`: {what}, {axis} component"),
+                )
             };
-            let prefix = format!("{name}.{label}");
-            self.rows(PANEL, &prefix, at, &[("name", name), ("label", label)]);
-            if self.water {
-                self.rows(
-                    WATER_PANEL,
-                    &prefix,
-                    at,
-                    &[("name", name), ("label", label)],
-                );
-            }
-        }
-        let inputs = match mode {
-            Some(BarrierInput::Displacement) => Some(&DISPLACEMENT_INPUT),
-            Some(BarrierInput::Velocity) => Some(&VELOCITY_INPUT),
-            None => None,
-        };
-        self.rows(inputs, name, at, &[("name", name)]);
-        Ok(())
-    }
-
-    /// The energies and step counts.
-    fn totals(&mut self) {
-        let energy = Unit::Energy.of(self.d);
-        let totals = [
-            (
-                Variable::output(
-                    "kinetic_energy.fine",
-                    energy,
-                    "kinetic energy of the fine grains",
-                ),
-                Slot::KineticFine,
-            ),
-            (
-                Variable::output(
-                    "kinetic_energy.coarse",
-                    energy,
-                    "kinetic energy of the coarse grains",
-                ),
-                Slot::KineticCoarse,
-            ),
-            (
-                Variable::output("steps.fine", None, "fine solver steps taken so far")
-                    .of_kind(Kind::Integer),
-                Slot::StepsFine,
-            ),
-            (
-                Variable::output("steps.coarse", None, "coarse sub-steps taken so far")
-                    .of_kind(Kind::Integer),
-                Slot::StepsCoarse,
-            ),
-        ];
-        for (v, s) in totals {
-            self.push(v, s);
-        }
-        if self.water {
-            let v = Variable::output(
-                "kinetic_energy.water",
-                energy,
-                "kinetic energy of the water",
-            );
-            self.push(v, Slot::KineticWater);
+            self.push(variable, Slot::BarrierInput(b, k));
         }
     }
 
@@ -700,12 +294,13 @@ pub fn build_table(loaded: &LoadedScene, sim: &AnySimulation) -> Result<Table, G
     let scene = &loaded.scene;
     let mut t = Builder {
         d: sim.dimension(),
-        water: sim.has_water(),
         table: Table {
             variables: Vec::new(),
             slots: Vec::new(),
+            outputs: Vec::new(),
             inputs: Vec::new(),
         },
+        observables: observables::all(&Layout::of(sim)),
     };
     for (b, name) in sim.barrier_names().iter().enumerate() {
         let spec = scene.barriers.iter().find(|w| &w.name == name);
@@ -717,16 +312,13 @@ pub fn build_table(loaded: &LoadedScene, sim: &AnySimulation) -> Result<Table, G
         }
         t.table.inputs.push(mode);
         let counts = spec.and_then(|w| w.panels.clone()).unwrap_or_default();
-        t.barrier(b, name, &counts, mode)?;
+        panel_labels(name, &counts, t.d)?;
+        t.barrier(b, name, mode);
     }
-    for (i, name) in sim.body_names().iter().enumerate() {
-        let at = At {
-            entity: i,
-            panel: 0,
-        };
-        t.rows(BODY, name, at, &[("name", name)]);
+    for b in 0..sim.body_names().len() {
+        t.outputs(Owner::Body(b));
     }
-    t.totals();
+    t.outputs(Owner::Totals);
     t.params(&MATERIALS, &scene.materials);
     t.params(&SOLIDS, &scene.solids);
     t.settings(&scene.simulation);
@@ -735,20 +327,9 @@ pub fn build_table(loaded: &LoadedScene, sim: &AnySimulation) -> Result<Table, G
 
 #[cfg(test)]
 mod tests {
-    use super::{build_table, fill};
+    use super::build_table;
     use granmix_core::input::load_scene_str;
     use granmix_core::AnySimulation;
-
-    #[test]
-    fn fill_replaces_known_keys_once() {
-        let v = [("name", "a {axis} b"), ("axis", "x")];
-        assert_eq!(
-            fill("`{name}` {axis} {other}", &v),
-            "`a {axis} b` x {other}"
-        );
-        assert_eq!(fill("{", &v), "{");
-        assert_eq!(fill("{name", &v), "{name");
-    }
 
     /// A μ(I) material has no friction angle to tune: its table carries no
     /// `friction_angle` parameter (setting one would make the scene invalid), and a
