@@ -11,19 +11,27 @@
 //! ([`interactions`](crate::interactions)); this module holds the fine–fine terms and
 //! the constitutive update.
 //!
-//! The pair law is written once, on lanes ([`lanes`](super::lanes)): it evaluates each
+//! The pair law ([`FineLanes::continuity`]) is written once, on the lanes of the clusters that
+//! [`lanes`](super::lanes) packs: it evaluates each
 //! fine–fine pair once and adds its terms in v_{n+1} to both particles'
 //! [`ContinuitySums`]; the terms without velocity ([`JumpDiffusion`]) are already
 //! there, from the momentum sweep's pair pass. The particle pass
 //! ([`interactions::continuity_pass`](crate::interactions::continuity_pass)) takes the
 //! sums as [`Rates`], adds the interactions and [`Rates::update`]s the stress.
 
+// the terms loop over components of several lane arrays at once (v, sums)
+#![allow(clippy::needless_range_loop)]
+
 use super::hourglass::penalty_kept;
+use super::lanes::{Block, Extra, ExtraBlock, FineLanes, Rec};
 use super::material::FineMaterial;
 use super::pair_sums::{ContinuitySums, PairSums};
 use super::plasticity::constitutive_step;
 use crate::numerics::kernel::WendlandC2;
 use crate::numerics::math::{Real, Sym, Vect};
+use crate::numerics::pairs::cluster_pass::{gather, run_pass, Geometry, PairLaw, Partner};
+use crate::numerics::pairs::clusters::ClusterPairs;
+use crate::numerics::pairs::quad::{Lanes, Quad};
 use crate::numerics::periodic::Wrap;
 use crate::scene::ContinuityJump;
 use nalgebra::{Matrix3, SMatrix};
@@ -191,5 +199,141 @@ impl<'a, const D: usize> JumpDiffusion<'a, D> {
     /// The unit vector the geostatic state is taken along.
     pub fn up(&self) -> Vect<D> {
         self.up
+    }
+}
+
+impl<const D: usize> FineLanes<D> {
+    /// The continuity sweep's fine–fine pair terms in v_{n+1} (`vel`) into `sums`
+    /// (added), on `lanes`, after [`momentum`](FineLanes::momentum) packed the state;
+    /// with the one-impedance form of Eq. (19) if `uniform`.
+    pub fn continuity(
+        &mut self,
+        cp: &ClusterPairs,
+        (vel, kernel, wrap, uniform): (&[Vect<D>], WendlandC2, Wrap, bool),
+        lanes: Lanes,
+        sums: &mut [PairSums<D>],
+    ) {
+        if cp.is_empty() {
+            return;
+        }
+        self.repack_velocities(cp, vel);
+        let (blocks, extra) = self.packed();
+        let blocks = (blocks, cp);
+        if uniform {
+            let law = (&Continuity::<D, true>(extra), &kernel, &wrap);
+            run_pass(law, blocks, lanes, sums);
+        } else {
+            let law = (&Continuity::<D, false>(extra), &kernel, &wrap);
+            run_pass(law, blocks, lanes, sums);
+        }
+    }
+}
+
+/// The continuity terms of the four lanes against partner j: what the lanes gain
+/// (drho, then −v_ij ⊗ e ∂W/∂r V_j by row) into `own`, and what j gains from each
+/// into `tj`, to be summed over the lanes (drho added, the gradient subtracted).
+#[inline(always)]
+fn continuity_term<Q: Quad, const D: usize, const UNIFORM: bool>(
+    q: Q,
+    i: &ContinuityLanes<Q, D>,
+    (
+        Partner {
+            rij, g, rec: rj, ..
+        },
+        xj,
+    ): (Partner<'_, Q, Rec<D>, D>, Option<&Extra>),
+    own: &mut [Q::V; 10],
+    tj: &mut [Q::V; 10],
+) {
+    let zero = q.splat(0.0);
+    let (v, vol) = (&i.v, i.vol);
+    let Geometry { m, inv_r, dw, .. } = g;
+    let dw = q.select(m, dw, zero);
+    let volj = q.splat(rj.vol);
+    let mut e = [zero; D];
+    let mut g = [zero; D];
+    let mut s = zero;
+    for d in 0..D {
+        e[d] = q.mul(rij[d], inv_r);
+        // g = v_ij ∂W/∂r, s = g·e: 2 (U* − U_L) of Eq. (15) without the jump
+        g[d] = q.mul(q.sub(v[d], q.splat(rj.v[d])), dw);
+        s = q.add(s, q.mul(g[d], e[d]));
+    }
+    if UNIFORM {
+        own[0] = q.add(own[0], q.mul(s, volj));
+        tj[0] = q.mul(s, vol);
+    } else {
+        // 2 Z_j (U_R − U_L)/(Z_i + Z_j), and Z_i for j (Eq. 19)
+        let zj = q.splat(xj.expect("the extra records of several impedances").z);
+        let t = q.div(q.mul(q.splat(2.0), s), q.add(i.z, zj));
+        own[0] = q.add(own[0], q.mul(q.mul(t, zj), volj));
+        tj[0] = q.mul(q.mul(t, i.z), vol);
+    }
+    for a in 0..D {
+        let (gi, gj) = (q.mul(g[a], volj), q.mul(g[a], vol));
+        for b in 0..D {
+            let k = 1 + a * D + b;
+            own[k] = q.add(own[k], q.mul(gi, e[b]));
+            tj[k] = q.mul(gj, e[b]);
+        }
+    }
+}
+
+/// The lanes of a cluster as the continuity terms read them.
+struct ContinuityLanes<Q: Quad, const D: usize> {
+    v: [Q::V; D],
+    vol: Q::V,
+    z: Q::V,
+}
+
+/// The continuity pass, with the one-impedance form of Eq. (19) if `UNIFORM`, and the
+/// clusters' [`Extra`] records (the impedances without `UNIFORM`).
+struct Continuity<'a, const D: usize, const UNIFORM: bool>(&'a [ExtraBlock]);
+
+impl<const D: usize, const UNIFORM: bool> PairLaw<D, 10> for Continuity<'_, D, UNIFORM> {
+    type Rec = Rec<D>;
+    type Sums = PairSums<D>;
+    type Lanes<Q: Quad> = ContinuityLanes<Q, D>;
+    const USED: usize = 1 + D * D;
+
+    #[inline(always)]
+    fn lanes<Q: Quad>(&self, q: Q, c: usize, recs: &Block<D>) -> ContinuityLanes<Q, D> {
+        ContinuityLanes {
+            v: std::array::from_fn(|d| gather(q, recs, |r| r.v[d])),
+            vol: gather(q, recs, |r| r.vol),
+            z: match (UNIFORM, self.0.get(c)) {
+                (false, Some(xi)) => gather(q, xi, |r| r.z),
+                _ => q.splat(0.0),
+            },
+        }
+    }
+
+    #[inline(always)]
+    fn pair<Q: Quad>(
+        &self,
+        q: Q,
+        i: &ContinuityLanes<Q, D>,
+        j: Partner<'_, Q, Rec<D>, D>,
+        own: &mut [Q::V; 10],
+        tj: &mut [Q::V; 10],
+    ) {
+        let xj = if UNIFORM {
+            None
+        } else {
+            self.0.get(j.c).map(|x| &x[j.l])
+        };
+        continuity_term::<Q, D, UNIFORM>(q, i, (j, xj), own, tj);
+    }
+
+    #[inline(always)]
+    fn own(s: &mut PairSums<D>, t: &[Real; 10]) {
+        let s = &mut s.continuity;
+        s.drho_v += t[0];
+        for a in 0..D {
+            for b in 0..D {
+                // −v_ij ⊗ e_ij ∂W/∂r V_j, Eq. (24)
+                s.grad[(a, b)] -= t[1 + a * D + b];
+            }
+        }
     }
 }
