@@ -415,6 +415,17 @@ fn water() -> Vec<Case> {
         )
         .tolerance(0.05),
         Case::new(
+            "sphinxsys_standing_wave",
+            "sphinxsys_standing_wave.toml",
+            vec![dp("H/25", 0.04), dp("H/50", 0.02)],
+            Metric::SphinxsysWave,
+            "SPHinXsys's standing wave, H = 1 m, L = 2 m, A = 0.1 m, inviscid, 10 s: log \
+             decrement per period of the gauge at the antinode against SPHinXsys's probe \
+             at H/50 (0.016), fitted alike (error: their difference, asked ≤ 0.01); \
+             sphinxsys_wave.png",
+        )
+        .tolerance(0.01),
+        Case::new(
             "lobovsky",
             "lobovsky_dam_break.toml",
             vec![

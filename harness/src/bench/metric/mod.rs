@@ -5,6 +5,7 @@
 pub mod lobovsky;
 pub mod pores;
 pub mod rondon;
+pub mod sphinxsys_wave;
 pub mod wave;
 
 use granmix_core::run::simulation::Sample;
@@ -76,6 +77,12 @@ pub(crate) enum Metric {
     /// ([`metric_rondon`](crate::bench::metric::rondon)), which reports the basal excess
     /// pressure's sign, extreme and relaxation beside it.
     Rondon(crate::bench::metric::rondon::Column),
+    /// SPHinXsys's standing wave (issue 73): the difference of the log decrements per
+    /// period of granmix's gauge and SPHinXsys's probe, fitted alike; reference 0.
+    /// Scored with SPHinXsys's record by the bench
+    /// ([`sphinxsys_wave`](crate::bench::metric::sphinxsys_wave)), which reports both
+    /// periods beside it.
+    SphinxsysWave,
     /// A μ(I) layer flowing down an incline, periodic along it: its depth-averaged
     /// velocity (momentum over mass) averaged over the last second, against Bagnold's.
     Bagnold(BagnoldRef),
@@ -95,6 +102,7 @@ pub(crate) enum Metric {
 pub(crate) enum Experiment {
     Lobovsky(crate::bench::metric::lobovsky::Lobovsky),
     Rondon(crate::bench::metric::rondon::Rondon),
+    SphinxsysWave(crate::bench::metric::sphinxsys_wave::SphinxsysWave),
 }
 
 impl Metric {
@@ -376,7 +384,7 @@ impl Metric {
             Metric::Consolidation(r) => (r.error(&rep.samples), Some(0.0)),
             Metric::RunoutReport => (Some(last.runout), None),
             // scored by the bench, which holds the experiment's series
-            Metric::Lobovsky | Metric::Rondon(_) => (None, Some(0.0)),
+            Metric::Lobovsky | Metric::Rondon(_) | Metric::SphinxsysWave => (None, Some(0.0)),
             Metric::Bagnold(r) => (r.measured(&rep.samples), Some(r.mean_velocity())),
             Metric::SoilEnergy(r) => (
                 rep.samples
@@ -425,8 +433,8 @@ impl Metric {
         }
     }
 
-    /// The experiment's data a metric reads from files (Lobovský's and Rondon's
-    /// series), loaded before a run so that a missing file stops the bench at once;
+    /// The reference data a metric reads from files (Lobovský's and Rondon's series,
+    /// SPHinXsys's probe record), loaded before a run so that a missing file stops the bench at once;
     /// None for the others.
     pub(crate) fn data(&self, scenes: &std::path::Path) -> anyhow::Result<Option<Experiment>> {
         use crate::bench::metric::lobovsky::{reference_dir, Lobovsky};
@@ -441,6 +449,9 @@ impl Metric {
                     crate::bench::metric::rondon::Rondon::load(&dir, *c)?,
                 )))
             }
+            Metric::SphinxsysWave => Ok(Some(Experiment::SphinxsysWave(
+                crate::bench::metric::sphinxsys_wave::SphinxsysWave::load(scenes)?,
+            ))),
             _ => Ok(None),
         }
     }
@@ -462,6 +473,11 @@ impl Metric {
             Some(Experiment::Rondon(d)) => {
                 d.plot(&rep.samples, &dir.join("rondon.png"), title)?;
                 let r = d.report(&rep.samples);
+                Ok((r["score"].as_f64(), Some(0.0), Some(r)))
+            }
+            Some(Experiment::SphinxsysWave(w)) => {
+                w.plot(&rep.samples, &dir.join("sphinxsys_wave.png"), title)?;
+                let r = w.report(&rep.samples);
                 Ok((r["score"].as_f64(), Some(0.0), Some(r)))
             }
             None => {
