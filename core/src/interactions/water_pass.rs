@@ -27,7 +27,7 @@ pub struct WaterCoarse<'a, const D: usize> {
 use crate::geometry::walls::Walls;
 use crate::numerics::load::Load;
 use crate::numerics::math::{Real, Vect};
-use crate::numerics::neighbors::{NeighborLists, CHUNK};
+use crate::numerics::neighbors::{ChunkList, NeighborLists, CHUNK};
 use crate::numerics::pairs::clusters::ClusterPairs;
 use crate::numerics::pairs::quad::Lanes;
 use crate::water::correction::{self, Corr};
@@ -106,24 +106,64 @@ pub fn correction_sweep<const D: usize>(
         .for_each(|(c, (cl, out))| {
             for (k, b) in out.iter_mut().enumerate() {
                 let xi = w.pos[c * CHUNK + k];
-                for &wp in cl.wall(k) {
-                    *b += water_wall::moment(prm, walls, &xi, wp as usize);
-                }
-                for &j in cl.coarse(k) {
-                    *b += water_coarse::moment(prm, &csrc[j as usize], &xi);
-                }
+                boundary_moment(b, (prm, walls, csrc), (cl, k), &xi);
                 *b = correction::invert(b);
             }
         });
 }
 
-/// Runs over the water–water relation.
-///
-/// The corrected velocity gradient ∇v_i = L_i B_i of every particle into `grad`
-/// ([`gradient`](crate::water::gradient)), `corr` holding B. Wall and coarse
-/// neighbours do not enter L: the gradient of a particle by a wall is that of its
-/// water neighbours, under-estimated where B is not blended to I, which only leaves
-/// more dissipation there.
+/// Add the walls' and the coarse particles' share of M to `m`, for particle `k` of a
+/// chunk's lists `cl` at `xi`.
+#[inline]
+fn boundary_moment<const D: usize>(
+    m: &mut Corr<D>,
+    (prm, walls, csrc): (&WaterParams<D>, &Walls<D>, &[CoarseSource<D>]),
+    (cl, k): (&ChunkList, usize),
+    xi: &Vect<D>,
+) {
+    for &wp in cl.wall(k) {
+        *m += water_wall::moment(prm, walls, xi, wp as usize);
+    }
+    for &j in cl.coarse(k) {
+        *m += water_coarse::moment(prm, &csrc[j as usize], xi);
+    }
+}
+
+/// [`correction_sweep`] and [`gradient_sweep`] in one walk over the water pairs
+/// (`water.muscl` with the correction): their sums M and L together into `ml`
+/// ([`WaterLanes::moment_and_gradient`]), then per particle the walls' and bodies' M,
+/// B = M⁻¹ into `corr` and ∇v = L B into `grad`. Bitwise the same as the two sweeps.
+#[allow(clippy::too_many_arguments)]
+pub fn correction_and_gradient_sweep<const D: usize>(
+    w: &WaterParticles<D>,
+    walls: &Walls<D>,
+    csrc: &[CoarseSource<D>],
+    lists: &NeighborLists,
+    prm: &WaterParams<D>,
+    (buf, cp, lanes): WaterPairs<'_, D>,
+    ml: &mut [[Corr<D>; 2]],
+    (corr, grad): (&mut [Corr<D>], &mut [Corr<D>]),
+) {
+    ml.par_iter_mut().for_each(|s| *s = [Corr::<D>::zeros(); 2]);
+    buf.moment_and_gradient(cp, prm, lanes, ml);
+    lists
+        .chunks
+        .par_iter()
+        .zip(ml.par_chunks(CHUNK))
+        .zip(corr.par_chunks_mut(CHUNK))
+        .zip(grad.par_chunks_mut(CHUNK))
+        .enumerate()
+        .for_each(|(c, (((cl, ml), corr), grad))| {
+            for (k, (b, g)) in corr.iter_mut().zip(grad.iter_mut()).enumerate() {
+                let xi = w.pos[c * CHUNK + k];
+                let mut m = ml[k][0];
+                boundary_moment(&mut m, (prm, walls, csrc), (cl, k), &xi);
+                *b = correction::invert(&m);
+                *g = ml[k][1] * *b;
+            }
+        });
+}
+
 pub fn gradient_sweep<const D: usize>(
     prm: &WaterParams<D>,
     (buf, cp, lanes): WaterPairs<'_, D>,

@@ -10,8 +10,8 @@ use crate::coarse::body::Body;
 use crate::interactions::fine_coarse::{self, CoarseSource};
 use crate::interactions::water_buoyancy::Hydrostatics;
 use crate::interactions::water_pass::{
-    continuity_pairs, continuity_sweep, correction_sweep, gradient_sweep, momentum_pairs,
-    momentum_sweep, WaterCoarse,
+    continuity_pairs, continuity_sweep, correction_and_gradient_sweep, correction_sweep,
+    gradient_sweep, momentum_pairs, momentum_sweep, WaterCoarse,
 };
 use crate::interactions::water_start::incompressible_start;
 use crate::numerics::guard::{Blowup, Family};
@@ -54,6 +54,10 @@ pub struct WaterStepper<const D: usize> {
     /// Each particle's velocity gradient with `water.muscl` (empty without).
     #[serde(skip)]
     grad: Vec<Corr<D>>,
+    /// The sums M and L of the water pairs with `water.muscl` and the correction
+    /// (empty otherwise).
+    #[serde(skip)]
+    moment_grad: Vec<[Corr<D>; 2]>,
     /// Each particle's acceleration from a soil's seepage force in the last sub-step
     /// (empty without a soil).
     #[serde(skip)]
@@ -91,6 +95,7 @@ impl<const D: usize> WaterStepper<D> {
             sums: Vec::new(),
             corr: Vec::new(),
             grad: Vec::new(),
+            moment_grad: Vec::new(),
             body: Vec::new(),
             hydro: Hydrostatics::default(),
             shares: Vec::new(),
@@ -244,21 +249,32 @@ impl<const D: usize> WaterStepper<D> {
             self.lanes
                 .pack(&lists.clusters, &world.water.particles, &self.src);
             let lanes = Lanes::detect();
-            correction_sweep(
-                &world.water.particles,
-                &world.walls,
-                csrc,
-                lists,
-                &prm,
-                (mat.correction, (&mut self.lanes, &lists.clusters, lanes)),
-                &mut self.corr,
-            );
-            if mat.muscl {
+            let w = &world.water.particles;
+            if mat.muscl && mat.correction {
+                // M and L in one walk over the pairs
                 self.grad.resize(n, Corr::<D>::zeros());
-                let pairs = (&mut self.lanes, &lists.clusters, lanes);
-                gradient_sweep(&prm, pairs, &self.corr, &mut self.grad);
+                self.moment_grad.resize(n, [Corr::<D>::zeros(); 2]);
+                correction_and_gradient_sweep(
+                    w,
+                    &world.walls,
+                    csrc,
+                    lists,
+                    &prm,
+                    (&mut self.lanes, &lists.clusters, lanes),
+                    &mut self.moment_grad,
+                    (&mut self.corr, &mut self.grad),
+                );
             } else {
-                self.grad.clear();
+                let pairs = (&mut self.lanes, &lists.clusters, lanes);
+                let on = (mat.correction, pairs);
+                correction_sweep(w, &world.walls, csrc, lists, &prm, on, &mut self.corr);
+                if mat.muscl {
+                    self.grad.resize(n, Corr::<D>::zeros());
+                    let pairs = (&mut self.lanes, &lists.clusters, lanes);
+                    gradient_sweep(&prm, pairs, &self.corr, &mut self.grad);
+                } else {
+                    self.grad.clear();
+                }
             }
             momentum_pairs(
                 (&self.corr, &self.grad),

@@ -26,7 +26,7 @@
 use super::lanes::{rows, Block, Rec, WaterLanes};
 use super::momentum::WaterParams;
 use crate::numerics::math::{Real, Vect};
-use crate::numerics::pairs::cluster_pass::{gather, repack, run_pass, PairLaw, Partner};
+use crate::numerics::pairs::cluster_pass::{gather, repack, run_pass, Geometry, PairLaw, Partner};
 use crate::numerics::pairs::clusters::ClusterPairs;
 use crate::numerics::pairs::quad::{Lanes, Quad};
 use nalgebra::SMatrix;
@@ -97,19 +97,7 @@ impl<const D: usize> PairLaw<D, 6> for Moment {
         own: &mut [Q::V; 6],
         tj: &mut [Q::V; 6],
     ) {
-        let zero = q.splat(0.0);
-        let f = q.select(g.m, q.sub(zero, q.mul(g.r, g.dw)), zero);
-        let volj = q.splat(rec.vol);
-        let e: [Q::V; D] = std::array::from_fn(|d| q.mul(rij[d], g.inv_r));
-        let mut k = 0;
-        for d in 0..D {
-            for c in d..D {
-                let t = q.mul(q.mul(e[d], e[c]), f);
-                own[k] = q.add(own[k], q.mul(t, volj));
-                tj[k] = q.mul(t, voli.0);
-                k += 1;
-            }
-        }
+        moment_terms(q, voli.0, (&rij, &g, rec), own, tj);
     }
 
     #[inline(always)]
@@ -118,9 +106,35 @@ impl<const D: usize> PairLaw<D, 6> for Moment {
     }
 }
 
+/// The terms of M of the four lanes (volumes `voli`) against partner j: the upper
+/// triangle of −x_ij ⊗ ∇W V row by row, what the lanes gain (times V_j) into `own` and
+/// what j gains (times V_i) into `tj`, from their first entries on.
+#[inline(always)]
+pub(super) fn moment_terms<Q: Quad, const D: usize>(
+    q: Q,
+    voli: Q::V,
+    (rij, g, rec): (&[Q::V; D], &Geometry<Q>, &Rec<D>),
+    own: &mut [Q::V],
+    tj: &mut [Q::V],
+) {
+    let zero = q.splat(0.0);
+    let f = q.select(g.m, q.sub(zero, q.mul(g.r, g.dw)), zero);
+    let volj = q.splat(rec.vol);
+    let e: [Q::V; D] = std::array::from_fn(|d| q.mul(rij[d], g.inv_r));
+    let mut k = 0;
+    for d in 0..D {
+        for c in d..D {
+            let t = q.mul(q.mul(e[d], e[c]), f);
+            own[k] = q.add(own[k], q.mul(t, volj));
+            tj[k] = q.mul(t, voli);
+            k += 1;
+        }
+    }
+}
+
 /// Add the upper triangle `t` (row by row) to both triangles of `m`.
 #[inline(always)]
-fn add_upper<const D: usize>(m: &mut Corr<D>, t: &[Real; 6]) {
+pub(super) fn add_upper<const D: usize>(m: &mut Corr<D>, t: &[Real]) {
     let mut k = 0;
     for d in 0..D {
         for c in d..D {

@@ -239,6 +239,7 @@ fn lane_sums<Q: Quad, const N: usize>(q: Q, t: &[Q::V; N], used: usize) -> [Real
         3 => first::<Q, 3, N>(q, t),
         4 => first::<Q, 4, N>(q, t),
         5 => first::<Q, 5, N>(q, t),
+        7 => first::<Q, 7, N>(q, t),
         12 => first::<Q, 12, N>(q, t),
         _ => q.sums(t),
     }
