@@ -129,10 +129,14 @@ fn boundary_moment<const D: usize>(
     }
 }
 
-/// [`correction_sweep`] and [`gradient_sweep`] in one walk over the water pairs
-/// (`water.muscl` with the correction): their sums M and L together into `ml`
-/// ([`WaterLanes::moment_and_gradient`]), then per particle the walls' and bodies' M,
-/// B = M⁻¹ into `corr` and ∇v = L B into `grad`. Bitwise the same as the two sweeps.
+/// The correction and the velocity gradient (`water.muscl`) in one walk over the water
+/// pairs: their sums M and L together into `ml`
+/// ([`WaterLanes::moment_and_gradient`]), then per particle B into `corr` (with the
+/// correction `on`, M⁻¹ with the walls' and bodies' M; the identity without) and
+/// ∇v = L B into `grad` ([`gradient`](crate::water::gradient)). Wall and coarse
+/// neighbours do not enter L: the gradient of a particle by a wall is that of its
+/// water neighbours, under-estimated where B is not blended to I, which only leaves
+/// more dissipation there.
 #[allow(clippy::too_many_arguments)]
 pub fn correction_and_gradient_sweep<const D: usize>(
     w: &WaterParticles<D>,
@@ -140,7 +144,7 @@ pub fn correction_and_gradient_sweep<const D: usize>(
     csrc: &[CoarseSource<D>],
     lists: &NeighborLists,
     prm: &WaterParams<D>,
-    (buf, cp, lanes): WaterPairs<'_, D>,
+    (on, (buf, cp, lanes)): (bool, WaterPairs<'_, D>),
     ml: &mut [[Corr<D>; 2]],
     (corr, grad): (&mut [Corr<D>], &mut [Corr<D>]),
 ) {
@@ -155,36 +159,19 @@ pub fn correction_and_gradient_sweep<const D: usize>(
         .enumerate()
         .for_each(|(c, (((cl, ml), corr), grad))| {
             for (k, (b, g)) in corr.iter_mut().zip(grad.iter_mut()).enumerate() {
-                let xi = w.pos[c * CHUNK + k];
-                let mut m = ml[k][0];
-                boundary_moment(&mut m, (prm, walls, csrc), (cl, k), &xi);
-                *b = correction::invert(&m);
+                *b = if on {
+                    let mut m = ml[k][0];
+                    let xi = w.pos[c * CHUNK + k];
+                    boundary_moment(&mut m, (prm, walls, csrc), (cl, k), &xi);
+                    correction::invert(&m)
+                } else {
+                    Corr::<D>::identity()
+                };
                 *g = ml[k][1] * *b;
             }
         });
 }
 
-pub fn gradient_sweep<const D: usize>(
-    prm: &WaterParams<D>,
-    (buf, cp, lanes): WaterPairs<'_, D>,
-    corr: &[Corr<D>],
-    grad: &mut [Corr<D>],
-) {
-    grad.par_iter_mut().for_each(|g| *g = Corr::<D>::zeros());
-    buf.gradient(cp, prm, lanes, grad);
-    grad.par_iter_mut()
-        .zip(corr.par_iter())
-        .for_each(|(g, b)| *g *= b);
-}
-
-/// Runs over the water–water, water–wall and water–coarse relations.
-///
-/// v_{n+1} = v_n + Δt (dv/dt + g) into `vel_new`, and the walls' reactions per chunk
-/// into `loads` (`max(1, load slots)` per chunk). `sums[..].acc` holds the
-/// water–water terms on entry ([`momentum_pairs`]) and is left zero; `corr` holds B
-/// ([`correction_sweep`]); `body` each particle's seepage acceleration of the last
-/// sub-step (empty: none), which the walls' pressure extrapolation carries with
-/// gravity.
 #[allow(clippy::too_many_arguments)]
 pub fn momentum_sweep<const D: usize>(
     w: &WaterParticles<D>,

@@ -11,7 +11,7 @@ use crate::interactions::fine_coarse::{self, CoarseSource};
 use crate::interactions::water_buoyancy::Hydrostatics;
 use crate::interactions::water_pass::{
     continuity_pairs, continuity_sweep, correction_and_gradient_sweep, correction_sweep,
-    gradient_sweep, momentum_pairs, momentum_sweep, WaterCoarse,
+    momentum_pairs, momentum_sweep, WaterCoarse,
 };
 use crate::interactions::water_start::incompressible_start;
 use crate::numerics::guard::{Blowup, Family};
@@ -54,8 +54,7 @@ pub struct WaterStepper<const D: usize> {
     /// Each particle's velocity gradient with `water.muscl` (empty without).
     #[serde(skip)]
     grad: Vec<Corr<D>>,
-    /// The sums M and L of the water pairs with `water.muscl` and the correction
-    /// (empty otherwise).
+    /// The sums M and L of the water pairs with `water.muscl` (empty without).
     #[serde(skip)]
     moment_grad: Vec<[Corr<D>; 2]>,
     /// Each particle's acceleration from a soil's seepage force in the last sub-step
@@ -250,8 +249,9 @@ impl<const D: usize> WaterStepper<D> {
                 .pack(&lists.clusters, &world.water.particles, &self.src);
             let lanes = Lanes::detect();
             let w = &world.water.particles;
-            if mat.muscl && mat.correction {
-                // M and L in one walk over the pairs
+            let pairs = (&mut self.lanes, &lists.clusters, lanes);
+            if mat.muscl {
+                // B and the gradient L B, from one walk over the pairs
                 self.grad.resize(n, Corr::<D>::zeros());
                 self.moment_grad.resize(n, [Corr::<D>::zeros(); 2]);
                 correction_and_gradient_sweep(
@@ -260,21 +260,15 @@ impl<const D: usize> WaterStepper<D> {
                     csrc,
                     lists,
                     &prm,
-                    (&mut self.lanes, &lists.clusters, lanes),
+                    (mat.correction, pairs),
                     &mut self.moment_grad,
                     (&mut self.corr, &mut self.grad),
                 );
             } else {
-                let pairs = (&mut self.lanes, &lists.clusters, lanes);
                 let on = (mat.correction, pairs);
                 correction_sweep(w, &world.walls, csrc, lists, &prm, on, &mut self.corr);
-                if mat.muscl {
-                    self.grad.resize(n, Corr::<D>::zeros());
-                    let pairs = (&mut self.lanes, &lists.clusters, lanes);
-                    gradient_sweep(&prm, pairs, &self.corr, &mut self.grad);
-                } else {
-                    self.grad.clear();
-                }
+                self.grad.clear();
+                self.moment_grad.clear();
             }
             momentum_pairs(
                 (&self.corr, &self.grad),

@@ -7,11 +7,11 @@
 //! `water.muscl` the momentum sweep reconstructs each pair's velocities to its midpoint
 //! with it, so that the Riemann dissipation acts only on what a linear field does not
 //! explain ([`momentum`](super::momentum)).
-
 //!
-//! The water–water sum of L is written once, on [`Quad`] lanes ([`Gradient`]), and
-//! run by the cluster-pair executor
-//! ([`WaterLanes::gradient`](super::lanes::WaterLanes::gradient)).
+//! The water–water sums of L are written once, on [`Quad`] lanes, and taken in the
+//! same walk over the pairs as the correction's M ([`MomentGradient`], run by
+//! [`WaterLanes::moment_and_gradient`]), so the reconstruction costs no pass of its
+//! own.
 
 // the terms loop over the rows and columns of L
 #![allow(clippy::needless_range_loop)]
@@ -24,50 +24,14 @@ use crate::numerics::pairs::cluster_pass::{gather, repack, run_pass, Geometry, P
 use crate::numerics::pairs::clusters::ClusterPairs;
 use crate::numerics::pairs::quad::{Lanes, Quad};
 
-/// The velocity gradient's pass: L_i = −Σ_j v_ij ⊗ e_ij ∂W/∂r V_j, by row; for j,
-/// −v_ji ⊗ ∇_j W is the same tensor, times V_i.
-pub(super) struct Gradient;
-
-/// The lanes as [`Gradient`] reads them: velocities and volumes.
+/// The lanes as [`MomentGradient`] reads them: velocities and volumes.
 pub(super) struct GradientLanes<Q: Quad, const D: usize> {
     v: [Q::V; D],
     vol: Q::V,
 }
 
-impl<const D: usize> PairLaw<D, 9> for Gradient {
-    type Rec = Rec<D>;
-    type Sums = Corr<D>;
-    type Lanes<Q: Quad> = GradientLanes<Q, D>;
-    const USED: usize = D * D;
-
-    #[inline(always)]
-    fn lanes<Q: Quad>(&self, q: Q, _: usize, recs: &Block<D>) -> GradientLanes<Q, D> {
-        GradientLanes {
-            v: std::array::from_fn(|d| gather(q, recs, |r| r.v[d])),
-            vol: gather(q, recs, |r| r.vol),
-        }
-    }
-
-    #[inline(always)]
-    fn pair<Q: Quad>(
-        &self,
-        q: Q,
-        i: &GradientLanes<Q, D>,
-        Partner { rij, g, rec, .. }: Partner<'_, Q, Rec<D>, D>,
-        own: &mut [Q::V; 9],
-        tj: &mut [Q::V; 9],
-    ) {
-        gradient_terms(q, i, (&rij, &g, rec), own, tj);
-    }
-
-    #[inline(always)]
-    fn own(l: &mut Corr<D>, t: &[Real; 9]) {
-        add_rows(l, t);
-    }
-}
-
-/// Add `t` (D × D, by row) to `l`.
-/// The terms of L of the four lanes against partner j: −v_ij ⊗ ∇W V by row, what the
+/// The terms of L of the four lanes against partner j: L_i = −Σ_j v_ij ⊗ e_ij ∂W/∂r V_j
+/// by row (for j, −v_ji ⊗ ∇_j W is the same tensor, times V_i), what the
 /// lanes gain (times V_j) into `own` and what j gains (times V_i) into `tj`, from their
 /// first entries on.
 #[inline(always)]
@@ -91,10 +55,10 @@ fn gradient_terms<Q: Quad, const D: usize>(
     }
 }
 
-/// M and L in one walk over the pairs (`water.muscl` with the correction): the terms
-/// of [`Moment`](super::correction::Moment) then those of [`Gradient`], so that the
-/// reconstruction's gradient costs no pass of its own. Each sum takes its terms in the
-/// same order as its own pass, so both are bitwise the same.
+/// M and L in one walk over the pairs (`water.muscl`): the terms of
+/// [`Moment`](super::correction::Moment) then those of L, so that the reconstruction's
+/// gradient costs no pass of its own. M takes its terms in the same order as
+/// [`Moment`](super::correction::Moment)'s own pass, so it is bitwise the same.
 pub(super) struct MomentGradient;
 
 impl<const D: usize> PairLaw<D, 15> for MomentGradient {
@@ -104,8 +68,11 @@ impl<const D: usize> PairLaw<D, 15> for MomentGradient {
     const USED: usize = D * (D + 1) / 2 + D * D;
 
     #[inline(always)]
-    fn lanes<Q: Quad>(&self, q: Q, c: usize, recs: &Block<D>) -> GradientLanes<Q, D> {
-        <Gradient as PairLaw<D, 9>>::lanes(&Gradient, q, c, recs)
+    fn lanes<Q: Quad>(&self, q: Q, _: usize, recs: &Block<D>) -> GradientLanes<Q, D> {
+        GradientLanes {
+            v: std::array::from_fn(|d| gather(q, recs, |r| r.v[d])),
+            vol: gather(q, recs, |r| r.vol),
+        }
     }
 
     #[inline(always)]
@@ -132,6 +99,7 @@ impl<const D: usize> PairLaw<D, 15> for MomentGradient {
     }
 }
 
+/// Add `t` (D × D, by row) to `l`.
 #[inline(always)]
 fn add_rows<const D: usize>(l: &mut Corr<D>, t: &[Real]) {
     for a in 0..D {
@@ -163,23 +131,6 @@ impl<const D: usize> WaterLanes<D> {
             (&self.blocks, cp),
             lanes,
             ml,
-        );
-    }
-
-    /// The velocity gradient's water–water sums of L into `l` (added), on `lanes`,
-    /// after [`pack`](Self::pack).
-    pub fn gradient(
-        &mut self,
-        cp: &ClusterPairs,
-        prm: &WaterParams<D>,
-        lanes: Lanes,
-        l: &mut [Corr<D>],
-    ) {
-        run_pass(
-            (&Gradient, &prm.kernel, &prm.wrap),
-            (&self.blocks, cp),
-            lanes,
-            l,
         );
     }
 }

@@ -6,8 +6,8 @@
 //!
 //! - [`WaterLanes::correction`]: M of the kernel gradient correction
 //!   ([`correction`](super::correction), Bonet & Lok 1999);
-//! - [`WaterLanes::gradient`]: the velocity gradient L that the MUSCL reconstruction
-//!   reads ([`gradient`](super::gradient));
+//! - [`WaterLanes::moment_and_gradient`]: M and, in the same walk, the velocity
+//!   gradient L that the MUSCL reconstruction reads ([`gradient`](super::gradient));
 //! - [`WaterLanes::momentum`]: the pressure and viscous forces
 //!   ([`momentum`](super::momentum), Zhang, Hu & Adams 2017, Eqs. 7, 16–19);
 //! - [`WaterLanes::continuity`]: the density rate with the pressure jump

@@ -121,9 +121,9 @@ impl<const D: usize> Tank<D> {
     fn gradient(&self, lanes: Lanes, src: &[WaterSource], b: &[Corr<D>]) -> Vec<Corr<D>> {
         let mut buf = WaterLanes::<D>::default();
         buf.pack(&self.cp, &self.w, src);
-        let mut l = vec![Corr::<D>::zeros(); self.w.len()];
-        buf.gradient(&self.cp, &self.prm, lanes, &mut l);
-        l.iter().zip(b).map(|(l, b)| l * b).collect()
+        let mut ml = vec![[Corr::<D>::zeros(); 2]; self.w.len()];
+        buf.moment_and_gradient(&self.cp, &self.prm, lanes, &mut ml);
+        ml.iter().zip(b).map(|([_, l], b)| l * b).collect()
     }
 
     /// M and ∇v = L B of every particle from one walk over the pairs
@@ -215,8 +215,8 @@ fn moment_is_the_lattice_sum_3d() {
 /// A linear velocity field v = A x, on a disordered block: the corrected gradient
 /// L B is A wherever B is the inverse of M; with the jump reconstructed by it
 /// (MUSCL) the Riemann term leaves no force at all, while the raw jump of the same
-/// field is dissipated. The one walk over the pairs that gives M and L together gives
-/// them bitwise as the two passes do.
+/// field is dissipated. The walk over the pairs that gives M and L together gives M
+/// bitwise as the correction's own pass does.
 fn linear_field_has_exact_gradient_and_no_dissipation<const D: usize>(side: [usize; 3]) {
     let mut blk = Tank::<D>::new(side, 0.1, None);
     let a = Corr::<D>::from_fn(|r, c| [[0.3, -0.7, 0.2], [0.5, -0.1, 0.4], [-0.6, 0.2, 0.1]][r][c]);
@@ -230,7 +230,7 @@ fn linear_field_has_exact_gradient_and_no_dissipation<const D: usize>(side: [usi
     for lanes in levels() {
         let (m, b) = blk.correction(lanes, &src);
         let grad = blk.gradient(lanes, &src, &b);
-        // M and L from one walk over the pairs: bitwise the two passes'
+        // M from the walk that takes L too: bitwise the correction pass's, and so ∇v
         let (mf, gf) = blk.fused(lanes, &src);
         let corr_bits = |v: &[Corr<D>]| -> Vec<u64> {
             v.iter()
