@@ -246,11 +246,14 @@ impl Table {
         self.expose(1, Owner::Totals, |_| what.to_string());
     }
 
-    /// The FMU names of the last `n` observables with `from` replaced by `to`.
+    /// The FMU names of the last `n` observables, which start with `from`, start with
+    /// `to` instead.
     fn rename(&mut self, n: usize, from: &str, to: &str) {
         let k = self.rows.len() - n;
         for o in &mut self.rows[k..] {
-            o.fmu_name = o.fmu_name.replacen(from, to, 1);
+            if let Some(rest) = o.fmu_name.strip_prefix(from) {
+                o.fmu_name = format!("{to}{rest}");
+            }
         }
     }
 
@@ -637,7 +640,7 @@ fn body(t: &mut Table, (k, b): (usize, &str), water: bool) {
     t.axes(&format!("{b}.mean_force"), Unit::Force, move |s| {
         of(s, |b| b.mean_force)
     });
-    t.rename(d, "mean_force", "force");
+    t.rename(d, &format!("{b}.mean_force"), &format!("{b}.force"));
     t.expose(d, owner, |_| {
         format!(
             "body `{b}`: load from grains and contacts, impulse over the step / step, \
@@ -647,7 +650,8 @@ fn body(t: &mut Table, (k, b): (usize, &str), water: bool) {
     t.rotation(&format!("{b}.mean_torque"), Unit::Moment, move |s| {
         of(s, |b| b.mean_torque)
     });
-    t.rename(rotations(d), "mean_torque", "torque");
+    let (from, to) = (format!("{b}.mean_torque"), format!("{b}.torque"));
+    t.rename(rotations(d), &from, &to);
     t.expose(rotations(d), owner, |_| {
         format!("body `{b}`: torque about the centre of mass, step-averaged")
     });
