@@ -31,15 +31,17 @@ pub(crate) struct SphinxsysWave {
 /// Period and decay of a probe's height `h(t)` about its mean, from its first crossing
 /// of the mean on (the record starts at a trough, where [`damped`] expects a zero).
 pub(crate) fn fit(series: &[(f64, f64)]) -> Option<Oscillation> {
-    if series.is_empty() {
-        return None;
-    }
-    let mean = series.iter().map(|p| p.1).sum::<f64>() / series.len() as f64;
-    let about: Vec<(f64, f64)> = series.iter().map(|&(t, h)| (t, h - mean)).collect();
+    let about = about_mean(series);
     let first = about
         .windows(2)
         .position(|w| w[0].1.signum() != w[1].1.signum())?;
     damped(&about[first + 1..])
+}
+
+/// The series `h(t)` less its mean.
+fn about_mean(series: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let mean = series.iter().map(|p| p.1).sum::<f64>() / series.len().max(1) as f64;
+    series.iter().map(|&(t, h)| (t, h - mean)).collect()
 }
 
 /// Where the record lies: `models/reference` beside the scenes folder `scenes`.
@@ -132,18 +134,14 @@ impl SphinxsysWave {
     /// Both heights about their means against time, in one panel.
     pub(crate) fn plot(&self, samples: &[Sample], png: &Path, title: &str) -> Result<()> {
         use crate::plot::{Curve, Panel};
-        let about = |s: &[(f64, f64)]| -> Vec<(f64, f64)> {
-            let mean = s.iter().map(|p| p.1).sum::<f64>() / s.len().max(1) as f64;
-            s.iter().map(|&(t, h)| (t, h - mean)).collect()
-        };
         let curves = vec![
             Curve {
                 label: "granmix, gauge at x = 1 m".into(),
-                points: about(&Self::simulated(samples)),
+                points: about_mean(&Self::simulated(samples)),
             },
             Curve {
                 label: "SPHinXsys, probe at x = 1 m".into(),
-                points: about(&self.record),
+                points: about_mean(&self.record),
             },
         ];
         let panel = Panel {
