@@ -2,7 +2,7 @@
 //! building it (core/src/estimate/mod.rs), and refuse it when it exceeds the memory budget.
 //! `--exact` builds it and prints the exact counts.
 
-use crate::run::load;
+use crate::run::load_budgeted;
 use anyhow::{bail, Result};
 use granmix_core::estimate::budget::{budget, human_bytes, over_budget, passes};
 use granmix_core::estimate::{estimate, rest_dt, RestDt};
@@ -19,8 +19,8 @@ const NOMINAL_PSS_PER_CORE: [f64; 2] = [1.5e6, 0.35e6];
 /// Bodies listed one by one; the rest are summed.
 const LISTED: usize = 12;
 
-pub fn check(scene: &Path, set: &[String], exact: bool) -> Result<()> {
-    let loaded = load(scene, set)?;
+pub fn check(scene: &Path, set: &[String], exact: bool, flag: Option<f64>) -> Result<()> {
+    let loaded = load_budgeted(scene, set, flag)?;
     let s = &loaded.scene.simulation;
     println!("{}: valid {}D scene", scene.display(), s.dimension);
     if let Some(p) = &s.periodic {

@@ -104,7 +104,16 @@ fn main() -> ExitCode {
     // worker begins at once on that thread, while one started from outside the pool
     // is handed over to a sleeping worker and back (two thread switches per loop; on
     // one thread an eighth of a 5,000-particle run went to the scheduler).
-    let n = cli.threads.unwrap_or(0);
+    let n = match (cli.threads, std::thread::available_parallelism()) {
+        (Some(n), Ok(cores)) if n > cores.get() => {
+            eprintln!(
+                "warning: --threads {n} is more than this machine's {cores} cores; using {cores} \
+                 (results are identical for any count)"
+            );
+            cores.get()
+        }
+        (n, _) => n.unwrap_or(0),
+    };
     if let Err(e) = rayon::ThreadPoolBuilder::new()
         .num_threads(n)
         .stack_size(WORKER_STACK)
@@ -131,14 +140,6 @@ fn parse_size(text: &str) -> Result<f64, granmix_core::estimate::budget::SizeErr
     granmix_core::estimate::budget::parse_bytes(text)
 }
 
-/// The scene overrides with the memory budget, if given, as `simulation.memory_budget`.
-fn with_budget(mut set: Vec<String>, budget: Option<f64>) -> Vec<String> {
-    if let Some(b) = budget {
-        set.push(format!("simulation.memory_budget={b:?}"));
-    }
-    set
-}
-
 fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
     match cmd {
         Command::Run {
@@ -153,7 +154,6 @@ fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
             record,
             memory_budget,
         } => {
-            let set = with_budget(set, memory_budget);
             let out = out.unwrap_or_else(|| {
                 PathBuf::from("out").join(
                     scene
@@ -182,6 +182,7 @@ fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
                 publish,
                 publish_every,
                 record,
+                memory_budget,
             })?;
             if let Some(b) = rep.blowup {
                 eprintln!("error: {b}");
@@ -201,7 +202,7 @@ fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
             exact,
             memory_budget,
         } => {
-            check::check(&scene, &with_budget(set, memory_budget), exact)?;
+            check::check(&scene, &set, exact, memory_budget)?;
             Ok(ExitCode::SUCCESS)
         }
         Command::Bench(args) => bench::bench(&args),

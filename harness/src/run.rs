@@ -37,6 +37,8 @@ pub struct RunOptions {
     pub publish_every: u64,
     /// Record the run to this MCAP file.
     pub record: Option<PathBuf>,
+    /// The memory budget given on the command line (`--memory-budget`), in bytes.
+    pub memory_budget: Option<f64>,
 }
 
 impl RunOptions {
@@ -53,6 +55,7 @@ impl RunOptions {
             publish: None,
             publish_every: 1,
             record: None,
+            memory_budget: None,
         }
     }
 }
@@ -76,11 +79,22 @@ pub fn load(scene: &Path, set: &[String]) -> Result<LoadedScene> {
     load_scene_file(scene, set).map_err(|e| anyhow::anyhow!("{e}"))
 }
 
+/// [`load`], with the memory budget given on the command line in place of the
+/// scene's, named `--memory-budget` in the messages that cite it.
+pub fn load_budgeted(scene: &Path, set: &[String], budget: Option<f64>) -> Result<LoadedScene> {
+    let mut loaded = load(scene, set)?;
+    if let Some(b) = budget {
+        loaded.scene.simulation.memory_budget = b;
+        loaded.scene.simulation.memory_budget_origin = Some("--memory-budget".into());
+    }
+    Ok(loaded)
+}
+
 /// Run a scene to its end: load and build it, step it feeding the sinks (CSV series,
 /// VTK, the particle channel, the MCAP recording), then write summary.json, bodies.json
 /// and the quick-look plot.
 pub fn run(opts: &RunOptions) -> Result<RunReport> {
-    let loaded = load(&opts.scene, &opts.set)?;
+    let loaded = load_budgeted(&opts.scene, &opts.set, opts.memory_budget)?;
     let mut sim = AnySimulation::new(&loaded).map_err(|e| anyhow::anyhow!("{e}"))?;
     std::fs::create_dir_all(&opts.out)
         .with_context(|| format!("cannot create output directory {}", opts.out.display()))?;

@@ -154,6 +154,7 @@ fn cases() -> Vec<Case> {
             "max = [0.5, 0.5] }\nvelocity = [5.0, 0.0]",
         )
     };
+    let deep = format!("{}=1", vec!["a"; 3000].join("."));
     let mut probes = tank.clone();
     for i in 0..250_000 {
         probes.push_str(&format!(
@@ -260,6 +261,56 @@ fn cases() -> Vec<Case> {
             &[],
             &["`dp`", "column_collapse_2d.toml:14"],
         ),
+        // issue 74: check said valid, the first step blew up, or the run went on in nonsense
+        case("set_key_path_3000_deep", col2.clone(), &[deep.as_str()], &["segments"]),
+        case("region_faster_than_max_speed", col2.clone(), &["regions[0].velocity=[200.0, 0.0]"], &["regions[0].velocity", "max_speed"]),
+        case("water_region_faster_than_max_speed", tank.clone(), &["water.regions[0].velocity=[0.0, 200.0]"], &["water.regions[0].velocity", "max_speed"]),
+        case(
+            "two_identical_regions",
+            format!("{col2}\n[[regions]]\nname = \"again\"\nmaterial = \"aluminium_bars\"\n{box2}\n"),
+            &[],
+            &["regions[1].shape", "column", "again", "overlap"],
+        ),
+        case(
+            "two_identical_water_regions",
+            format!("{tank}\n[[water.regions]]\nname = \"again\"\nshape = {{ type = \"box\", min = [0.0, 0.0], max = [0.5, 0.5] }}\n"),
+            &[],
+            &["water.regions[1].shape", "overlap"],
+        ),
+        case("friction_angle_1e-300", col2.clone(), &["materials[0].friction_angle=1e-300"], &["materials[0].friction_angle"]),
+        case("body_holding_no_particle", boulder.clone(), &["bodies[0].shape.radius=0.001"], &["bodies[0].shape", "particle"]),
+        case(
+            "two_overlapping_bodies",
+            format!("{boulder}\n[[bodies]]\nname = \"twin\"\nmaterial = \"float\"\nmodel = \"rigid\"\nshape = {{ type = \"sphere\", center = [0.32, 0.3], radius = 0.05 }}\n"),
+            &[],
+            &["bodies[1].shape", "disc", "twin", "overlapping"],
+        ),
+        case(
+            "plane_normal_of_length_1e200",
+            format!("{col2}\n[[walls]]\nname = \"slope\"\nshape = {{ type = \"plane\", point = [0.5, 0.0], normal = [1e200, 1e200], half_extent = 0.5 }}\n"),
+            &[],
+            &["walls[0].shape.normal", "length"],
+        ),
+        case(
+            "outflow_normal_of_length_1e200",
+            format!("{tank}\n[[water.outflows]]\nname = \"drain\"\npoint = [0.5, 0.0]\nnormal = [1e200, 1e200]\n"),
+            &[],
+            &["water.outflows[0].normal", "length"],
+        ),
+        case("negative_wall_friction", col2.clone(), &["numerics.wall_friction=-0.5"], &["numerics.wall_friction"]),
+        case(
+            "two_probes_of_one_name",
+            format!("{tank}\n[[probes]]\nname = \"mid\"\nposition = [0.25, 0.1]\n"),
+            &[],
+            &["probes[1].name", "probes[0].name"],
+        ),
+        case(
+            "a_probe_named_as_a_body",
+            format!("{boulder}\n[[probes]]\nname = \"disc\"\nposition = [0.1, 0.1]\n"),
+            &[],
+            &["`disc`", "bodies[0].name", "namespace"],
+        ),
+        case("a_probe_named_water", edit(&tank, "name = \"mid\"", "name = \"water\""), &[], &["probes[0].name", "series' own columns"]),
         case("set_value_out_of_range", col2.clone(), &["simulation.dp=-1"], &["--set simulation.dp=-1"]),
         case("set_value_of_wrong_type", col2, &["simulation.cfl=\"x\""], &["--set simulation.cfl=\"x\""]),
     ]

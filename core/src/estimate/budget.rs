@@ -30,19 +30,23 @@ pub struct Budget {
 pub fn budget(scene: &Scene) -> Budget {
     let set = scene.simulation.memory_budget;
     if set > 0.0 {
+        let name = scene
+            .simulation
+            .memory_budget_origin
+            .clone()
+            .unwrap_or_else(|| "simulation.memory_budget".into());
         return match machine_bytes() {
             Some(m) if set > m => Budget {
                 bytes: m,
                 origin: format!(
-                    "this machine's {} of memory and swap: simulation.memory_budget = {} \
-                     is beyond it",
+                    "this machine's {} of memory and swap: {name} = {} is beyond it",
                     human_bytes(m),
                     human_bytes(set)
                 ),
             },
             _ => Budget {
                 bytes: set,
-                origin: "simulation.memory_budget".into(),
+                origin: name,
             },
         };
     }

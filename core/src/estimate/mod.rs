@@ -196,7 +196,8 @@ fn has_inflows(scene: &Scene) -> bool {
 }
 
 /// The part of the scene that would hold no particle at its dp, by the estimate: the
-/// first region or water region whose count is below one, with the build's message.
+/// first region or water region whose count is below one, or body that holds fewer
+/// than two particles, with the build's message.
 pub fn empty_part(scene: &Scene, e: &Estimate) -> Option<KeyError> {
     let regions = scene.regions.iter().map(|r| ("regions", "region", &r.name));
     let water = scene
@@ -214,6 +215,35 @@ pub fn empty_part(scene: &Scene, e: &Estimate) -> Option<KeyError> {
             ));
         }
         *i += 1;
+    }
+    match scene.simulation.dimension {
+        2 => empty_body::<2>(scene, e),
+        _ => empty_body::<3>(scene, e),
+    }
+}
+
+/// The first body whose lattice fill at spacing `dp` holds fewer than the two
+/// particles a body needs (the build's test, [`Shape::body_fill`]), with the build's
+/// message. Only the bodies the estimate `e` puts under 64 particles are filled: the
+/// others hold particles.
+fn empty_body<const D: usize>(scene: &Scene, e: &Estimate) -> Option<KeyError> {
+    let dp = e.dp;
+    for ((i, b), (_, n)) in scene.bodies.iter().enumerate().zip(&e.bodies) {
+        if *n >= 64.0 {
+            continue;
+        }
+        let shape = Shape::<D>::from_spec(&b.shape, &scene.assets);
+        let n = shape.body_fill(dp).len();
+        if n < 2 {
+            return Some(KeyError::new(
+                format!("bodies[{i}].shape"),
+                format!(
+                    "body `{}` holds {n} particle(s) at dp = {dp} m; it needs at least 2 \
+                     (enlarge it or refine dp)",
+                    b.name
+                ),
+            ));
+        }
     }
     None
 }

@@ -5,7 +5,8 @@
 //!
 //! Each body is sampled on a grid of points over its bounding ball (its pose applied);
 //! a point deeper than dp/2 inside both the body and a wall's particle layers is an
-//! overlap. Bodies only touching a wall (resting on a floor) pass.
+//! overlap. Bodies only touching a wall (resting on a floor) pass. Two bodies that
+//! start overlapping each other are refused alike, with both names.
 
 use crate::geometry::{tangent_basis, Shape};
 use crate::numerics::math::{from3, to3, Real, Vect};
@@ -43,6 +44,75 @@ fn check_in<const D: usize>(scene: &Scene, dp: Real) -> Result<(), KeyError> {
     let walls = walls::<D>(scene, depth, margin);
     for (i, b) in scene.bodies.iter().enumerate() {
         check_body(scene, (i, b), &walls, margin)?;
+    }
+    check_pairs::<D>(scene, margin)
+}
+
+/// A body as the pair test sees it: its signed distance (pose applied) and its
+/// bounding box.
+struct Posed<const D: usize> {
+    sdf: Box<dyn Fn(&Vect<D>) -> Real>,
+    lo: Vect<D>,
+    hi: Vect<D>,
+}
+
+/// Refuse the first two bodies that start overlapping: a point of a grid over the
+/// overlap of their bounding boxes deeper than `margin` inside both. Their particles
+/// would interpenetrate, and two rigid bodies would stay glued as one (issue 74).
+/// Bodies that only touch pass.
+fn check_pairs<const D: usize>(scene: &Scene, margin: Real) -> Result<(), KeyError> {
+    let posed: Vec<Posed<D>> = scene
+        .bodies
+        .iter()
+        .map(|b| {
+            let shape = Shape::<D>::from_spec(&b.shape, &scene.assets);
+            let (lo, hi) = shape.bounds();
+            let c = shape.center();
+            let r = (hi - lo).norm() * 0.5;
+            let rot = spec_rotation(b, D).inverse();
+            let c3 = to3(&c);
+            Posed {
+                sdf: Box::new(move |p: &Vect<D>| {
+                    shape.sdf(&from3::<D>(&(c3 + rot * (to3(p) - c3))))
+                }),
+                lo: c.add_scalar(-r),
+                hi: c.add_scalar(r),
+            }
+        })
+        .collect();
+    let m = PER_AXIS[D - 2];
+    for i in 0..posed.len() {
+        for j in i + 1..posed.len() {
+            let (a, b) = (&posed[i], &posed[j]);
+            let (lo, hi) = (a.lo.sup(&b.lo), a.hi.inf(&b.hi));
+            if (0..D).any(|k| hi[k] - lo[k] <= 2.0 * margin) {
+                continue;
+            }
+            let step = (hi - lo) / m as Real;
+            let hit = (0..m.pow(D as u32)).find_map(|n| {
+                let mut p = lo;
+                let mut rest = n;
+                for k in 0..D {
+                    p[k] += ((rest % m) as Real + 0.5) * step[k];
+                    rest /= m;
+                }
+                ((a.sdf)(&p) < -margin && (b.sdf)(&p) < -margin).then_some(p)
+            });
+            if let Some(p) = hit {
+                let (bi, bj) = (&scene.bodies[i], &scene.bodies[j]);
+                return Err(KeyError::new(
+                    format!("bodies[{j}].shape"),
+                    format!(
+                        "bodies `{}` and `{}` start overlapping (at {:?}): their particles \
+                         would interpenetrate, and rigid bodies would move glued together; \
+                         move them apart",
+                        bi.name,
+                        bj.name,
+                        p.as_slice()
+                    ),
+                ));
+            }
+        }
     }
     Ok(())
 }

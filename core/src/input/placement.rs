@@ -1,7 +1,10 @@
-//! Where regions lie: a region that no container can hold is refused at load.
+//! Where regions lie: a region that no container can hold is refused at load, and so
+//! are two regions of the same family (fine grains, or water) that overlap: each
+//! fills its own lattice, so the overlap would hold two particles on every site, and
+//! the first step blows up on pairs at zero distance.
 
 use crate::geometry::Shape;
-use crate::scene::{ContainerSpec, KeyError, Scene};
+use crate::scene::{ContainerSpec, KeyError, Scene, ShapeSpec};
 
 const AXES: [&str; 3] = ["x", "y", "z"];
 
@@ -16,6 +19,16 @@ pub fn check_regions(scene: &Scene) -> Result<(), KeyError> {
 }
 
 fn check_in<const D: usize>(scene: &Scene) -> Result<(), KeyError> {
+    let fine: Vec<(String, &str, &ShapeSpec)> = (scene.regions.iter().enumerate())
+        .map(|(i, r)| (format!("regions[{i}]"), r.name.as_str(), &r.shape))
+        .collect();
+    overlaps::<D>(scene, &fine)?;
+    if let Some(w) = &scene.water {
+        let water: Vec<(String, &str, &ShapeSpec)> = (w.regions.iter().enumerate())
+            .map(|(i, r)| (format!("water.regions[{i}]"), r.name.as_str(), &r.shape))
+            .collect();
+        overlaps::<D>(scene, &water)?;
+    }
     if scene.containers.is_empty() {
         return Ok(());
     }
@@ -35,6 +48,58 @@ fn check_in<const D: usize>(scene: &Scene) -> Result<(), KeyError> {
                     beyond.join(" and ")
                 ),
             ));
+        }
+    }
+    Ok(())
+}
+
+/// Sample points per axis over the overlap of two regions' boxes.
+const PER_AXIS: [usize; 2] = [64, 20];
+
+/// Refuse the first two of `regions` (key path, name, shape) that overlap: a point of
+/// a grid over the overlap of their bounding boxes deeper than dp/2 inside both.
+/// Regions that only touch (a layer on a layer) pass.
+fn overlaps<const D: usize>(
+    scene: &Scene,
+    regions: &[(String, &str, &ShapeSpec)],
+) -> Result<(), KeyError> {
+    let margin = 0.5 * scene.simulation.dp;
+    let shapes: Vec<Shape<D>> = regions
+        .iter()
+        .map(|r| Shape::<D>::from_spec(r.2, &scene.assets))
+        .collect();
+    let bounds: Vec<_> = shapes.iter().map(|s| s.bounds()).collect();
+    let m = PER_AXIS[D - 2];
+    for i in 0..shapes.len() {
+        for j in i + 1..shapes.len() {
+            let lo = bounds[i].0.sup(&bounds[j].0);
+            let hi = bounds[i].1.inf(&bounds[j].1);
+            if (0..D).any(|k| hi[k] - lo[k] <= 2.0 * margin) {
+                continue;
+            }
+            let step = (hi - lo) / m as f64;
+            let hit = (0..m.pow(D as u32)).find_map(|n| {
+                let mut p = lo;
+                let mut rest = n;
+                for k in 0..D {
+                    p[k] += ((rest % m) as f64 + 0.5) * step[k];
+                    rest /= m;
+                }
+                (shapes[i].sdf(&p) < -margin && shapes[j].sdf(&p) < -margin).then_some(p)
+            });
+            if let Some(p) = hit {
+                return Err(KeyError::new(
+                    format!("{}.shape", regions[j].0),
+                    format!(
+                        "regions `{}` and `{}` overlap (at {:?}): each fills its own lattice, \
+                         so the overlap would hold two particles on every site; make them \
+                         meet at a face, or cut one out of the other",
+                        regions[i].1,
+                        regions[j].1,
+                        p.as_slice()
+                    ),
+                ));
+            }
         }
     }
     Ok(())

@@ -657,3 +657,34 @@ fn body(t: &mut Table, (k, b): (usize, &str), water: bool) {
     });
     t.fmu_only(d + rotations(d));
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::names_check::RESERVED;
+
+    /// Every column of the series' own (no barrier, probe, gauge or body) that has
+    /// parts begins with a name the scene reserves, so no output name can share it.
+    #[test]
+    fn the_series_own_columns_with_parts_begin_with_reserved_names() {
+        for dim in [2, 3] {
+            let l = Layout {
+                dim,
+                fine: true,
+                water: true,
+                barriers: Vec::new(),
+                probes: Vec::new(),
+                gauges: Vec::new(),
+                bodies: Vec::new(),
+            };
+            for o in all(&l) {
+                let fmu = o.fmu.as_ref().map(|f| f.name.clone());
+                for name in std::iter::once(o.name.clone()).chain(fmu) {
+                    if let Some((first, _)) = name.split_once('.') {
+                        assert!(RESERVED.contains(&first), "{name}: `{first}` not reserved");
+                    }
+                }
+            }
+        }
+    }
+}

@@ -3,7 +3,8 @@
 
 pub mod build_error;
 mod error;
-mod names_check;
+pub mod names_check;
+mod one_or_many;
 mod periodic_check;
 mod polygon_check;
 mod pores_check;

@@ -63,11 +63,64 @@ fn names(s: &Scene) -> Vec<(String, &str)> {
     v
 }
 
-/// Refuse the first unsafe name.
+/// The first segments of the series' own columns that have parts (`water.max_speed`,
+/// `momentum.x`, `kinetic_energy.water`, `steps.fine`, `density_ratio.mean`): an output
+/// name equal to one could share a column. The observables' test checks the list.
+pub const RESERVED: [&str; 5] = [
+    "water",
+    "momentum",
+    "kinetic_energy",
+    "steps",
+    "density_ratio",
+];
+
+/// The families whose names begin output columns and FMU variables
+/// (`<probe>.pressure`, `<barrier>.force.x`, `<body>.position.x`, `<gauge>.level`):
+/// one namespace across them all.
+const OUTPUT_FAMILIES: [&str; 6] = [
+    "probes",
+    "gauges",
+    "bodies",
+    "barriers",
+    "walls",
+    "containers",
+];
+
+/// Refuse the first unsafe name, then the first output name used twice (within one
+/// family or across them) or taken by the series' own columns.
 pub(super) fn validate_names(s: &Scene) -> Check {
-    for (key, name) in names(s) {
+    let all = names(s);
+    for (key, name) in &all {
         if let Some(why) = unsafe_name(name) {
-            return fail(key, why);
+            return fail(key.clone(), why);
+        }
+    }
+    let mut seen: std::collections::HashMap<&str, &str> = std::collections::HashMap::new();
+    let outputs = all.iter().filter(|(key, _)| {
+        OUTPUT_FAMILIES
+            .iter()
+            .any(|f| key.strip_prefix(f).is_some_and(|r| r.starts_with('[')))
+    });
+    for (key, name) in outputs {
+        if RESERVED.contains(name) {
+            return fail(
+                key.clone(),
+                format!(
+                    "`{name}` is the name of the series' own columns ({name}.…); rename it \
+                     (reserved: {})",
+                    RESERVED.join(", ")
+                ),
+            );
+        }
+        if let Some(first) = seen.insert(name, key) {
+            return fail(
+                key.clone(),
+                format!(
+                    "`{name}` is also {first}: probes, gauges, bodies, barriers, walls and \
+                     containers share one namespace, since their names begin the columns of \
+                     series.csv and the FMU's variables; rename one"
+                ),
+            );
         }
     }
     Ok(())

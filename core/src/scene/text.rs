@@ -206,6 +206,11 @@ pub fn locate(text: &str, path: &str) -> Option<usize> {
     best
 }
 
+/// The deepest key path an override may name: the schema's deepest keys are five
+/// segments (`water.regions[0].shape.min`), and a path thousands deep would build a
+/// table that the parser then refuses as the scene file's fault.
+const MAX_KEY_DEPTH: usize = 16;
+
 /// Apply `key.path=value` overrides. The value is parsed as TOML (`0.3`, `[1, 2]`,
 /// `"name"`, `true`), falling back to a bare string.
 pub fn apply_overrides(text: &str, file: &str, overrides: &[String]) -> Result<String, SceneError> {
@@ -239,6 +244,13 @@ pub fn apply_overrides(text: &str, file: &str, overrides: &[String]) -> Result<S
         }
         if let Some(bad) = empty_segment(key.trim()) {
             return Err(err(bad));
+        }
+        if segs.len() > MAX_KEY_DEPTH {
+            return Err(err(format!(
+                "a key path of {} segments: no scene key is more than {MAX_KEY_DEPTH} deep \
+                 (e.g. water.regions[0].shape.min)",
+                segs.len()
+            )));
         }
         set_path(doc.as_item_mut(), &segs, value).map_err(|e| err(e.to_string()))?;
     }

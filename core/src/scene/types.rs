@@ -100,6 +100,11 @@ pub struct SimulationSpec {
     /// before any particle is built. 0 (default): 80 % of the machine's available memory.
     #[serde(default)]
     pub memory_budget: f64,
+    /// Where a set `memory_budget` came from, as messages name it: the scene key
+    /// (`None`), or what the caller gave it as (e.g. `--memory-budget` on the command
+    /// line, the FMU parameter `memory_budget`). Not a scene key.
+    #[serde(skip)]
+    pub memory_budget_origin: Option<String>,
     /// A periodic axis: the domain repeats between `min` and `max` along it (water
     /// scenes, e.g. channel flow between plates). Off by default.
     #[serde(default)]
@@ -453,6 +458,7 @@ pub enum ShapeSpec {
     Plane {
         point: Vec<f64>,
         normal: Vec<f64>,
+        #[serde(deserialize_with = "super::one_or_many::numbers")]
         half_extent: Vec<f64>,
     },
 }
@@ -583,7 +589,7 @@ pub struct BodySpec {
     pub shape: ShapeSpec,
     /// Rotation of the shape about its centre: an angle in 2D (degrees, counter-clockwise),
     /// or `[rx, ry, rz]` in 3D (degrees, applied about x, then y, then z). Default none.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "super::one_or_many::some_numbers")]
     pub rotation: Option<Vec<f64>>,
     /// Initial velocity (m/s). Default at rest.
     #[serde(default)]

@@ -26,6 +26,55 @@ pub(super) fn vec_len(path: &str, v: &[f64], d: usize) -> Check {
     Ok(())
 }
 
+/// The least friction angle (degrees) a soil may have: far below it, tan φ and the
+/// Drucker–Prager constants underflow (φ = 1e-300° gave a NaN density at step 2).
+pub const MIN_FRICTION_ANGLE: f64 = 1e-3;
+
+/// Lengths a direction (a plane's or an outflow's normal) may have: it is normalised
+/// before use, which a length beyond this range would turn into zeros or infinities
+/// (|[1e200, 1e200]|² overflows, and the wall collapsed to a point).
+pub const DIRECTION_LENGTH: [f64; 2] = [1e-10, 1e10];
+
+/// A direction of `d` finite components whose length lies in [`DIRECTION_LENGTH`].
+pub(super) fn direction(path: &str, v: &[f64], d: usize) -> Check {
+    vec_len(path, v, d)?;
+    let len = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let [lo, hi] = DIRECTION_LENGTH;
+    if len == 0.0 {
+        return fail(path, "must not be zero: it is a direction, e.g. [0.0, 1.0]");
+    }
+    if !(len >= lo && len <= hi) {
+        return fail(
+            path,
+            format!(
+                "a direction of length {len:?}: give one of ordinary size (between {lo:?} and \
+                 {hi:?}, e.g. [0.0, 1.0]); it is normalised before use"
+            ),
+        );
+    }
+    Ok(())
+}
+
+/// An initial velocity (of a region, a body or water): `d` finite components, its
+/// speed within `simulation.max_speed`, which the stability guard would stop the first
+/// step at.
+pub(super) fn initial_velocity(path: &str, v: &[f64], s: &Scene) -> Check {
+    vec_len(path, v, s.simulation.dimension)?;
+    let speed = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if speed > s.simulation.max_speed {
+        return fail(
+            path,
+            format!(
+                "speed {speed} m/s exceeds simulation.max_speed = {} m/s (the stability \
+                 guard's bound, which would stop the first step); raise max_speed for a \
+                 faster start",
+                s.simulation.max_speed
+            ),
+        );
+    }
+    Ok(())
+}
+
 /// A positive, finite number of normal size (a sub-normal value such as 1e-310 has
 /// lost its precision and is no length, time or speed the solver can work with).
 pub(super) fn positive(path: &str, x: f64) -> Check {
@@ -231,10 +280,7 @@ fn validate_plane(
     d: usize,
 ) -> Check {
     vec_len(&format!("{path}.point"), point, d)?;
-    vec_len(&format!("{path}.normal"), normal, d)?;
-    if normal.iter().map(|x| x * x).sum::<f64>() < 1e-24 {
-        return fail(format!("{path}.normal"), "normal must be non-zero");
-    }
+    direction(&format!("{path}.normal"), normal, d)?;
     if half_extent.len() != d - 1 {
         return fail(
             format!("{path}.half_extent"),
@@ -388,6 +434,15 @@ fn validate_numerics(s: &Scene) -> Check {
             return fail("numerics.eta", format!("must be ≥ 0, found {eta:?}"));
         }
     }
+    if !(n.wall_friction >= 0.0 && n.wall_friction.is_finite()) {
+        return fail(
+            "numerics.wall_friction",
+            format!(
+                "must be ≥ 0 (a Coulomb coefficient μ_w; 0: frictionless walls), found {:?}",
+                n.wall_friction
+            ),
+        );
+    }
     if !(n.stress_diffusion >= 0.0 && n.stress_diffusion.is_finite()) {
         return fail("numerics.stress_diffusion", "must be ≥ 0");
     }
@@ -482,10 +537,14 @@ fn validate_materials_and_regions(s: &Scene) -> Result<HashSet<&str>, KeyError> 
                      block, whose μ_s sets it)",
                 )
             }
-            (Some(phi), _) if !(phi > 0.0 && phi < 90.0) => {
+            (Some(phi), _) if !(MIN_FRICTION_ANGLE..90.0).contains(&phi) => {
                 return fail(
                     format!("{p}.friction_angle"),
-                    format!("must lie in (0, 90) degrees, found {phi:?}"),
+                    format!(
+                        "must lie in [{MIN_FRICTION_ANGLE:?}, 90) degrees (below, the yield \
+                         surface's products underflow and the first step gives NaN), found \
+                         {phi:?}"
+                    ),
                 );
             }
             _ => {}
@@ -497,6 +556,15 @@ fn validate_materials_and_regions(s: &Scene) -> Result<HashSet<&str>, KeyError> 
             );
         }
         let phi = m.static_friction_angle();
+        if m.friction_angle.is_none() && (phi.is_nan() || phi < MIN_FRICTION_ANGLE) {
+            return fail(
+                format!("{p}.mu_i.mu_s"),
+                format!(
+                    "gives a friction angle of {phi:?} degrees, below {MIN_FRICTION_ANGLE:?} \
+                     (the yield surface's products underflow and the first step gives NaN)"
+                ),
+            );
+        }
         if !(m.dilation_angle >= 0.0 && m.dilation_angle <= phi) {
             return fail(
                 format!("{p}.dilation_angle"),
@@ -532,7 +600,7 @@ fn validate_materials_and_regions(s: &Scene) -> Result<HashSet<&str>, KeyError> 
         }
         validate_solid_shape(&format!("{p}.shape"), &r.shape, d, "hold particles")?;
         if let Some(v) = &r.velocity {
-            vec_len(&format!("{p}.velocity"), v, d)?;
+            initial_velocity(&format!("{p}.velocity"), v, s)?;
         }
     }
     Ok(names)
@@ -659,18 +727,7 @@ fn validate_coarse(s: &Scene, fine_names: &HashSet<&str>) -> Check {
             vec_len(&format!("{p}.rotation"), r, if d == 2 { 1 } else { 3 })?;
         }
         if let Some(v) = &b.velocity {
-            vec_len(&format!("{p}.velocity"), v, d)?;
-            let speed = v.iter().map(|x| x * x).sum::<f64>().sqrt();
-            if speed > s.simulation.max_speed {
-                return fail(
-                    format!("{p}.velocity"),
-                    format!(
-                        "speed {speed} m/s exceeds simulation.max_speed = {} m/s (the \
-                         stability guard's bound); raise max_speed for a faster impact",
-                        s.simulation.max_speed
-                    ),
-                );
-            }
+            initial_velocity(&format!("{p}.velocity"), v, s)?;
         }
         if let Some(w) = &b.angular_velocity {
             vec_len(

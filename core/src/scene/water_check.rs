@@ -3,7 +3,9 @@
 //! when the water is filled ([`world`](crate::world)); a scale given in the scene is
 //! checked here.
 
-use super::validate::{density, fail, positive, validate_solid_shape, vec_len, Check};
+use super::validate::{
+    density, direction, fail, initial_velocity, positive, validate_solid_shape, vec_len, Check,
+};
 use super::{validate_shape, Scene, ShapeSpec};
 use std::collections::HashSet;
 
@@ -76,10 +78,7 @@ fn validate_open_boundaries(s: &Scene) -> Check {
     for (i, o) in w.outflows.iter().enumerate() {
         let p = format!("water.outflows[{i}]");
         vec_len(&format!("{p}.point"), &o.point, d)?;
-        vec_len(&format!("{p}.normal"), &o.normal, d)?;
-        if o.normal.iter().all(|x| *x == 0.0) {
-            return fail(format!("{p}.normal"), "must not be zero");
-        }
+        direction(&format!("{p}.normal"), &o.normal, d)?;
     }
     Ok(())
 }
@@ -149,7 +148,7 @@ pub(super) fn validate_water(s: &Scene) -> Check {
         }
         validate_solid_shape(&format!("{p}.shape"), &r.shape, d, "hold water")?;
         if let Some(v) = &r.velocity {
-            vec_len(&format!("{p}.velocity"), v, d)?;
+            initial_velocity(&format!("{p}.velocity"), v, s)?;
         }
     }
     Ok(())
