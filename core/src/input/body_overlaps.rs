@@ -8,12 +8,10 @@
 //! overlap. Bodies only touching a wall (resting on a floor) pass. Two bodies that
 //! start overlapping each other are refused alike, with both names.
 
+use super::grid_probe;
 use crate::geometry::{tangent_basis, Shape};
 use crate::numerics::math::{from3, to3, Real, Vect};
 use crate::scene::{spec_rotation, BodySpec, ContainerSpec, KeyError, Scene};
-
-/// Sample points per axis over a body's bounding ball.
-const PER_AXIS: [usize; 2] = [64, 20];
 
 /// Refuse the first body that starts inside a wall, barrier or container face.
 pub fn check_bodies(scene: &Scene, dp: Real) -> Result<(), KeyError> {
@@ -48,12 +46,29 @@ fn check_in<const D: usize>(scene: &Scene, dp: Real) -> Result<(), KeyError> {
     check_pairs::<D>(scene, margin)
 }
 
-/// A body as the pair test sees it: its signed distance (pose applied) and its
-/// bounding box.
+/// A body as the overlap tests see it: its signed distance with its pose applied, and
+/// the box around its bounding ball.
 struct Posed<const D: usize> {
     sdf: Box<dyn Fn(&Vect<D>) -> Real>,
     lo: Vect<D>,
     hi: Vect<D>,
+}
+
+impl<const D: usize> Posed<D> {
+    fn of(scene: &Scene, b: &BodySpec) -> Self {
+        let shape = Shape::<D>::from_spec(&b.shape, &scene.assets);
+        let (lo, hi) = shape.bounds();
+        let c = shape.center();
+        let r = (hi - lo).norm() * 0.5;
+        // the body's own frame: the pose undone about its centre
+        let rot = spec_rotation(b, D).inverse();
+        let c3 = to3(&c);
+        Posed {
+            sdf: Box::new(move |p: &Vect<D>| shape.sdf(&from3::<D>(&(c3 + rot * (to3(p) - c3))))),
+            lo: c.add_scalar(-r),
+            hi: c.add_scalar(r),
+        }
+    }
 }
 
 /// Refuse the first two bodies that start overlapping: a point of a grid over the
@@ -61,26 +76,7 @@ struct Posed<const D: usize> {
 /// would interpenetrate, and two rigid bodies would stay glued as one (issue 74).
 /// Bodies that only touch pass.
 fn check_pairs<const D: usize>(scene: &Scene, margin: Real) -> Result<(), KeyError> {
-    let posed: Vec<Posed<D>> = scene
-        .bodies
-        .iter()
-        .map(|b| {
-            let shape = Shape::<D>::from_spec(&b.shape, &scene.assets);
-            let (lo, hi) = shape.bounds();
-            let c = shape.center();
-            let r = (hi - lo).norm() * 0.5;
-            let rot = spec_rotation(b, D).inverse();
-            let c3 = to3(&c);
-            Posed {
-                sdf: Box::new(move |p: &Vect<D>| {
-                    shape.sdf(&from3::<D>(&(c3 + rot * (to3(p) - c3))))
-                }),
-                lo: c.add_scalar(-r),
-                hi: c.add_scalar(r),
-            }
-        })
-        .collect();
-    let m = PER_AXIS[D - 2];
+    let posed: Vec<Posed<D>> = scene.bodies.iter().map(|b| Posed::of(scene, b)).collect();
     for i in 0..posed.len() {
         for j in i + 1..posed.len() {
             let (a, b) = (&posed[i], &posed[j]);
@@ -88,16 +84,7 @@ fn check_pairs<const D: usize>(scene: &Scene, margin: Real) -> Result<(), KeyErr
             if (0..D).any(|k| hi[k] - lo[k] <= 2.0 * margin) {
                 continue;
             }
-            let step = (hi - lo) / m as Real;
-            let hit = (0..m.pow(D as u32)).find_map(|n| {
-                let mut p = lo;
-                let mut rest = n;
-                for k in 0..D {
-                    p[k] += ((rest % m) as Real + 0.5) * step[k];
-                    rest /= m;
-                }
-                ((a.sdf)(&p) < -margin && (b.sdf)(&p) < -margin).then_some(p)
-            });
+            let hit = grid_probe::first((lo, hi), |p| (a.sdf)(p) < -margin && (b.sdf)(p) < -margin);
             if let Some(p) = hit {
                 let (bi, bj) = (&scene.bodies[i], &scene.bodies[j]);
                 return Err(KeyError::new(
@@ -194,29 +181,13 @@ fn check_body<const D: usize>(
     walls: &[Wall<D>],
     margin: Real,
 ) -> Result<(), KeyError> {
-    let m = PER_AXIS[D - 2];
-    let shape = Shape::<D>::from_spec(&b.shape, &scene.assets);
-    let (lo, hi) = shape.bounds();
-    let c = shape.center();
-    let r = (hi - lo).norm() * 0.5;
-    let (blo, bhi) = (c.add_scalar(-r), c.add_scalar(r));
-    let rot = spec_rotation(b, D);
-    let c3 = to3(&c);
-    // the body's own frame: the pose undone about its centre
-    let body_sdf = |p: &Vect<D>| shape.sdf(&from3::<D>(&(c3 + rot.inverse() * (to3(p) - c3))));
+    let body = Posed::<D>::of(scene, b);
     for w in walls {
-        if (0..D).any(|k| bhi[k] < w.lo[k] || blo[k] > w.hi[k]) {
+        if (0..D).any(|k| body.hi[k] < w.lo[k] || body.lo[k] > w.hi[k]) {
             continue;
         }
-        let step = (bhi - blo) / m as Real;
-        let hit = (0..m.pow(D as u32)).find_map(|n| {
-            let mut p = blo;
-            let mut rest = n;
-            for k in 0..D {
-                p[k] += ((rest % m) as Real + 0.5) * step[k];
-                rest /= m;
-            }
-            (body_sdf(&p) < -margin && (w.inside)(&p)).then_some(p)
+        let hit = grid_probe::first((body.lo, body.hi), |p| {
+            (body.sdf)(p) < -margin && (w.inside)(p)
         });
         if let Some(p) = hit {
             return Err(KeyError::new(

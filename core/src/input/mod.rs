@@ -6,6 +6,7 @@
 //! key and where its value came from (a line of the file, or a `--set` argument).
 
 mod body_overlaps;
+mod grid_probe;
 mod placement;
 mod rocks;
 mod run_length;

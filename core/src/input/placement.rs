@@ -3,6 +3,7 @@
 //! fills its own lattice, so the overlap would hold two particles on every site, and
 //! the first step blows up on pairs at zero distance.
 
+use super::grid_probe;
 use crate::geometry::Shape;
 use crate::scene::{ContainerSpec, KeyError, Scene, ShapeSpec};
 
@@ -53,9 +54,6 @@ fn check_in<const D: usize>(scene: &Scene) -> Result<(), KeyError> {
     Ok(())
 }
 
-/// Sample points per axis over the overlap of two regions' boxes.
-const PER_AXIS: [usize; 2] = [64, 20];
-
 /// Refuse the first two of `regions` (key path, name, shape) that overlap: a point of
 /// a grid over the overlap of their bounding boxes deeper than dp/2 inside both.
 /// Regions that only touch (a layer on a layer) pass.
@@ -69,7 +67,6 @@ fn overlaps<const D: usize>(
         .map(|r| Shape::<D>::from_spec(r.2, &scene.assets))
         .collect();
     let bounds: Vec<_> = shapes.iter().map(|s| s.bounds()).collect();
-    let m = PER_AXIS[D - 2];
     for i in 0..shapes.len() {
         for j in i + 1..shapes.len() {
             let lo = bounds[i].0.sup(&bounds[j].0);
@@ -77,16 +74,8 @@ fn overlaps<const D: usize>(
             if (0..D).any(|k| hi[k] - lo[k] <= 2.0 * margin) {
                 continue;
             }
-            let step = (hi - lo) / m as f64;
-            let hit = (0..m.pow(D as u32)).find_map(|n| {
-                let mut p = lo;
-                let mut rest = n;
-                for k in 0..D {
-                    p[k] += ((rest % m) as f64 + 0.5) * step[k];
-                    rest /= m;
-                }
-                (shapes[i].sdf(&p) < -margin && shapes[j].sdf(&p) < -margin).then_some(p)
-            });
+            let (a, b) = (&shapes[i], &shapes[j]);
+            let hit = grid_probe::first((lo, hi), |p| a.sdf(p) < -margin && b.sdf(p) < -margin);
             if let Some(p) = hit {
                 return Err(KeyError::new(
                     format!("{}.shape", regions[j].0),
