@@ -32,8 +32,11 @@ use thiserror::Error;
 /// | [`FmiError::BadCall`] | fmi2Error | as the call left it |
 /// | [`FmiError::Failed`] | fmi2Error | Error |
 ///
-/// A panic inside a call is not an `FmiError`: it returns fmi2Fatal and puts the instance
-/// in the Fatal state. No call returns fmi2Warning or fmi2Discard, and fmi2Pending never
+/// A panic inside a call (a defect, or a restored state whose meaning the checks of
+/// `fmi2DeSerializeFMUstate` did not catch) is not an `FmiError` either: [`crate::ffi`]
+/// catches it and returns fmi2Error with the panic's message and place, and the instance
+/// goes to the error state as for [`FmiError::Failed`] (no other instance is touched, so
+/// fmi2Fatal would overstate it). No call returns fmi2Warning or fmi2Discard, and fmi2Pending never
 /// happens (steps are synchronous).
 #[derive(Debug, Error)]
 pub enum FmiError {
@@ -120,6 +123,15 @@ pub enum CallError {
     /// The model refused or could not serve the call and is as it was.
     #[error(transparent)]
     Model(#[from] ModelError),
+    /// `fmi2SetupExperiment` with a stop time that is not finite or is before the start.
+    #[error("stop time {stop:?} s is not a finite time at or after the start time {start:?} s")]
+    StopTime { start: f64, stop: f64 },
+    /// `fmi2DoStep` that would end after the experiment's stop time.
+    #[error(
+        "the step from {t:?} s by {h:?} s ends after the experiment's stop time {stop:?} s \
+         (fmi2SetupExperiment)"
+    )]
+    PastStopTime { t: f64, h: f64, stop: f64 },
 }
 
 /// FMI functions granmix does not provide (the capability flags of
@@ -235,6 +247,9 @@ pub enum StateError {
     /// The saved simulation does not fit the scene.
     #[error("serialised state: {0}")]
     Scene(StateMismatch),
+    /// The scene does not build with the parameter values the state was built with.
+    #[error("serialised state: the scene does not build with the state's parameters: {0}")]
+    Parameters(Box<GranularError>),
 }
 
 /// A file that cannot be read.

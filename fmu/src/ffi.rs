@@ -1,6 +1,6 @@
 //! The 34 FMI 2.0 Co-Simulation functions. Every export checks its pointers at run
-//! time, runs inside `catch_unwind` (a panic becomes fmi2Fatal, never an unwind into
-//! the host) and checks the instance state against [`allowed`]. Functions granmix does
+//! time, runs inside `catch_unwind` (a panic becomes fmi2Error and the error state,
+//! never an unwind into the host) and checks the instance state against [`allowed`]. Functions granmix does
 //! not support (derivatives, asynchronous stepping) return fmi2Error with a message.
 //!
 //! Safety contract of every export: `c` is null or a component returned by
@@ -15,7 +15,6 @@ use crate::state::{allowed, Place, State};
 use crate::variables::{lookup, Causality, Kind};
 use fmi_sys::fmi2::*;
 use std::ffi::{c_char, CStr};
-use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// The master's logger callback as a [`Write`] closure. User text goes through a `"%s"`
 /// format so `%` in it is never interpreted.
@@ -41,11 +40,10 @@ fn logger_write(functions: &fmi2CallbackFunctions, instance_name: &str) -> Optio
 
 const OK: fmi2Status = fmi2Status_fmi2OK;
 const ERROR: fmi2Status = fmi2Status_fmi2Error;
-const FATAL: fmi2Status = fmi2Status_fmi2Fatal;
 
 /// Run `f` on the instance behind `c` if `function` may be called in its state, and
-/// return the status of its outcome ([`report`]); a panic returns fmi2Fatal and sets
-/// the instance to Fatal.
+/// return the status of its outcome ([`report`]); a panic returns fmi2Error with its
+/// message and place ([`crate::panics`]) and puts the instance in the error state.
 unsafe fn with_instance(
     c: fmi2Component,
     function: &str,
@@ -57,7 +55,7 @@ unsafe fn with_instance(
     }
     // SAFETY: non-null components are boxed instances from fmi2Instantiate.
     let inst = unsafe { &mut *(c as *mut Instance) };
-    let r = catch_unwind(AssertUnwindSafe(|| {
+    let r = crate::panics::catch(|| {
         if !inst.state.in_set(states) {
             if let (State::Error, Some(failure)) = (inst.state, &inst.failure) {
                 let failure = failure.clone();
@@ -66,22 +64,20 @@ unsafe fn with_instance(
             return Err(CallError::State(inst.state).into());
         }
         f(inst)
-    }));
+    });
     match r {
         Ok(r) => report(inst, function, r),
-        Err(p) => {
-            let what = p
-                .downcast_ref::<String>()
-                .cloned()
-                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
-                .unwrap_or_else(|| "panic".to_string());
-            inst.state = State::Fatal;
-            inst.logger.log(
-                FATAL,
-                "logStatusFatal",
-                &format!("{function}: internal error: {what}"),
+        Err(what) => {
+            // the instance's model may be half-updated: only fmi2SetFMUstate and
+            // fmi2Reset lead out, as after a blow-up
+            let message = format!(
+                "{function}: internal error: {what}; the instance is in the error state \
+                 (restore a saved state with fmi2SetFMUstate, or call fmi2Reset)"
             );
-            FATAL
+            inst.state = State::Error;
+            inst.failure = Some(message.clone());
+            inst.logger.log(ERROR, "logStatusError", &message);
+            ERROR
         }
     }
 }
@@ -106,7 +102,7 @@ fn report(inst: &mut Instance, function: &str, r: Result<(), FmiError>) -> fmi2S
 
 /// Catch panics of functions that have no instance.
 fn guard<T>(fallback: T, f: impl FnOnce() -> T) -> T {
-    catch_unwind(AssertUnwindSafe(f)).unwrap_or(fallback)
+    crate::panics::catch(f).unwrap_or(fallback)
 }
 
 unsafe fn slice<'a, T>(p: *const T, n: usize) -> Result<&'a [T], CallError> {
@@ -215,6 +211,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
             resources: dir,
             strings: Vec::new(),
             failure: None,
+            stop_time: None,
         })) as fmi2Component
     })
 }
@@ -235,8 +232,9 @@ pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
 }
 
 /// fmi2SetupExperiment: the experiment starts at `start_time` (any finite time: model
-/// time, communication points and output stamps are shifted by it); tolerance and stop
-/// time are unused.
+/// time, communication points and output stamps are shifted by it) and, if
+/// `stop_time_defined`, ends at `stop_time` (finite, not before the start): no step may
+/// end after it. The tolerance is unused.
 ///
 /// # Safety
 /// See the module documentation.
@@ -246,15 +244,26 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
     _tolerance_defined: fmi2Boolean,
     _tolerance: fmi2Real,
     start_time: fmi2Real,
-    _stop_time_defined: fmi2Boolean,
-    _stop_time: fmi2Real,
+    stop_time_defined: fmi2Boolean,
+    stop_time: fmi2Real,
 ) -> fmi2Status {
     unsafe {
         with_instance(c, "fmi2SetupExperiment", allowed::INSTANTIATED, |i| {
             if !start_time.is_finite() {
                 return Err(ModelError::StartTime(start_time).into());
             }
+            let stop = (stop_time_defined != 0).then_some(stop_time);
+            if let Some(stop) = stop {
+                if !stop.is_finite() || stop < start_time {
+                    return Err(CallError::StopTime {
+                        start: start_time,
+                        stop,
+                    }
+                    .into());
+                }
+            }
             i.model.set_start_time(start_time)?;
+            i.stop_time = stop;
             Ok(())
         })
     }
@@ -324,6 +333,7 @@ pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
             i.model.reset()?;
             i.state = State::Instantiated;
             i.failure = None;
+            i.stop_time = None;
             Ok(())
         })
     }
@@ -820,9 +830,22 @@ pub unsafe extern "C" fn fmi2DoStep(
 ) -> fmi2Status {
     unsafe {
         with_instance(c, "fmi2DoStep", allowed::STEP, |i| {
+            if let Some(stop) = i.stop_time {
+                past_stop(t, h, stop)?;
+            }
             Ok(i.model.do_step(t, h)?)
         })
     }
+}
+
+/// Whether a step from `t` by `h` ends after `stop`, beyond the rounding of a master
+/// that sums its step sizes (a relative 1e-9 of the stop time, at least 1e-9 s).
+fn past_stop(t: f64, h: f64, stop: f64) -> Result<(), CallError> {
+    let slack = 1e-9 * stop.abs().max(1.0);
+    if t + h > stop + slack {
+        return Err(CallError::PastStopTime { t, h, stop });
+    }
+    Ok(())
 }
 
 /// fmi2CancelStep: steps are synchronous, there is nothing to cancel.
@@ -1064,6 +1087,66 @@ impl LocalInstance {
     pub fn do_step(&mut self, t: f64, h: f64) -> Result<(), LocalError> {
         // SAFETY: a live component.
         check("fmi2DoStep", unsafe { fmi2DoStep(self.c, t, h, 1) })
+    }
+
+    /// fmi2GetFMUstate, fmi2SerializedFMUstateSize and fmi2SerializeFMUstate: the
+    /// instance's state as bytes.
+    pub fn state_bytes(&mut self) -> Result<Vec<u8>, LocalError> {
+        let mut state: fmi2FMUstate = std::ptr::null_mut();
+        // SAFETY (all calls below): a live component, a state pointer it fills, and a
+        // buffer of the size it reports.
+        check("fmi2GetFMUstate", unsafe {
+            fmi2GetFMUstate(self.c, &mut state)
+        })?;
+        let mut size = 0usize;
+        let r = check("fmi2SerializedFMUstateSize", unsafe {
+            fmi2SerializedFMUstateSize(self.c, state, &mut size)
+        })
+        .and_then(|()| {
+            let mut bytes = vec![0u8; size];
+            check("fmi2SerializeFMUstate", unsafe {
+                fmi2SerializeFMUstate(self.c, state, bytes.as_mut_ptr() as *mut fmi2Byte, size)
+            })
+            .map(|()| bytes)
+        });
+        unsafe { fmi2FreeFMUstate(self.c, &mut state) };
+        r
+    }
+
+    /// fmi2DeSerializeFMUstate of `bytes`, then fmi2SetFMUstate and fmi2FreeFMUstate.
+    pub fn restore(&mut self, bytes: &[u8]) -> Result<(), LocalError> {
+        let mut state: fmi2FMUstate = std::ptr::null_mut();
+        // SAFETY (all calls below): a live component, `bytes.len()` readable bytes and a
+        // state pointer it fills.
+        let r = check("fmi2DeSerializeFMUstate", unsafe {
+            fmi2DeSerializeFMUstate(
+                self.c,
+                bytes.as_ptr() as *const fmi2Byte,
+                bytes.len(),
+                &mut state,
+            )
+        })
+        .and_then(|()| check("fmi2SetFMUstate", unsafe { fmi2SetFMUstate(self.c, state) }));
+        if !state.is_null() {
+            unsafe { fmi2FreeFMUstate(self.c, &mut state) };
+        }
+        r
+    }
+
+    /// fmi2GetRealStatus(fmi2LastSuccessfulTime): the last communication point reached.
+    pub fn time(&mut self) -> Result<f64, LocalError> {
+        let mut t = 0.0;
+        // SAFETY: a live component and a value it writes.
+        check("fmi2GetRealStatus", unsafe {
+            fmi2GetRealStatus(self.c, fmi2StatusKind_fmi2LastSuccessfulTime, &mut t)
+        })?;
+        Ok(t)
+    }
+
+    /// In the error state, the message of the call that put the instance there.
+    pub fn failure(&self) -> Option<String> {
+        // SAFETY: `c` is the boxed instance made by fmi2Instantiate, alive until drop.
+        unsafe { &*(self.c as *const Instance) }.failure.clone()
     }
 
     /// The model's [`Model::solver_seconds`]: wall time inside the solver so far.

@@ -235,9 +235,17 @@ impl Granular {
         if !self.params_changed() {
             return Ok(());
         }
+        self.sim = self.sim_with(&self.values)?;
+        self.last = initial_sample(&mut self.sim)?;
+        self.built_with = self.values.clone();
+        Ok(())
+    }
+
+    /// The simulation the scene builds with parameter values `values`.
+    fn sim_with(&self, values: &[f64]) -> Result<AnySimulation, GranularError> {
         let mut sets = Vec::new();
         for (i, slot) in self.table.slots.iter().enumerate() {
-            let v = self.values[i];
+            let v = values[i];
             match slot {
                 Slot::SceneValue(path) => sets.push(format!("{path}={v:?}")),
                 Slot::MultiRate => sets.push(format!(
@@ -254,10 +262,7 @@ impl Granular {
         let l = &self.loaded;
         let loaded = load_scene_in(&l.text, &l.file, &sets, &self.dir)
             .map_err(|e| GranularError::Scene(Box::new(e)))?;
-        self.sim = build_sim(&loaded)?;
-        self.last = initial_sample(&mut self.sim)?;
-        self.built_with = self.values.clone();
-        Ok(())
+        build_sim(&loaded)
     }
 
     /// Run one communication step with the given barrier velocities.
@@ -467,8 +472,7 @@ impl Model for Granular {
 
     fn restore_bytes(&self, bytes: &[u8]) -> Result<(Box<dyn Model>, Option<Place>), ModelError> {
         let opened = envelope::open(bytes, ModelKind::Granular, &guid(&self.loaded.text))?;
-        let payload = opened.payload;
-        let saved: Saved = postcard::from_bytes(&payload).map_err(StateError::Decode)?;
+        let saved: Saved = postcard::from_bytes(&opened.payload).map_err(StateError::Decode)?;
         let n = self.values.len();
         if saved.values.len() != n || saved.built_with.len() != n {
             return Err(StateError::ValueCount {
@@ -477,8 +481,28 @@ impl Model for Granular {
             }
             .into());
         }
+        // the template: this instance's simulation if the state was built with the
+        // same parameters, else the scene built with the state's (a state of another
+        // instance of this FMU)
+        let same = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
+        let other;
+        let template = if same(&saved.built_with, &self.built_with) {
+            &self.sim
+        } else {
+            other = self
+                .sim_with(&saved.built_with)
+                .map_err(|e| StateError::Parameters(Box::new(e)))?;
+            &other
+        };
+        // a state taken in the error state may hold the blow-up's values; it cannot be
+        // stepped before another restore or a reset
+        let steppable = opened
+            .place
+            .as_ref()
+            .is_none_or(|p| p.state != crate::state::State::Error);
         let mut sim = saved.sim;
-        sim.take_static_from(&self.sim).map_err(StateError::Scene)?;
+        sim.take_static_from(template, steppable)
+            .map_err(StateError::Scene)?;
         let model = Box::new(Granular {
             loaded: self.loaded.clone(),
             dir: self.dir.clone(),

@@ -22,6 +22,9 @@ pub struct Instance {
     /// In the error state: the logged message of the call that put it there, repeated
     /// to every call refused in that state.
     pub failure: Option<String>,
+    /// The stop time given to `fmi2SetupExperiment`, if it defined one: no step may end
+    /// after it (cleared by `fmi2Reset`).
+    pub stop_time: Option<f64>,
 }
 
 /// Why `fmi2Instantiate` returns no instance.

@@ -14,6 +14,7 @@ pub mod instance;
 pub mod logger;
 pub mod model;
 pub mod package;
+pub mod panics;
 pub mod state;
 pub mod structure;
 pub mod variables;

@@ -25,7 +25,9 @@ pub mod allowed {
     pub const INSTANTIATED: u8 = Instantiated as u8;
     pub const INIT: u8 = InitializationMode as u8;
     pub const STEP: u8 = StepMode as u8;
-    pub const TERMINATE: u8 = StepMode as u8 | Error as u8;
+    /// `fmi2Terminate`: from step mode only (FMI 2.0 §4.2.4: stepComplete, stepFailed,
+    /// stepCanceled); the error state is left by `fmi2SetFMUstate` or `fmi2Reset`.
+    pub const TERMINATE: u8 = StepMode as u8;
     /// Value getters (`fmi2GetReal`, …): not in the error state, where no output is
     /// valid (docs/fmu.md, *The error state*).
     pub const GET: u8 = InitializationMode as u8 | StepMode as u8 | Terminated as u8;

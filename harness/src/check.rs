@@ -37,7 +37,7 @@ pub fn check(scene: &Path, set: &[String], exact: bool, flag: Option<f64>) -> Re
     let e = estimate(&loaded.scene, &res);
     let b = budget(&loaded.scene);
     if exact && passes(&e, &b) {
-        return check_exact(&loaded);
+        return check_exact(&loaded, &e);
     }
     println!(
         "  estimated at dp = {:?} m (without building; --exact builds):",
@@ -48,6 +48,13 @@ pub fn check(scene: &Path, set: &[String], exact: bool, flag: Option<f64>) -> Re
     }
     for (name, n) in &e.water {
         println!("  water {name:<21} {n:>10.3e} water particles at the start");
+    }
+    for (name, n) in &e.inflows {
+        println!(
+            "  inflow {name:<20} {n:>10.3e} water particles let in by t = {:?} s (counted in \
+             the memory; outflows may remove some)",
+            s.end_time
+        );
     }
     println!("  walls {:>34.3e} dummy particles", e.walls);
     for (name, n) in e.bodies.iter().take(LISTED) {
@@ -83,9 +90,9 @@ pub fn check(scene: &Path, set: &[String], exact: bool, flag: Option<f64>) -> Re
             "  Δt_c (Eq. 52 and contacts): run `granmix check --exact` to build and measure it"
         );
     }
-    let grains_or_water = e.fine() + e.water() > 0.0;
+    let grains_or_water = e.fine() + e.water() + e.inflow() > 0.0;
     let (n, step) = if grains_or_water {
-        (e.fine() + e.water(), bound.dt)
+        (e.mean_stepped(), bound.dt)
     } else {
         (e.coarse(), s.output_interval)
     };
@@ -95,7 +102,7 @@ pub fn check(scene: &Path, set: &[String], exact: bool, flag: Option<f64>) -> Re
 
 /// Build the scene and print its exact counts, Δt and cost (the budget checked first,
 /// in the build).
-fn check_exact(loaded: &LoadedScene) -> Result<()> {
+fn check_exact(loaded: &LoadedScene, e: &granmix_core::estimate::Estimate) -> Result<()> {
     let mut sim = AnySimulation::new(loaded).map_err(|e| anyhow::anyhow!("{e}"))?;
     println!("  built (exact counts):");
     for (name, n) in sim.region_counts() {
@@ -105,6 +112,12 @@ fn check_exact(loaded: &LoadedScene) -> Result<()> {
         println!(
             "  water {:>34} water particles at the start",
             sim.water_count()
+        );
+    }
+    for (name, n) in &e.inflows {
+        println!(
+            "  inflow {name:<20} {n:>10.3e} water particles let in by t = {:?} s (estimated)",
+            loaded.scene.simulation.end_time
         );
     }
     println!("  walls {:>34} dummy particles", sim.wall_count());
@@ -131,9 +144,10 @@ fn check_exact(loaded: &LoadedScene) -> Result<()> {
             loaded.scene.simulation.time_stepping_name()
         );
     }
-    let fine = sim.fine_count() + sim.water_count() > 0;
+    let stepped = (sim.fine_count() + sim.water_count()) as f64 + 0.5 * e.inflow();
+    let fine = stepped > 0.0;
     let (n, step) = if fine {
-        ((sim.fine_count() + sim.water_count()) as f64, dt)
+        (stepped, dt)
     } else {
         (
             sim.coarse_count() as f64,

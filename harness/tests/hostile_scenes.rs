@@ -447,3 +447,50 @@ fn a_sparse_domain_is_priced_with_its_cell_grids() {
         o.peak / 1e6
     );
 }
+
+/// Issue 74: `check` refuses everything the first steps of `run` would, across the
+/// bundled scenes: every scene plain `check` passes runs its first 20 µs (a few steps,
+/// the build and its checks included) with exit 0.
+#[test]
+fn every_bundled_scene_check_passes_takes_its_first_steps() {
+    let dir = std::env::temp_dir().join(format!("granmix_first_steps_{}", std::process::id()));
+    let scenes = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../models/scenes");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&scenes)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 30, "{} bundled scenes", files.len());
+    let mut failed = Vec::new();
+    for f in &files {
+        let s = f.to_str().unwrap().to_string();
+        let check = Command::new(BIN).args(["check", &s]).output().unwrap();
+        if !check.status.success() {
+            failed.push(format!("{s}: check refused it"));
+            continue;
+        }
+        let out = dir.join(f.file_stem().unwrap());
+        let run = Command::new(BIN)
+            .args([
+                "run",
+                &s,
+                "--set",
+                "simulation.end_time=2e-5",
+                "--quiet",
+                "--no-vtk",
+            ])
+            .args(["--no-plots", "--out", out.to_str().unwrap()])
+            .output()
+            .unwrap();
+        if !run.status.success() {
+            let e = String::from_utf8_lossy(&run.stderr).into_owned();
+            failed.push(format!(
+                "{s}: check passed, run exited {:?}: {e}",
+                run.status.code()
+            ));
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
+}

@@ -80,3 +80,47 @@ def test_blowup_is_an_error_with_the_diagnostic(tmp_path, capsys):
         s.step(1e-3)
     s.fmu.reset()
     s.fmu.freeInstance()
+
+
+def test_stop_time_before_start_is_refused(fmus, capsys):
+    _md, fmu = fresh(fmus["barrier"])
+    fmu.instantiate()
+    with pytest.raises(FMICallException):
+        fmu.setupExperiment(startTime=1.0, stopTime=0.5)
+    out = capsys.readouterr().out
+    assert "stop time 0.5 s is not a finite time at or after the start time 1.0 s" in out
+    # the instance is as it was: a valid experiment is set up next
+    fmu.setupExperiment(startTime=0.0, stopTime=0.5)
+    fmu.freeInstance()
+
+
+def test_no_step_ends_after_the_stop_time(fmus, capsys):
+    _md, fmu = fresh(fmus["barrier"])
+    fmu.instantiate()
+    fmu.setupExperiment(startTime=0.0, stopTime=0.003)
+    fmu.enterInitializationMode()
+    fmu.exitInitializationMode()
+    t = 0.0
+    for _ in range(3):  # 1e-3 three times sums to 0.003 within round-off
+        fmu.doStep(currentCommunicationPoint=t, communicationStepSize=1e-3)
+        t += 1e-3
+    with pytest.raises(FMICallException):
+        fmu.doStep(currentCommunicationPoint=t, communicationStepSize=1e-3)
+    assert "ends after the experiment's stop time 0.003 s" in capsys.readouterr().out
+    # refused, not failed: the instance is still in step mode and terminates
+    fmu.terminate()
+    fmu.freeInstance()
+
+
+def test_terminate_is_refused_in_the_error_state(tmp_path, capsys):
+    from conftest import SCENE, pack
+    s = Slave(pack(SCENE, tmp_path / "term.fmu"), "term")
+    s.set("barrier.displacement.x", -0.09)
+    with pytest.raises(FMICallException):
+        s.step(1e-3)
+    capsys.readouterr()
+    with pytest.raises(FMICallException):
+        s.fmu.terminate()
+    assert "fmi2Terminate: may not be called in the error state" in capsys.readouterr().out
+    s.fmu.reset()
+    s.fmu.freeInstance()

@@ -4,7 +4,7 @@ use crate::numerics::math::Real;
 use crate::scene::SolidSpec;
 
 /// One solid material.
-#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SolidMaterial {
     pub name: String,
     /// ρ0 (kg/m³).

@@ -48,6 +48,23 @@ fn m3<const D: usize>(v: &Vect<D>) -> Vector3<Real> {
 }
 
 impl<const D: usize> Tlsph<D> {
+    /// Whether this restored state holds the reference data of `template` (the same
+    /// bodies as the scene builds them) bit for bit, and one deformation gradient, its
+    /// rate and an acceleration per elastic particle (or none yet).
+    pub fn restored_fits(&self, template: &Self) -> bool {
+        let per_particle = |l: usize| l == self.elastic.len() || l == 0;
+        self.off == template.off
+            && self.nbr == template.nbr
+            && self.elastic == template.elastic
+            && self.grad == template.grad
+            && self.b0 == template.b0
+            && self.kernel == template.kernel
+            && self.def.len() == self.elastic.len()
+            && per_particle(self.ddef.len())
+            && per_particle(self.pk1b.len())
+            && per_particle(self.acc.len())
+    }
+
     /// Set up from the reference configuration.
     pub fn new(p: &CoarseParticles<D>, bodies: &[Body<D>], dp: Real) -> Self {
         let kernel = WendlandC2::new(1.15 * dp, D);

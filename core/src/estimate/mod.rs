@@ -44,6 +44,12 @@ pub struct Estimate {
     /// Water particles per water region at the start (inflows add more), in scene
     /// order; counted at the fine grains' bytes per particle (a bound).
     pub water: Vec<(String, Real)>,
+    /// Water particles each inflow lets in by `simulation.end_time`, in scene order:
+    /// the length let in (the speed's integral up to its stop) in layers of dp, each
+    /// layer the inlet's cross-section at spacing dp, as the inflow emits them
+    /// ([`Inflow::emit`](crate::water::boundary::Inflow::emit)). Outflows may take some
+    /// out again: for memory this is a bound.
+    pub inflows: Vec<(String, Real)>,
     /// Dummy wall particles of every wall, barrier and container face.
     pub walls: Real,
     /// Coarse particles per body, after rigid interiors are trimmed.
@@ -74,9 +80,19 @@ impl Estimate {
     pub fn water(&self) -> Real {
         self.water.iter().map(|r| r.1).sum::<Real>() + 0.0
     }
-    /// Every particle: fine, wall, coarse and water.
+    /// Water particles the inflows let in over the run.
+    pub fn inflow(&self) -> Real {
+        self.inflows.iter().map(|r| r.1).sum::<Real>() + 0.0
+    }
+    /// Every particle: fine, wall, coarse and water, with what the inflows let in.
     pub fn particles(&self) -> Real {
-        self.fine() + self.walls + self.coarse() + self.water()
+        self.fine() + self.walls + self.coarse() + self.water() + self.inflow()
+    }
+    /// Fine and water particles stepped on average over the run: those at the start
+    /// and half of what the inflows let in (a steady inflow lets them in at an even
+    /// rate), for the cost in particle-steps.
+    pub fn mean_stepped(&self) -> Real {
+        self.fine() + self.water() + 0.5 * self.inflow()
     }
 }
 
@@ -134,6 +150,7 @@ fn estimate_in<const D: usize>(scene: &Scene, res: &Resolution) -> Estimate {
             water.push((format!("pores of {}", r.name), *n));
         }
     }
+    let inflows = count_inflows::<D>(scene, dp);
     let walls = count_walls(scene, dp, &mut rng, &mut bounds);
     let (bodies, largest_body_fill) = count_bodies(scene, res, &solids, &mut rng, &mut bounds);
     let (lo_all, hi_all) = (bounds.lo, bounds.hi);
@@ -163,6 +180,7 @@ fn estimate_in<const D: usize>(scene: &Scene, res: &Resolution) -> Estimate {
         dp,
         regions,
         water,
+        inflows,
         walls,
         bodies,
         largest_body_fill,
@@ -183,12 +201,44 @@ fn estimate_in<const D: usize>(scene: &Scene, res: &Resolution) -> Estimate {
         * (cells * (grids * (e.fine() > 0.0) as u8 as Real)
             + cells * (grids * water as u8 as Real)
             + sw_cells * 2.0 * seepage as u8 as Real);
-    e.bytes = (e.fine() + e.water()) * per_particle[0]
+    e.bytes = (e.fine() + e.water() + e.inflow()) * per_particle[0]
         + e.walls * per_particle[1]
         + e.coarse() * per_particle[2]
         + largest_body_fill * BODY_FILL_BYTES_PER_DIM * D as Real
         + e.grid_bytes;
     e
+}
+
+/// The water particles each inflow lets in by the end time (see [`Estimate::inflows`]).
+fn count_inflows<const D: usize>(scene: &Scene, dp: Real) -> Vec<(String, Real)> {
+    let Some(w) = &scene.water else {
+        return Vec::new();
+    };
+    let end = scene.simulation.end_time;
+    w.inflows
+        .iter()
+        .map(|f| {
+            let ShapeSpec::Box { min, max } = &f.shape else {
+                // validated: an inlet is a box
+                return (f.name.clone(), 0.0);
+            };
+            let axis = ["x", "y", "z"]
+                .iter()
+                .position(|a| f.direction.get(1..) == Some(*a))
+                .unwrap_or(0);
+            let cross: Real = (0..D)
+                .filter(|&k| k != axis)
+                .map(|k| ((max[k] - min[k]) / dp).round().max(1.0))
+                .product();
+            let t = f.stop.map_or(end, |s| s.min(end)).max(0.0);
+            let length = match (f.speed, &f.hydrograph) {
+                (Some(u), _) => u * t,
+                (None, Some(h)) => h.length(t),
+                (None, None) => 0.0,
+            };
+            (f.name.clone(), (length / dp).floor().max(0.0) * cross)
+        })
+        .collect()
 }
 
 fn has_inflows(scene: &Scene) -> bool {

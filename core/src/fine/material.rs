@@ -11,7 +11,7 @@ use crate::scene::{MaterialSpec, YieldSurface};
 use nalgebra::Matrix3;
 
 /// One fine-grain material with its derived constants.
-#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FineMaterial {
     pub name: String,
     /// ρ0 (kg/m³).

@@ -15,7 +15,7 @@ use crate::numerics::math::{to3, Real, Vect};
 use crate::scene::{ContactModel, ContactSpec};
 
 /// The contact law of a scene.
-#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ContactLaw {
     pub model: ContactModel,
     /// Coulomb coefficient μ.
@@ -300,6 +300,26 @@ fn cell_key<const D: usize>(x: &Vect<D>, cell: Real, off: [i64; 3]) -> u64 {
 }
 
 impl<const D: usize> Contacts<D> {
+    /// Whether these candidates, restored from a state, fit `particles` coarse
+    /// particles, `objects` wall objects and `bodies` bodies: particle–wall candidates
+    /// of existing particles and objects, pairs i < j of existing particles, a spring per
+    /// candidate, and per-body counts of every body (or none yet).
+    pub fn restored_fits(&self, particles: usize, objects: usize, bodies: usize) -> bool {
+        let counts = |l: usize| l == bodies || l == 0;
+        self.wall
+            .iter()
+            .all(|&(i, o)| (i as usize) < particles && (o as usize) < objects)
+            && self
+                .pair
+                .iter()
+                .all(|&(i, j)| i < j && (j as usize) < particles)
+            && self.wall_xi.len() == self.wall.len()
+            && self.pair_xi.len() == self.pair.len()
+            && (self.wall_gap.len() == self.wall.len() || self.wall_gap.is_empty())
+            && counts(self.per_body.len())
+            && counts(self.candidates.len())
+    }
+
     /// Find candidates within `margin` of touching.
     pub fn find(
         &mut self,

@@ -28,6 +28,20 @@ pub struct GapWater<const D: usize> {
 }
 
 impl<const D: usize> GapWater<D> {
+    /// Whether these gap partners, restored from a state, fit `particles` coarse
+    /// particles, `objects` wall objects and `bodies` bodies (see
+    /// [`Contacts::restored_fits`](crate::interactions::contact::Contacts::restored_fits)).
+    pub fn restored_fits(&self, particles: usize, objects: usize, bodies: usize) -> bool {
+        self.walls
+            .iter()
+            .all(|&(i, o, _, _)| (i as usize) < particles && (o as usize) < objects)
+            && self
+                .pairs
+                .iter()
+                .all(|&(i, j)| i < j && (j as usize) < particles)
+            && (self.per_body.len() == bodies || self.per_body.is_empty())
+    }
+
     /// Find the gap partners of the bodies the water reaches (a nonzero `f_water` or
     /// `uplift`), at spacing `dp`.
     pub fn find(&mut self, p: &CoarseParticles<D>, bodies: &[Body<D>], walls: &Walls<D>, dp: Real) {

@@ -7,7 +7,7 @@ use crate::numerics::math::Real;
 use std::f64::consts::PI;
 
 /// The Wendland C2 kernel for a fixed smoothing length.
-#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WendlandC2 {
     pub h: Real,
     inv_h: Real,

@@ -4,12 +4,13 @@
 //! [`cross_lists`]) and the pair executor ([`pairs`]), periodic images ([`periodic`]),
 //! reordering ([`permute`]), the stability guard ([`guard`]), stage timers ([`timers`]),
 //! and small tools: a seeded generator ([`rng`]), a conjugate-gradient solver
-//! ([`sparse_cg`]), a bounded file read ([`capped_read`]) and particle packing
-//! ([`packing`]). It knows no family, schedule or world.
+//! ([`sparse_cg`]), a bounded file read ([`capped_read`]), particle packing
+//! ([`packing`]) and the index invariants of stored lists ([`index_rows`]). It knows no family, schedule or world.
 
 pub mod capped_read;
 pub mod cross_lists;
 pub mod guard;
+pub mod index_rows;
 pub mod kernel;
 pub mod load;
 pub mod math;

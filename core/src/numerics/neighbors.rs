@@ -132,6 +132,31 @@ impl<const D: usize> CellGrid<D> {
             + self.fill.capacity())
     }
 
+    /// Whether `other` has this grid's geometry (origin, cells, axis order, periodic
+    /// axis), bit for bit: a restored grid against the one the scene builds.
+    pub fn same_geometry(&self, other: &Self) -> bool {
+        let bits = |v: &[Real; 3]| v.map(Real::to_bits);
+        bits(&self.origin) == bits(&other.origin)
+            && bits(&self.inv_cell) == bits(&other.inv_cell)
+            && self.dims == other.dims
+            && self.axes == other.axes
+            && self.wrap == other.wrap
+    }
+
+    /// Whether the binned contents are consistent for `n` binned items: none (never
+    /// binned or released), or one start per cell and one more, ascending to the item
+    /// count, every item below `n`, and `sorted` only where the items are the identity.
+    pub fn contents_fit(&self, n: usize) -> bool {
+        use crate::numerics::index_rows::{below, rows};
+        if self.start.is_empty() {
+            return self.items.is_empty() && !self.sorted;
+        }
+        rows(&self.start, self.cell_count(), self.items.len())
+            && self.items.len() == n
+            && below(&self.items, n)
+            && (!self.sorted || self.items.iter().enumerate().all(|(k, &i)| i as usize == k))
+    }
+
     pub fn cell_count(&self) -> usize {
         self.dims[0] * self.dims[1] * self.dims[2]
     }
@@ -383,6 +408,16 @@ pub struct ChunkList {
 }
 
 impl ChunkList {
+    /// Whether the chunk's rows are those of `len` particles, with wall indices below
+    /// `walls` and coarse indices below `coarse`.
+    pub fn fits(&self, len: usize, walls: usize, coarse: usize) -> bool {
+        use crate::numerics::index_rows::{below, rows};
+        rows(&self.wall_off, len, self.wall.len())
+            && rows(&self.coarse_off, len, self.coarse.len())
+            && below(&self.wall, walls)
+            && below(&self.coarse, coarse)
+    }
+
     /// The wall relation: the wall particles near the chunk's k-th particle.
     #[inline(always)]
     pub fn wall(&self, k: usize) -> &[u32] {
@@ -465,6 +500,22 @@ impl NeighborLists {
         self.inner_pairs = self.clusters.build(&self.slabs, pos.len(), |i, out| {
             fine_grid.collect_near(&pos[i], pos, r2, Some(i), sep, out)
         });
+    }
+
+    /// Whether the lists are those of `n` particles (as [`build`](Self::build) makes
+    /// them): a chunk per [`CHUNK`] particles, each fitting its walls' and coarse
+    /// particles' counts, slabs ascending to `n`, and the cluster lists of `n`.
+    pub fn fit(&self, n: usize, walls: usize, coarse: usize) -> bool {
+        let chunks = n.div_ceil(CHUNK);
+        self.chunks.len() == chunks
+            && self.chunks.iter().enumerate().all(|(c, cl)| {
+                let len = CHUNK.min(n - c * CHUNK);
+                cl.fits(len, walls, coarse)
+            })
+            && self.slabs.first() == Some(&0)
+            && self.slabs.last().is_some_and(|&l| l as usize == n)
+            && crate::numerics::index_rows::ascending(&self.slabs)
+            && self.clusters.fit(&self.slabs, n)
     }
 
     /// Pairs held by each of the fused relations: inner, wall and coarse.

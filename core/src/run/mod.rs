@@ -11,6 +11,7 @@ pub mod observe;
 pub mod oscillation;
 pub mod pore_field;
 pub(crate) mod restore;
+mod restore_values;
 pub mod runner;
 pub mod sample;
 pub mod simulation;

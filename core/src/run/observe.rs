@@ -81,51 +81,80 @@ pub fn runout<const D: usize>(
             ((x[0] - spec.origin[0]).powi(2) + (x[1] - spec.origin[1]).powi(2)).sqrt()
         }
     };
+    // the occupied bins of width dp, as (bin, volume) in bin order, volumes summed in
+    // particle order (fine grains, then the coarse ones): a sparse histogram, so a
+    // particle far away costs one bin, not a bin per dp up to it
+    let mut items: Vec<(usize, Real)> = p
+        .pos
+        .iter()
+        .zip(p.mass.iter().zip(&p.rho))
+        .map(|(x, (m, rho))| (dist(x), m / rho))
+        // a NaN distance falls in bin 0, as the dense histogram had it
+        .filter(|(r, _)| r.is_nan() || *r >= 0.0)
+        .chain(
+            coarse
+                .iter()
+                .map(|(x, v)| (dist(x), *v))
+                .filter(|(r, _)| *r >= 0.0),
+        )
+        .map(|(r, v)| ((r / dp) as usize, v))
+        .collect();
+    items.sort_by_key(|&(k, _)| k);
+    let mut vol: Vec<(usize, Real)> = Vec::new();
+    for (k, v) in items {
+        match vol.last_mut() {
+            Some((last, sum)) if *last == k => *sum += v,
+            _ => vol.push((k, v)),
+        }
+    }
+    let thickness = |k: usize| -> Real {
+        let Ok(at) = vol.binary_search_by_key(&k, |&(b, _)| b) else {
+            return 0.0;
+        };
+        let (r0, r1) = (k as Real * dp, (k + 1) as Real * dp);
+        let area = if D == 2 {
+            dp
+        } else {
+            std::f64::consts::PI * (r1 * r1 - r0 * r0)
+        };
+        vol[at].1 / area
+    };
+    let volume = |k: usize| {
+        vol.binary_search_by_key(&k, |&(b, _)| b)
+            .map_or(0.0, |at| vol[at].1)
+    };
+    // the bins run from 0 to ⌈r_max / dp⌉, one past the farthest occupied one unless
+    // r_max falls on a bin edge
     let rmax = p
         .pos
         .iter()
         .chain(coarse.iter().map(|(x, _)| x))
         .map(dist)
         .fold(0.0, Real::max);
-    let nb = (rmax / dp).ceil() as usize + 1;
-    let mut vol = vec![0.0; nb];
-    for (x, (m, rho)) in p.pos.iter().zip(p.mass.iter().zip(&p.rho)) {
-        let r = dist(x);
-        if r < 0.0 {
-            continue;
-        }
-        let k = ((r / dp) as usize).min(nb - 1);
-        vol[k] += m / rho;
-    }
-    for (x, v) in coarse {
-        let r = dist(x);
-        if r >= 0.0 {
-            vol[((r / dp) as usize).min(nb - 1)] += v;
-        }
-    }
-    let thickness: Vec<Real> = vol
+    let last = (rmax / dp).ceil() as usize;
+    let next = |k: usize| k.saturating_add(1).min(last);
+    // bins that may be deposit: the occupied ones and their neighbours (the median of
+    // three of an empty bin between two occupied ones is not zero)
+    let mut candidates: Vec<usize> = vol
         .iter()
-        .enumerate()
-        .map(|(k, v)| {
-            let (r0, r1) = (k as Real * dp, (k + 1) as Real * dp);
-            let area = if D == 2 {
-                dp
-            } else {
-                std::f64::consts::PI * (r1 * r1 - r0 * r0)
-            };
-            v / area
-        })
+        .flat_map(|&(k, _)| [k.saturating_sub(1), k, next(k)])
         .collect();
+    candidates.dedup();
+    candidates.sort_unstable();
+    candidates.dedup();
     // runs of deposit bins, each (volume, outer edge)
     let mut runs: Vec<(Real, Real)> = Vec::new();
     let mut run: Option<Real> = None;
-    for k in 0..nb {
+    let mut previous: Option<usize> = None;
+    for k in candidates {
+        if previous.is_some_and(|p| p.saturating_add(1) != k) {
+            // the bins between were empty with empty neighbours: no deposit
+            run = None;
+        }
+        previous = Some(k);
         // median of bins k − 1, k, k + 1 (the bin itself at either end)
-        let (a, b) = (
-            thickness[k.saturating_sub(1)],
-            thickness[(k + 1).min(nb - 1)],
-        );
-        let t = thickness[k];
+        let (a, b) = (thickness(k.saturating_sub(1)), thickness(next(k)));
+        let t = thickness(k);
         let median = t.min(a.max(b)).max(a.min(b));
         if median < 0.5 * dp {
             run = None;
@@ -133,13 +162,13 @@ pub fn runout<const D: usize>(
         }
         let edge = (k + 1) as Real * dp;
         match run {
-            Some(v) => *runs.last_mut().expect("a run is open") = (v + vol[k], edge),
-            None => runs.push((vol[k], edge)),
+            Some(v) => *runs.last_mut().expect("a run is open") = (v + volume(k), edge),
+            None => runs.push((volume(k), edge)),
         }
         run = runs.last().map(|r| r.0);
     }
     // the farthest run holding at least DEPOSIT_SHARE of the material, else the fullest
-    let total: Real = vol.iter().sum();
+    let total: Real = vol.iter().map(|&(_, v)| v).sum();
     runs.iter()
         .rev()
         .find(|r| r.0 >= DEPOSIT_SHARE * total)
@@ -290,6 +319,30 @@ mod tests {
         let mut u = vec![3; 20];
         u.extend([1, 1, 0, 0, 1, 1]);
         assert_eq!(front(&u), 22.0);
+    }
+
+    /// Issue 74: the bins are sparse, so a grain a petametre away (a restored state's
+    /// forged position made the dense histogram ask for 10¹⁵ bytes) costs one bin and
+    /// changes nothing of the deposit.
+    #[test]
+    fn a_far_grain_costs_one_bin() {
+        let dp = 0.01;
+        let spec = RunoutSpec {
+            origin: vec![0.0],
+            direction: 1.0,
+        };
+        let mut p = deposit(&[3; 20], dp);
+        let near = runout(&p, &[], &spec, dp);
+        p.push(
+            Vect::<2>::new(1e15, 0.005),
+            Vect::<2>::zeros(),
+            1000.0,
+            1000.0 * dp * dp,
+            Sym::ZERO,
+            0,
+        );
+        assert_eq!(runout(&p, &[], &spec, dp), near);
+        assert_eq!(near, 20.0 * dp);
     }
 
     /// Issue 39: a flow that has left its release area empties the bins at the origin;

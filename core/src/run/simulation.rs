@@ -23,28 +23,28 @@ use crate::world::World;
 pub struct Simulation<const D: usize> {
     pub world: World<D>,
     pub stepper: Stepper<D>,
-    runout: RunoutSpec<D>,
-    impulse: Vec<Load>,
+    pub(super) runout: RunoutSpec<D>,
+    pub(super) impulse: Vec<Load>,
     /// Impulse on each barrier panel since the last sample.
-    panel_impulse: Vec<Load>,
+    pub(super) panel_impulse: Vec<Load>,
     /// Impulse (force, torque) on each body since the last sample.
-    body_impulse: Vec<Load>,
+    pub(super) body_impulse: Vec<Load>,
     /// The water's part of `impulse`.
     #[serde(default)]
-    water_impulse: Vec<Load>,
+    pub(super) water_impulse: Vec<Load>,
     /// The water's part of `panel_impulse`.
     #[serde(default)]
-    panel_water_impulse: Vec<Load>,
-    peak: Vec<Real>,
-    interval_start: Real,
-    last_dt: Real,
+    pub(super) panel_water_impulse: Vec<Load>,
+    pub(super) peak: Vec<Real>,
+    pub(super) interval_start: Real,
+    pub(super) last_dt: Real,
     /// No step is longer than this (the scene's output interval).
-    dt_cap: Real,
+    pub(super) dt_cap: Real,
     /// Stable Δt_f (Eq. 51) and Δt_c (Eq. 52 and contacts) of the last step.
-    last_dt_f: Real,
-    last_dt_c: Real,
+    pub(super) last_dt_f: Real,
+    pub(super) last_dt_c: Real,
     /// κ = ⌈Δt_f/Δt_c⌉ of the last full (not output-clipped) step.
-    last_kappa: usize,
+    pub(super) last_kappa: usize,
 }
 
 fn arr<const D: usize>(v: &Vect<D>) -> [f32; 3] {

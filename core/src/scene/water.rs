@@ -168,6 +168,17 @@ impl Hydrograph {
         }
     }
 
+    /// The length of water let in from t = 0 to `t` (m), ∫₀ᵗ u dt: a (F(t) − F(0))
+    /// with the Gumbel distribution F(t) = exp(−exp(−(t − μ)/β)).
+    pub fn length(&self, t: f64) -> f64 {
+        match *self {
+            Hydrograph::Gumbel { a, beta, mu } => {
+                let f = |t: f64| (-(-(t - mu) / beta).exp()).exp();
+                a * (f(t) - f(0.0))
+            }
+        }
+    }
+
     /// The largest speed (m/s): the Gumbel peak, a/(β e) at t = μ.
     pub fn peak(&self) -> f64 {
         match *self {
@@ -209,5 +220,14 @@ mod tests {
         ] {
             assert!((h.speed(t) - u).abs() < 5e-3 * u, "u({t}) = {}", h.speed(t));
         }
+        // the length let in is the speed's integral (trapezoids of 1 ms)
+        let n = 10_000;
+        let trapezoids: f64 = (0..n)
+            .map(|k| 0.5e-3 * (h.speed(k as f64 * 1e-3) + h.speed((k + 1) as f64 * 1e-3)))
+            .sum();
+        assert!((h.length(10.0) - trapezoids).abs() < 1e-6 * trapezoids);
+        // all of it: a (1 − F(0)), F(0) = exp(−e^{1.5})
+        let all = 35.0 * (1.0 - (-(1.5f64).exp()).exp());
+        assert!((h.length(1e3) - all).abs() < 1e-9 * all);
     }
 }

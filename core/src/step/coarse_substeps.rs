@@ -51,6 +51,46 @@ pub struct CoarseStepper<const D: usize> {
 }
 
 impl<const D: usize> CoarseStepper<D> {
+    /// Whether the speed, acceleration and sub-step the next Δt_c reads are finite, not
+    /// negative and (the speed) at most `max_speed`.
+    pub fn motion_in_range(&self) -> bool {
+        let v = self.vmax.is_finite() && (0.0..=self.max_speed).contains(&self.vmax);
+        v && self.amax.is_finite() && self.amax >= 0.0 && self.dt.is_finite() && self.dt >= 0.0
+    }
+
+    /// Whether this sub-stepper, restored from a state, fits `template` (the scene's
+    /// as built) and `coarse` among `objects` wall objects: the same contact law,
+    /// constants and reference configuration, and candidates of existing particles.
+    pub fn restored_fits(
+        &self,
+        template: &Self,
+        coarse: &Coarse<D>,
+        objects: usize,
+    ) -> Result<(), &'static str> {
+        let t = template;
+        let bits = |x: Real| x.to_bits();
+        if self.law != t.law
+            || bits(self.cfl) != bits(t.cfl)
+            || bits(self.h) != bits(t.h)
+            || bits(self.dp) != bits(t.dp)
+            || bits(self.max_speed) != bits(t.max_speed)
+            || !self.gravity.iter().all(|g| g.is_finite())
+        {
+            return Err("coarse sub-stepper's constants");
+        }
+        if !self.tlsph.restored_fits(&t.tlsph) {
+            return Err("elastic bodies' reference configuration");
+        }
+        let (n, bodies) = (coarse.particles.len(), coarse.bodies.len());
+        if !self.contacts.restored_fits(n, objects, bodies)
+            || !self.gaps.restored_fits(n, objects, bodies)
+            || self.impulse.len() != bodies
+        {
+            return Err("contact candidates");
+        }
+        Ok(())
+    }
+
     /// Gravity of the coming sub-steps (changes while the scene ramps it up).
     pub fn set_gravity(&mut self, gravity: &Vect<D>) {
         self.gravity = to3(gravity);

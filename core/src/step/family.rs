@@ -137,6 +137,46 @@ impl<const D: usize> FamilyLists<D> {
         })
     }
 
+    /// Whether these lists, restored from a state, fit the family of `n` particles and
+    /// `walls` wall particles, and `template`, the same family's lists as the scene
+    /// builds them: the same cell grids, radius and skin; wall bins of the wall
+    /// particles; and lists (unless gone, to be rebuilt at the next step) of `n`
+    /// particles marked at their build, whose coarse entries index the coarse
+    /// particles of that build. Says which part does not.
+    pub fn restored_fits(
+        &self,
+        template: &Self,
+        n: usize,
+        walls: usize,
+    ) -> Result<(), &'static str> {
+        let (i, t) = (&self.inner, &template.inner);
+        if !i.grid.same_geometry(&t.grid)
+            || !self.coarse.grid().same_geometry(template.coarse.grid())
+            || !self.walls.grid.same_geometry(&template.walls.grid)
+        {
+            return Err("cell grids");
+        }
+        if i.radius.to_bits() != t.radius.to_bits() || i.skin.to_bits() != t.skin.to_bits() {
+            return Err("list radius");
+        }
+        if !self.walls.grid.contents_fit(walls) {
+            return Err("wall bins");
+        }
+        if self.lists.chunks.is_empty() {
+            return Ok(());
+        }
+        let fits = i.marks.pos.len() == n && self.lists.fit(n, walls, self.coarse.built_count());
+        if !fits {
+            return Err("neighbour lists");
+        }
+        Ok(())
+    }
+
+    /// [`InnerRelation::motion_in_range`] of the family's relation with itself.
+    pub fn motion_in_range(&self, max_speed: Real) -> bool {
+        self.inner.motion_in_range(max_speed)
+    }
+
     /// Forget the lists: the next step rebuilds them (particles came or went).
     pub fn invalidate(&mut self) {
         self.lists.chunks.clear();

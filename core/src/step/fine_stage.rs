@@ -79,6 +79,28 @@ pub struct FineStepper<const D: usize> {
 }
 
 impl<const D: usize> FineStepper<D> {
+    /// Whether this stepper, restored from a state, fits `template` (the scene's as
+    /// built) and the family of `n` fine and `walls` wall particles: the same
+    /// per-material constants, and lists that fit ([`FamilyLists::restored_fits`]).
+    pub fn restored_fits(
+        &self,
+        template: &Self,
+        n: usize,
+        walls: usize,
+    ) -> Result<(), &'static str> {
+        let t = template;
+        if self.geostatic != t.geostatic
+            || self.hourglass != t.hourglass
+            || self.hourglass_leak.len() != t.hourglass_leak.len()
+            || self.tension != t.tension
+            || self.uniform != t.uniform
+            || self.density_floor != t.density_floor
+        {
+            return Err("fine materials' constants");
+        }
+        self.family.restored_fits(&t.family, n, walls)
+    }
+
     /// Lists with cells of `cell` over the world's domain; `up` and `params` set the
     /// per-material factors.
     pub fn new(world: &World<D>, params: &StepParams, cell: Real, up: &Vect<D>) -> Self {

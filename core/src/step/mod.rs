@@ -101,6 +101,72 @@ impl<const D: usize> Stepper<D> {
         }
     }
 
+    /// Whether this stepper, restored from a state, fits `template` (the stepper the
+    /// scene builds with the state's parameters) and `world` (the restored particles):
+    /// the same parameters, kernel, gravity and stages, loads of every barrier and
+    /// panel, and each family's stepper fitting its particles. Says which part does not.
+    pub fn restored_fits(&self, template: &Self, world: &World<D>) -> Result<(), &'static str> {
+        let t = template;
+        if self.params != t.params || self.kernel != t.kernel {
+            return Err("method parameters");
+        }
+        if self.g_full != t.g_full
+            || self.up != t.up
+            || self.coarse_vol.to_bits() != t.coarse_vol.to_bits()
+            || self.skipped != t.skipped
+        {
+            return Err("gravity or stages");
+        }
+        if self.step_loads.len() != t.step_loads.len()
+            || self.slot_loads.len() != t.slot_loads.len()
+        {
+            return Err("barrier loads");
+        }
+        let walls = world.walls.len();
+        self.fine.restored_fits(&t.fine, world.fine.len(), walls)?;
+        match (&self.coarse, &t.coarse) {
+            (Some(c), Some(tc)) => c.restored_fits(tc, &world.coarse, world.walls.objects.len())?,
+            (None, None) => {}
+            _ => return Err("coarse sub-stepper"),
+        }
+        match (&self.water, &t.water) {
+            (Some(w), Some(tw)) => w.restored_fits(tw, world.water.particles.len(), walls)?,
+            (None, None) => {}
+            _ => return Err("water stepper"),
+        }
+        match (&self.soil_water, &t.soil_water) {
+            (Some(s), Some(ts)) if s.restored_fits(ts) => {}
+            (None, None) => {}
+            _ => return Err("soil–water coupling"),
+        }
+        Ok(())
+    }
+
+    /// Whether the motion the next Δt and list rebuilds read (each family's largest
+    /// speed and displacement since its lists' build, the coarse sub-stepper's speed,
+    /// acceleration and sub-step) is finite and in range: a restored state's, before it
+    /// steps. Says which is not.
+    pub fn restored_motion_fits(&self) -> Result<(), &'static str> {
+        let v = self.params.max_speed;
+        if !self.fine.family.motion_in_range(v) {
+            return Err("fine particles' largest speed or displacement");
+        }
+        if self
+            .water
+            .as_ref()
+            .is_some_and(|w| !w.family.motion_in_range(v))
+        {
+            return Err("water particles' largest speed or displacement");
+        }
+        if self.coarse.as_ref().is_some_and(|c| !c.motion_in_range()) {
+            return Err("coarse particles' largest speed or acceleration");
+        }
+        if !(self.g_scale.is_finite() && (0.0..=1.0).contains(&self.g_scale)) {
+            return Err("gravity ramp");
+        }
+        Ok(())
+    }
+
     /// Find the coarse contact candidates for a step of about `dt`, then return Δt_c
     /// (infinite without coarse grains).
     pub fn coarse_dt(&mut self, world: &World<D>, dt: Real) -> Real {

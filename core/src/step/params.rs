@@ -7,7 +7,7 @@ use crate::scene::resolution::Resolution;
 use crate::scene::{ContinuityJump, Scene, TimeStepping, WallStress};
 
 /// Method parameters of one run (one struct per subsystem; defaults from seed 000).
-#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StepParams {
     /// Smoothing length h = smoothing_ratio · dp (1.3 dp).
     pub h: Real,

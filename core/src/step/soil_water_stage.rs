@@ -146,6 +146,17 @@ impl<'a, const D: usize> SeepStep<'a, D> {
 }
 
 impl<const D: usize> SoilWater<D> {
+    /// Whether this coupling, restored from a state, fits `template` (the scene's as
+    /// built): the same explicit bound, midpoint rule, lattice sums and list geometry.
+    pub fn restored_fits(&self, template: &Self) -> bool {
+        let bits = |x: Real| x.to_bits();
+        bits(self.dt_explicit) == bits(template.dt_explicit)
+            && self.midpoint == template.midpoint
+            && (bits(self.norm.0), bits(self.norm.1))
+                == (bits(template.norm.0), bits(template.norm.1))
+            && self.relation.same_geometry(&template.relation)
+    }
+
     /// The coupling of a world with water and a soil with pores (None otherwise).
     pub fn new(
         world: &World<D>,

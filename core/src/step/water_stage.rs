@@ -76,6 +76,20 @@ pub struct WaterStepper<const D: usize> {
 }
 
 impl<const D: usize> WaterStepper<D> {
+    /// Whether this stepper, restored from a state, fits `template` (the scene's as
+    /// built) and the water of `n` particles among `walls` wall particles.
+    pub fn restored_fits(
+        &self,
+        template: &Self,
+        n: usize,
+        walls: usize,
+    ) -> Result<(), &'static str> {
+        if self.confined != template.confined {
+            return Err("water's confinement");
+        }
+        self.family.restored_fits(&template.family, n, walls)
+    }
+
     /// Lists with cells of `cell` over the world's domain and Verlet skin `skin`.
     pub fn new(world: &World<D>, cell: Real, skin: Real) -> Self {
         let (lo, hi) = &world.domain;

@@ -9,7 +9,7 @@ use crate::numerics::math::{box_extent, Real, Vect};
 use crate::scene::Hydrograph;
 
 /// The inflow speed against time.
-#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum InflowSpeed {
     Constant(Real),
     Hydrograph(Hydrograph),
@@ -152,7 +152,7 @@ impl<const D: usize> Inflow<D> {
 }
 
 /// One outflow plane.
-#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Outflow<const D: usize> {
     pub name: String,
     pub point: Vect<D>,

@@ -5,7 +5,7 @@ use crate::numerics::math::Real;
 use crate::scene::{EquationOfState, WallSlip, WaterSpec};
 
 /// The fluid of a scene, with its derived constants.
-#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WaterMaterial {
     /// Reference density ρ_w (kg/m³).
     pub rho0: Real,

@@ -24,7 +24,7 @@ mod water_fill;
 pub(crate) use water_fill::column_key;
 
 /// A probe point sampled into the time series (or a gauge's base point).
-#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Probe<const D: usize> {
     pub name: String,
     pub position: Vect<D>,

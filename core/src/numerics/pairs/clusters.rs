@@ -121,6 +121,41 @@ impl ClusterPairs {
         pairs
     }
 
+    /// Whether the clusters and their lists are those [`build`](Self::build) makes of
+    /// `n` particles in the slabs `slabs`: clusters of at most [`WIDTH`] particles
+    /// ascending to `n`, the slabs' first clusters and particles, each particle's
+    /// cluster, and compressed rows of particle indices below `n`.
+    pub fn fit(&self, slabs: &[u32], n: usize) -> bool {
+        use crate::numerics::index_rows::{ascending, below, rows};
+        let nc = self.len();
+        let clusters = !self.start.is_empty()
+            && self.start[0] == 0
+            && self.particles() == n
+            && self
+                .start
+                .windows(2)
+                .all(|w| w[0] <= w[1] && w[1] - w[0] <= WIDTH as u32);
+        if !clusters || self.slabs.len() != slabs.len() || !ascending(&self.slabs) {
+            return false;
+        }
+        let slabs_fit = self.slabs.last().is_some_and(|&l| l as usize == nc)
+            && self.particle_slabs.len() == self.slabs.len()
+            && self
+                .slabs
+                .iter()
+                .zip(&self.particle_slabs)
+                .all(|(&c, &p)| self.start[c as usize] == p);
+        slabs_fit
+            && self.of.len() == n
+            && self
+                .of
+                .iter()
+                .enumerate()
+                .all(|(i, &c)| (c as usize) < nc && self.members(c as usize).contains(&i))
+            && rows(&self.off, nc, self.js.len())
+            && below(&self.js, n)
+    }
+
     /// Particles in the clusters.
     pub fn particles(&self) -> usize {
         self.start.last().map_or(0, |&n| n as usize)

@@ -26,6 +26,16 @@ impl<const D: usize> CoarseRelation<D> {
         }
     }
 
+    /// The cells the coarse particles are binned in.
+    pub fn grid(&self) -> &CellGrid<D> {
+        &self.grid
+    }
+
+    /// Coarse particles at the last build (the lists' coarse entries index them).
+    pub fn built_count(&self) -> usize {
+        self.at_build.len()
+    }
+
     /// Largest displacement of a coarse particle of `csrc` since the last build;
     /// infinite when the count changed.
     pub fn moved_since_build(&self, csrc: &[CoarseSource<D>]) -> Real {

@@ -82,6 +82,14 @@ impl<const D: usize> InnerRelation<D> {
         }
     }
 
+    /// Whether the motion since the build that the rebuild rule and Δt read (the
+    /// largest speed and displacement) is finite, not negative and (the speed) at most
+    /// `max_speed`; the displacement is infinite before the first build.
+    pub fn motion_in_range(&self, max_speed: Real) -> bool {
+        let speed = self.vmax.is_finite() && (0.0..=max_speed).contains(&self.vmax);
+        speed && self.max_disp >= 0.0
+    }
+
     /// Bound on any particle's displacement since the build by the middle of a step of
     /// `dt` (where the lists are read).
     pub fn moved(&self, dt: Real) -> Real {

@@ -30,6 +30,11 @@ pub struct SoilWaterRelation<const D: usize> {
 }
 
 impl<const D: usize> SoilWaterRelation<D> {
+    /// Whether `other` has this relation's radius and grid geometry, bit for bit.
+    pub fn same_geometry(&self, other: &Self) -> bool {
+        self.radius.to_bits() == other.radius.to_bits() && self.grid.same_geometry(&other.grid)
+    }
+
     /// The relation with lists of `radius` over the box `lo`–`hi`; never built yet.
     pub fn new(radius: Real, (lo, hi): (&Vect<D>, &Vect<D>)) -> Self {
         SoilWaterRelation {
