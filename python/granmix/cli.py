@@ -19,7 +19,7 @@ from typing import Any
 
 import pandas as pd
 
-from granmix import preflight
+from granmix import extracted, preflight
 from granmix.design import Case, cases
 from granmix.pack import PackCache, PackError
 from granmix.store import CaseStore, output_columns
@@ -119,7 +119,9 @@ def main(argv: list[str] | None = None) -> int:
         )
     todo, done = pending(study, store, a.resume, a.retry_failed)
     try:
-        found = preflight.check(study, todo[0] if todo else design[0], PackCache(cache))
+        # the design's first case, as a clean run checks: a resume is a clean run of the
+        # pending cases, where one whose scene value granmix refuses is a failed row
+        found = preflight.check(study, design[0] if design else None, PackCache(cache))
     except (StudyError, PackError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
@@ -131,6 +133,13 @@ def main(argv: list[str] | None = None) -> int:
             file=sys.stderr,
         )
     store.create()
+    cleared = extracted.clear_stale(cache)
+    if cleared:
+        print(
+            f"cleared {cleared} extracted FMU folder(s) that stopped processes left in "
+            f"{extracted.root(cache)}",
+            file=sys.stderr,
+        )
     progress = Progress(len(todo), enabled=not a.quiet)
     results = []
     with _sigterm_interrupts():

@@ -33,6 +33,7 @@ from fmpy.fmi2 import (
     fmi2CallbackLoggerTYPE,
 )
 
+from granmix import extracted
 from granmix.design import Case
 from granmix.pack import PackCache
 from granmix.study import GRANMIX, Study
@@ -99,14 +100,22 @@ class _Instance:
     initialises it. :meth:`close` frees whatever was made and removes the extracted
     directory."""
 
-    def __init__(self, name: str, path: Path) -> None:
+    def __init__(self, name: str, path: Path, cache_dir: Path | None = None) -> None:
         self.name = name
         md = read_model_description(str(path))
         self.vr = {v.name: v.valueReference for v in md.modelVariables}
         self.log: list[tuple[int, str, str]] = []
         self.live = False
         self.fmu: FMU2Slave | None = None
-        self.dir = extract(str(path))
+        # a directory of this process's under the pack cache (granmix.extracted), so
+        # that one a killed process leaves is cleared by the next
+        into = extracted.make(cache_dir) if cache_dir is not None else None
+        try:
+            self.dir = extract(str(path), unzipdir=str(into) if into else None)
+        except BaseException:
+            if into is not None:
+                shutil.rmtree(into, ignore_errors=True)
+            raise
         self.callbacks = fmi2CallbackFunctions()
         self.callbacks.logger = fmi2CallbackLoggerTYPE(self._logged)
         self.callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
@@ -272,7 +281,7 @@ def _loop(
     sources[GRANMIX] = cache.fmu(study.scene, sets)
     for name in order:
         # held before it starts, so that a refused start value still frees it
-        instances[name] = _Instance(name, sources[name])
+        instances[name] = _Instance(name, sources[name], cache.dir)
         instances[name].start(starts[name])
         check_time(0)
     feeds = {name: [c for c in study.connections if _split(c.target)[0] == name] for name in order}

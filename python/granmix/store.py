@@ -19,7 +19,7 @@ from pathlib import Path
 import pandas as pd
 
 from granmix.design import Case
-from granmix.master import CaseResult
+from granmix.master import CaseResult, reduce
 from granmix.study import Study
 
 #: Columns that differ between runs of the same case (left out of comparisons).
@@ -120,9 +120,30 @@ class CaseStore:
             if row["status"].iloc[0] != "ok":
                 if not retry_failed:
                     out.add(c.key)
-            elif all(col in row.columns for col in wanted):
+            elif all(col in row.columns for col in wanted) or self._reduce_again(study, c.key, row):
                 out.add(c.key)
         return out
+
+    def _reduce_again(self, study: Study, key: str, row: pd.DataFrame) -> bool:
+        """Add to the finished row of case ``key`` the reductions ``study`` now asks
+        for, computed from its stored series as the case's run computes them
+        (:func:`granmix.master.reduce`, the same numbers), and store the row again;
+        False (nothing written) when an output was not collected by that run."""
+        series = self.series(key)
+        missing = [
+            (o.variable, how)
+            for o in study.outputs
+            for how in o.reduce
+            if f"{o.variable}:{how}" not in row.columns
+        ]
+        if not len(series) or any(v not in series.columns for v, _ in missing):
+            return False
+        times = series["time"].tolist()
+        row = row.copy()
+        for variable, how in missing:
+            row[f"{variable}:{how}"] = reduce(times, series[variable].tolist(), how)
+        self._write(row, self.dir / f"{key}{_ROW}")
+        return True
 
     def assemble(self, study: Study, design: list[Case]) -> tuple[pd.DataFrame, pd.DataFrame]:
         """The result table and the series table of the stored cases of ``design``, in

@@ -25,6 +25,7 @@ from typing import Any
 
 import pandas as pd
 
+from granmix import extracted
 from granmix.design import Case, cases
 from granmix.master import CaseResult, run_case
 from granmix.pack import PackCache
@@ -61,12 +62,20 @@ def _worker_host() -> str:
     return f"{socket.gethostname()}/{w.name}"
 
 
+_cleared: set[str] = set()
+
+
 def _task(
     study: Study, case: Case, cache_dir: str, threads: int, store_dir: str | None
 ) -> CaseResult:
     """One case on a worker: its FMUs from the shared pack cache, then the loop. The
     worker stores the finished case itself when it sees the study's ``cases/`` directory
-    (a shared file system), so that a case finishing after its client has gone is kept."""
+    (a shared file system), so that a case finishing after its client has gone is kept.
+    Before its first case, a worker process clears the FMUs that dead processes of its
+    host left extracted (:func:`granmix.extracted.clear_stale`)."""
+    if cache_dir not in _cleared:
+        extracted.clear_stale(Path(cache_dir))
+        _cleared.add(cache_dir)
     r = run_case(study, case, PackCache(cache_dir), threads, _worker_host())
     if store_dir is not None and Path(store_dir).is_dir():
         CaseStore(store_dir).put(r)
@@ -164,6 +173,22 @@ def _lost(case: Case, error: BaseException) -> CaseResult:
     return CaseResult(case.key, case.index, dict(case.values), "failed", why, host=host)
 
 
+class ClearExtracted:
+    """A Dask worker plugin: at the worker's shutdown, remove the FMUs its process
+    left extracted under the study's pack cache (the cases it was stopped in)."""
+
+    name = "granmix-clear-extracted"
+
+    def __init__(self, cache_dir: str) -> None:
+        self.cache_dir = cache_dir
+
+    def setup(self, worker: Any) -> None:
+        extracted.clear_stale(Path(self.cache_dir))
+
+    def teardown(self, worker: Any) -> None:
+        extracted.clear_own(Path(self.cache_dir))
+
+
 def run_dask(
     study: Study,
     todo: list[Case],
@@ -183,6 +208,10 @@ def run_dask(
     from distributed import as_completed
 
     store_dir = str(store.dir.resolve()) if store is not None else None
+    from distributed import WorkerPlugin
+
+    plugin = type("ClearExtractedPlugin", (ClearExtracted, WorkerPlugin), {})(str(cache_dir))
+    client.register_plugin(plugin)  # type: ignore[attr-defined]
     by_key = {c.key: c for c in todo}
     futures = [
         client.submit(  # type: ignore[attr-defined]

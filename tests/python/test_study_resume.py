@@ -3,6 +3,7 @@ runs only the rest; a resume after the study file changed keeps no stale row; a 
 with a repeated case gives every case a row; a study on an external scheduler survives
 its client being killed, and its client survives the scheduler's death."""
 
+import os
 import pathlib
 import re
 import shutil
@@ -352,3 +353,76 @@ def test_a_resume_keeps_the_rows_of_a_table_written_before_the_store(
     assert "4 cases (0 run now)" in capsys.readouterr().out
     pd.testing.assert_frame_equal(results(out), results(clean), check_exact=True)
     pd.testing.assert_frame_equal(series(out), series(clean), check_exact=True)
+
+
+# --- issue 74: resume as a clean run, extracted FMUs, new reductions -----------------
+
+def test_a_new_reduction_is_computed_from_the_stored_series(clean, tmp_path, capsys):
+    """`min` added to an output the study already collects: the resume runs nothing,
+    says every case is stored, and the new column is each case's stored series reduced
+    (a reference computed here with pandas); the other columns are the clean run's."""
+    out = tmp_path / "out"
+    shutil.copytree(clean, out)
+    study = write_study(tmp_path, STUDY.replace('reduce = ["max", "mean"]',
+                                                'reduce = ["max", "mean", "min"]'))
+    capsys.readouterr()
+    run(study, "--out", out, "--serial", "--resume")
+    captured = capsys.readouterr()
+    assert "4 cases (0 run now)" in captured.out, captured.out
+    assert "resume: 4 of 4 cases stored, 0 to run" in captured.err, captured.err
+    r = results(out)
+    col = "granmix.barrier.force.x:min"
+    expected = series(clean).groupby("key")["granmix.barrier.force.x"].min()
+    assert list(r[col]) == [expected[k] for k in r["key"]]
+    pd.testing.assert_frame_equal(r.drop(columns=[col]), results(clean), check_exact=True)
+
+
+def test_a_resume_whose_first_pending_case_is_refused_makes_it_a_failed_row(
+    tmp_path, capsys
+):
+    """The second case's friction angle (95°) is one granmix refuses to pack: a clean run
+    makes it a failed row. With only the first case stored, `--resume` (and
+    `--resume --retry-failed`) did the preflight on that case and refused the whole
+    study (exit 2); it now runs it as the clean run does."""
+    text = STUDY.replace("values = [25.0, 35.0]", "values = [25.0, 95.0]").replace(
+        "values = [2.0e4, 8.0e4]", "values = [2.0e4]").replace("end_time = 0.4",
+                                                               "end_time = 0.02")
+    study = write_study(tmp_path, text)
+    clean_out, out = tmp_path / "clean", tmp_path / "out"
+    run(study, "--out", clean_out, "--serial")
+    r = results(clean_out)
+    assert list(r["status"]) == ["ok", "failed"], r
+    assert "friction_angle" in r["diagnostic"].iloc[1], r["diagnostic"].iloc[1]
+    shutil.copytree(clean_out, out)
+    (out / "cases" / f"{r['key'].iloc[1]}.parquet").unlink()
+    for extra in ([], ["--retry-failed"]):
+        capsys.readouterr()
+        run(study, "--out", out, "--serial", "--resume", *extra)
+        assert "2 cases (1 run now)" in capsys.readouterr().out
+        pd.testing.assert_frame_equal(results(out).drop(columns=["diagnostic"]),
+                                      r.drop(columns=["diagnostic"]), check_exact=True)
+
+
+def test_fmus_left_extracted_by_dead_processes_are_cleared(clean, tmp_path, capsys):
+    """A process killed mid-case leaves its extracted FMUs (about 9 MB each) under the
+    pack cache's `extracted/`; the next study clears those of this host's processes that
+    are gone, keeps those of live ones, and a study's own cases leave nothing there."""
+    from granmix import extracted
+
+    out = tmp_path / "out"
+    shutil.copytree(clean, out)
+    root = extracted.root(out / "fmus")
+    assert not root.exists() or not any(root.iterdir()), "a clean run left FMUs extracted"
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+    host = socket.gethostname().replace("-", "_")
+    stale = root / f"{host}-{dead.pid}-abc"
+    live = root / f"{host}-{os.getpid()}-def"
+    other = root / f"elsewhere-{dead.pid}-ghi"
+    for d in (stale, live, other):
+        d.mkdir(parents=True)
+        (d / "binaries.so").write_bytes(b"x" * 1000)
+    capsys.readouterr()
+    run(write_study(tmp_path), "--out", out, "--serial", "--resume")
+    assert "cleared 1 extracted FMU folder(s)" in capsys.readouterr().err
+    assert not stale.exists() and live.exists() and other.exists()
