@@ -15,3 +15,4 @@ mod restore_values;
 pub mod runner;
 pub mod sample;
 pub mod simulation;
+mod state_mismatch;

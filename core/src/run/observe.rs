@@ -81,10 +81,8 @@ pub fn runout<const D: usize>(
             ((x[0] - spec.origin[0]).powi(2) + (x[1] - spec.origin[1]).powi(2)).sqrt()
         }
     };
-    // the occupied bins of width dp, as (bin, volume) in bin order, volumes summed in
-    // particle order (fine grains, then the coarse ones): a sparse histogram, so a
-    // particle far away costs one bin, not a bin per dp up to it
-    let mut items: Vec<(usize, Real)> = p
+    // (bin, volume) of the fine grains, then the coarse ones
+    let items: Vec<(usize, Real)> = p
         .pos
         .iter()
         .zip(p.mass.iter().zip(&p.rho))
@@ -99,30 +97,7 @@ pub fn runout<const D: usize>(
         )
         .map(|(r, v)| ((r / dp) as usize, v))
         .collect();
-    items.sort_by_key(|&(k, _)| k);
-    let mut vol: Vec<(usize, Real)> = Vec::new();
-    for (k, v) in items {
-        match vol.last_mut() {
-            Some((last, sum)) if *last == k => *sum += v,
-            _ => vol.push((k, v)),
-        }
-    }
-    let thickness = |k: usize| -> Real {
-        let Ok(at) = vol.binary_search_by_key(&k, |&(b, _)| b) else {
-            return 0.0;
-        };
-        let (r0, r1) = (k as Real * dp, (k + 1) as Real * dp);
-        let area = if D == 2 {
-            dp
-        } else {
-            std::f64::consts::PI * (r1 * r1 - r0 * r0)
-        };
-        vol[at].1 / area
-    };
-    let volume = |k: usize| {
-        vol.binary_search_by_key(&k, |&(b, _)| b)
-            .map_or(0.0, |at| vol[at].1)
-    };
+    let vol = occupied_bins(items);
     // the bins run from 0 to ⌈r_max / dp⌉, one past the farthest occupied one unless
     // r_max falls on a bin edge
     let rmax = p
@@ -131,7 +106,54 @@ pub fn runout<const D: usize>(
         .chain(coarse.iter().map(|(x, _)| x))
         .map(dist)
         .fold(0.0, Real::max);
-    let last = (rmax / dp).ceil() as usize;
+    let runs = deposit_runs::<D>(&vol, (rmax / dp).ceil() as usize, dp);
+    // the farthest run holding at least DEPOSIT_SHARE of the material, else the fullest
+    let total: Real = vol.iter().map(|&(_, v)| v).sum();
+    runs.iter()
+        .rev()
+        .find(|r| r.0 >= DEPOSIT_SHARE * total)
+        .or_else(|| {
+            runs.iter()
+                .fold(None, |b: Option<&(Real, Real)>, r| match b {
+                    Some(b) if b.0 >= r.0 => Some(b),
+                    _ => Some(r),
+                })
+        })
+        .map_or(0.0, |r| r.1)
+}
+
+/// `(bin, volume)` items as the occupied bins in bin order, each bin's volumes summed
+/// in the items' order: a sparse histogram, so a particle far away costs one bin, not
+/// a bin per dp up to it.
+fn occupied_bins(mut items: Vec<(usize, Real)>) -> Vec<(usize, Real)> {
+    items.sort_by_key(|&(k, _)| k);
+    let mut vol: Vec<(usize, Real)> = Vec::new();
+    for (k, v) in items {
+        match vol.last_mut() {
+            Some((b, sum)) if *b == k => *sum += v,
+            _ => vol.push((k, v)),
+        }
+    }
+    vol
+}
+
+/// The runs of deposit bins of the occupied bins `vol` (width `dp`, bins `0..=last`),
+/// each (volume, outer edge): bins whose thickness, the median of their own and their
+/// neighbours', is at least half a spacing.
+fn deposit_runs<const D: usize>(vol: &[(usize, Real)], last: usize, dp: Real) -> Vec<(Real, Real)> {
+    let volume = |k: usize| {
+        vol.binary_search_by_key(&k, |&(b, _)| b)
+            .map_or(0.0, |at| vol[at].1)
+    };
+    let thickness = |k: usize| -> Real {
+        let (r0, r1) = (k as Real * dp, (k + 1) as Real * dp);
+        let area = if D == 2 {
+            dp
+        } else {
+            std::f64::consts::PI * (r1 * r1 - r0 * r0)
+        };
+        volume(k) / area
+    };
     let next = |k: usize| k.saturating_add(1).min(last);
     // bins that may be deposit: the occupied ones and their neighbours (the median of
     // three of an empty bin between two occupied ones is not zero)
@@ -139,10 +161,8 @@ pub fn runout<const D: usize>(
         .iter()
         .flat_map(|&(k, _)| [k.saturating_sub(1), k, next(k)])
         .collect();
-    candidates.dedup();
     candidates.sort_unstable();
     candidates.dedup();
-    // runs of deposit bins, each (volume, outer edge)
     let mut runs: Vec<(Real, Real)> = Vec::new();
     let mut run: Option<Real> = None;
     let mut previous: Option<usize> = None;
@@ -167,19 +187,7 @@ pub fn runout<const D: usize>(
         }
         run = runs.last().map(|r| r.0);
     }
-    // the farthest run holding at least DEPOSIT_SHARE of the material, else the fullest
-    let total: Real = vol.iter().map(|&(_, v)| v).sum();
-    runs.iter()
-        .rev()
-        .find(|r| r.0 >= DEPOSIT_SHARE * total)
-        .or_else(|| {
-            runs.iter()
-                .fold(None, |b: Option<&(Real, Real)>, r| match b {
-                    Some(b) if b.0 >= r.0 => Some(b),
-                    _ => Some(r),
-                })
-        })
-        .map_or(0.0, |r| r.1)
+    runs
 }
 
 /// A run of deposit bins that holds at least this share of the binned volume counts as

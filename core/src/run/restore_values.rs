@@ -4,7 +4,7 @@
 //! body or wall and the value.
 
 use crate::numerics::math::{Real, Vect};
-use crate::run::restore::StateMismatch;
+use crate::run::state_mismatch::StateMismatch;
 use crate::world::World;
 
 /// What the scene fixes, against `template`, the world the scene builds with the
@@ -126,18 +126,8 @@ pub(super) fn finite_in_range<const D: usize>(
     let f = &w.fine;
     for i in 0..f.len() {
         let at = |q: &str| format!("fine particle {i}: {q}");
-        if !finite(&f.pos[i]) {
-            return Err(refuse(at("position"), f.pos[i].as_slice(), "finite"));
-        }
-        if fast(&f.vel[i]) {
-            return Err(refuse(at("velocity"), f.vel[i].as_slice(), &speed_range));
-        }
-        if !(positive(f.rho[i]) && f.drho[i].is_finite()) {
-            return Err(refuse(at("density"), f.rho[i], "positive and finite"));
-        }
-        if !positive(f.mass[i]) {
-            return Err(refuse(at("mass"), f.mass[i], "positive and finite"));
-        }
+        let kinematics = (&f.pos[i], &f.vel[i], f.rho[i], f.drho[i], f.mass[i]);
+        sph_particle(&at, kinematics, &fast, &speed_range)?;
         if !f.stress[i].0.iter().all(|s| s.is_finite()) || !f.plastic_strain[i].is_finite() {
             return Err(refuse(at("stress"), f.stress[i].0, "finite"));
         }
@@ -156,18 +146,8 @@ pub(super) fn finite_in_range<const D: usize>(
     let wa = &w.water.particles;
     for i in 0..wa.len() {
         let at = |q: &str| format!("water particle {i}: {q}");
-        if !finite(&wa.pos[i]) {
-            return Err(refuse(at("position"), wa.pos[i].as_slice(), "finite"));
-        }
-        if fast(&wa.vel[i]) {
-            return Err(refuse(at("velocity"), wa.vel[i].as_slice(), &speed_range));
-        }
-        if !(positive(wa.rho[i]) && wa.drho[i].is_finite()) {
-            return Err(refuse(at("density"), wa.rho[i], "positive and finite"));
-        }
-        if !positive(wa.mass[i]) {
-            return Err(refuse(at("mass"), wa.mass[i], "positive and finite"));
-        }
+        let kinematics = (&wa.pos[i], &wa.vel[i], wa.rho[i], wa.drho[i], wa.mass[i]);
+        sph_particle(&at, kinematics, &fast, &speed_range)?;
     }
     coarse_in_range(w, &speed_range, fast)?;
     let walls = &w.walls;
@@ -191,6 +171,30 @@ pub(super) fn finite_in_range<const D: usize>(
             let what = format!("inflow `{}`: length let in", inflow.name);
             return Err(refuse(what, inflow.fill, "finite and not negative"));
         }
+    }
+    Ok(())
+}
+
+/// What a fine and a water particle share in [`finite_in_range`]: its position
+/// finite, its speed in range, its density positive (and its rate finite), its mass
+/// positive; `at` names the particle and the quantity.
+fn sph_particle<const D: usize>(
+    at: &dyn Fn(&str) -> String,
+    (pos, vel, rho, drho, mass): (&Vect<D>, &Vect<D>, Real, Real, Real),
+    fast: &dyn Fn(&Vect<D>) -> bool,
+    speed_range: &str,
+) -> Result<(), StateMismatch> {
+    if !finite(pos) {
+        return Err(refuse(at("position"), pos.as_slice(), "finite"));
+    }
+    if fast(vel) {
+        return Err(refuse(at("velocity"), vel.as_slice(), speed_range));
+    }
+    if !(positive(rho) && drho.is_finite()) {
+        return Err(refuse(at("density"), rho, "positive and finite"));
+    }
+    if !positive(mass) {
+        return Err(refuse(at("mass"), mass, "positive and finite"));
     }
     Ok(())
 }
