@@ -99,6 +99,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    quiet_on_a_closed_pipe();
     let cli = Cli::parse();
     // The whole command runs on a worker of the pool: a parallel loop started from a
     // worker begins at once on that thread, while one started from outside the pool
@@ -227,4 +228,25 @@ fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
             Ok(ExitCode::SUCCESS)
         }
     }
+}
+
+/// A reader that stops early (`granmix check … | head`) closes the pipe, and `println!`
+/// then panics on the broken pipe. The command's output is no longer wanted: end
+/// quietly with the status a shell gives a process its SIGPIPE stopped (128 + 13),
+/// instead of a panic message and a backtrace. Every other panic keeps the default
+/// report.
+fn quiet_on_a_closed_pipe() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let msg = info
+            .payload()
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| info.payload().downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        if msg.starts_with("failed printing to std") && msg.contains("Broken pipe") {
+            std::process::exit(141);
+        }
+        default(info);
+    }));
 }

@@ -192,3 +192,21 @@ open = ["+y"]
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `granmix check … | head -1`: a reader that has gone closes the pipe. The command ends
+/// with the shell's status for SIGPIPE (141) and says nothing, where it panicked on
+/// the broken pipe with a backtrace.
+#[test]
+fn check_into_a_closed_pipe_ends_quietly() {
+    let (reader, writer) = std::io::pipe().expect("a pipe");
+    drop(reader);
+    let s = scene("fmu_barrier_2d.toml");
+    let out = Command::new(BIN)
+        .args(["check", s.to_str().expect("utf-8 path")])
+        .stdout(writer)
+        .output()
+        .expect("granmix runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(141), "{err}");
+    assert!(err.is_empty(), "{err}");
+}
