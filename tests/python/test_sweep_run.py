@@ -62,7 +62,9 @@ def serial(tmp_path_factory):
 def test_a_local_cluster_gives_the_serial_table_bitwise(serial, tmp_path):
     run(study(tmp_path), "--out", tmp_path / "out", "--workers", 2)
     a, b = results(tmp_path / "out"), results(serial)
-    assert len(a) == 4 and (a["status"] == "ok").all()
+    assert len(a) == 4 and (a["status"] == "ok").all(), a[["key", "status", "diagnostic"]].to_dict(
+        "records"
+    )
     pd.testing.assert_frame_equal(a, b, check_exact=True)
     sa = pd.read_parquet(tmp_path / "out" / "series.parquet").sort_values(["key", "time"])
     sb = pd.read_parquet(serial / "series.parquet").sort_values(["key", "time"])

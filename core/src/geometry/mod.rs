@@ -375,6 +375,20 @@ impl<const D: usize> Shape<D> {
         }
     }
 
+    /// The outward unit normal of the face nearest `p`, as a wall contact takes it
+    /// ([`fine_wall`](crate::interactions::fine_wall)): [`normal`](Self::normal), except
+    /// on a terrain, whose ground normal under `p` ([`Heightmap::normal`]) is the
+    /// gradient's direction at the surface in four height lookups, not thirty.
+    ///
+    /// [`Heightmap::normal`]: crate::shapes::heightmap::Heightmap::normal
+    pub fn face_normal(&self, p: &Vect<D>, eps: Real) -> Vect<D> {
+        if let (Shape::Terrain { grid, offset }, 3) = (self, D) {
+            let q = to3(p) - offset;
+            return Vect::<D>::from_iterator(grid.normal(q.x, q.y));
+        }
+        self.normal(p, eps)
+    }
+
     /// Wall particles: `layers` lattice layers on the wall side of the surface.
     /// Solid shapes keep the shell −layers·dp < sdf < 0; a plane builds its own
     /// tangential lattice behind the plane.

@@ -9,10 +9,11 @@
 //! bounded by μ times the normal part. In the continuity equation the wall is a
 //! no-slip mirror, v_w = 2 u_w − v_i, and U* = u_w.
 
-use super::wall_contact;
+use super::wall_contact::{self, ClosedPairs};
 use crate::fine::material::FineMaterial;
 use crate::fine::source::Source;
 use crate::geometry::walls::Walls;
+use crate::geometry::Shape;
 use crate::numerics::kernel::WendlandC2;
 use crate::numerics::math::{sub_outer, Real, Vect};
 use crate::numerics::periodic::{Separation, Wrap};
@@ -69,19 +70,27 @@ pub fn normal<const D: usize>(
 const OBJECTS: usize = 4;
 
 /// In one pass over the wall list `wl` of the particle at `xi`: the wall normal of
-/// Eq. (33) over all of them (as [`normal`] gives it, bit for bit), and the normal of
-/// each wall object near `xi`, Φ_o = −Σ_{w ∈ o} ∇_i W_iw V_w over that object's wall
-/// particles, normalised (Eq. 33 restricted to one object). The contact of
-/// [`wall_contact`] opens on the traction across the face of the object the pair
-/// belongs to: at a corner the normal of Eq. (33) leans towards the other face, whose
-/// compression then kept a receding barrier's contact closed and let it pull.
+/// Eq. (33) over all of them (as [`normal`] gives it, bit for bit), and the face
+/// normal of each wall object near `xi`. The contact of [`wall_contact`] opens on the
+/// traction across the face of the object the pair belongs to, and a closed pair's
+/// pull across it is limited there: at a corner the normal of Eq. (33) leans towards
+/// the other face, whose compression then kept a receding barrier's contact closed and
+/// let it pull.
+///
+/// An object's face is its shape's outward normal, the signed-distance gradient
+/// ([`Shape::normal`]) at `xi` (wrapped into the period) shifted back by the object's
+/// displacement. Summing Eq. (33) over the
+/// object's own particles instead leans up at a barrier's toe, where its particles stop
+/// at the floor, and left a receding barrier a pull of −6.0e-4 N/m (docs/method.md,
+/// §Walls). A mesh, whose distance is a sum over all its triangles, and an object
+/// without a shape take Eq. (33) over the object's particles.
 #[inline(always)]
 fn normals<const D: usize>(
     kernel: &WendlandC2,
     walls: &Walls<D>,
     xi: &Vect<D>,
     wl: &[u32],
-    sep: &impl Separation,
+    wrap: &Wrap,
 ) -> (Vect<D>, ObjectNormals<D>) {
     let cut2 = kernel.cutoff * kernel.cutoff;
     let mut phi = Vect::<D>::zeros();
@@ -91,7 +100,7 @@ fn normals<const D: usize>(
     };
     for &w in wl {
         let w = w as usize;
-        let rij = sep.of(xi - walls.pos[w]);
+        let rij = wrap.of(xi - walls.pos[w]);
         let r2 = rij.norm_squared();
         if r2 >= cut2 || r2 == 0.0 {
             continue;
@@ -105,14 +114,40 @@ fn normals<const D: usize>(
             out.n[k] -= term;
         }
     }
-    for n in out.n.iter_mut().chain(std::iter::once(&mut phi)) {
+    // the shapes are those of the domain's own period: the particle's position wrapped
+    // into it (between list builds it strays up to a skin beyond)
+    let mut at = *xi;
+    if let Some(p) = wrap {
+        p.wrap_point(&mut at);
+    }
+    let eps = FACE_STEP * kernel.cutoff;
+    for (k, n) in out.n.iter_mut().enumerate() {
+        let Some(obj) = walls.objects.get(out.object[k] as usize) else {
+            break;
+        };
+        if let Some(shape) = obj.shape.as_ref().filter(|s| !matches!(s, Shape::Mesh(_))) {
+            let face = shape.face_normal(&(at - obj.displacement), eps);
+            if face.norm_squared() > 0.0 {
+                *n = face;
+                continue;
+            }
+        }
         let nrm = n.norm();
         if nrm > 0.0 {
             *n /= nrm;
         }
     }
+    let nrm = phi.norm();
+    if nrm > 0.0 {
+        phi /= nrm;
+    }
     (phi, out)
 }
+
+/// The central-difference step of an object's face normal, in kernel cut-offs: well
+/// inside a particle spacing, so that a face's normal is its own up to a particle's
+/// distance from an edge.
+const FACE_STEP: Real = 1e-4;
 
 /// The contact normals of one particle's wall objects ([`normals`]).
 #[derive(Clone, Copy, Debug)]
@@ -123,13 +158,10 @@ struct ObjectNormals<const D: usize> {
 }
 
 impl<const D: usize> ObjectNormals<D> {
-    /// The normal of object `o`, or `fallback` when it has no entry.
+    /// The entry of object `o`, if it has one.
     #[inline(always)]
-    fn of(&self, o: u16, fallback: &Vect<D>) -> Vect<D> {
-        self.object
-            .iter()
-            .position(|&x| x == o)
-            .map_or(*fallback, |k| self.n[k])
+    fn slot(&self, o: u16) -> Option<usize> {
+        self.object.iter().position(|&x| x == o)
     }
 }
 
@@ -143,7 +175,8 @@ pub struct FineAtWall<'a, const D: usize> {
     pub inv_c: Real,
     /// Wall normal of Eq. (33) at i.
     pub n: Vect<D>,
-    /// The normal of each wall object near i, across whose face a contact opens.
+    /// The face normal of each wall object near i, across which a contact opens and a
+    /// closed one pulls no harder than an open one.
     faces: ObjectNormals<D>,
     /// U_L = −n·v_i, Eq. (32).
     pub ul: Real,
@@ -217,13 +250,55 @@ impl<'a, const D: usize> FineAtWall<'a, D> {
         }
     }
 
-    /// Acceleration of i from wall particle `w`, Eqs. (32)–(35) (None outside the
-    /// kernel): (2/ρ_i) σ*·e_iw ∂W/∂r V_w with σ* = ½(σˢ_i + σˢ_w) − P*_w I cut at the
-    /// tensile strength, and Coulomb friction.
+    /// Acceleration of i from each wall particle of its list `wl` within the kernel,
+    /// Eqs. (32)–(35), into `out` (cleared first) in the list's order: (2/ρ_i) σ*·e_iw
+    /// ∂W/∂r V_w with σ* = ½(σˢ_i + σˢ_w) − P*_w I cut at the tensile strength, and
+    /// Coulomb friction; the closed pairs with each wall object together pull no
+    /// harder across its face than open ones ([`ClosedPairs`]), a shortfall shared
+    /// among them by their weight.
     #[inline(always)]
-    pub fn acceleration(&self, law: &WallLaw<D>, walls: &Walls<D>, w: usize) -> Option<Vect<D>> {
-        let si = self.src;
-        let rij = law.wrap.of(self.pos - walls.pos[w]);
+    pub fn accelerations(
+        &self,
+        law: &WallLaw<D>,
+        walls: &Walls<D>,
+        wl: &[u32],
+        out: &mut Vec<WallPair<D>>,
+    ) {
+        out.clear();
+        let mut closed = [ClosedPairs::<D>::zero(); OBJECTS];
+        for &w in wl {
+            if let Some(p) = self.pair(law, walls, w, &mut closed) {
+                out.push(p);
+            }
+        }
+        let mut short = [0.0; OBJECTS];
+        let mut any = false;
+        for (k, c) in closed.iter().enumerate() {
+            short[k] = c.deficit(&self.faces.n[k], self.tensile);
+            any |= short[k] > 0.0;
+        }
+        if any {
+            for p in out.iter_mut() {
+                let k = p.slot as usize;
+                if k < OBJECTS && short[k] > 0.0 {
+                    p.a += self.faces.n[k] * (short[k] * closed[k].share(p.weight));
+                }
+            }
+        }
+    }
+
+    /// The pair of i with wall particle `w` (None outside the kernel), its closed
+    /// contact added to `closed` under its object's entry.
+    #[inline(always)]
+    fn pair(
+        &self,
+        law: &WallLaw<D>,
+        walls: &Walls<D>,
+        w: u32,
+        closed: &mut [ClosedPairs<D>; OBJECTS],
+    ) -> Option<WallPair<D>> {
+        let (wi, si) = (w as usize, self.src);
+        let rij = law.wrap.of(self.pos - walls.pos[wi]);
         let r2 = rij.norm_squared();
         if r2 >= self.cut2 || r2 == 0.0 {
             return None;
@@ -232,7 +307,7 @@ impl<'a, const D: usize> FineAtWall<'a, D> {
         let e = rij * (1.0 / r);
         let dw = law.kernel.dw(r);
         let n = self.n;
-        let uw = -n.dot(&walls.velocity(w));
+        let uw = -n.dot(&walls.velocity(wi));
         // Eq. (34): U_R = −U_L + 2u_w, so U_L − U_R = 2(U_L − u_w).
         let du = 2.0 * (self.ul - uw);
         let pr = wall_pressure(si.p, self.rho, r, self.body.dot(&(-e)));
@@ -244,13 +319,15 @@ impl<'a, const D: usize> FineAtWall<'a, D> {
         sstar.0[2] -= pstar;
         // the contact opens beyond the soil's tensile strength, on the traction across
         // the face of w's own object
-        let face = self.faces.of(walls.object[w], &n);
-        let sstar = wall_contact::cut(sstar, &face, self.tensile);
-        let mut a = sstar.dot_vec(&e) * (self.inv_rho2 * dw * walls.volume);
+        let slot = self.faces.slot(walls.object[wi]);
+        let face = slot.map_or(n, |k| self.faces.n[k]);
+        let (sstar, open) = wall_contact::cut(sstar, &face, self.tensile);
+        let k = self.inv_rho2 * dw * walls.volume;
+        let mut a = sstar.dot_vec(&e) * k;
         if law.friction > 0.0 {
             let an = a.dot(&n);
             if an > 0.0 {
-                let vrel = self.vel - walls.velocity(w);
+                let vrel = self.vel - walls.velocity(wi);
                 let vt = vrel - n * vrel.dot(&n);
                 let s = vt.norm();
                 if s > 0.0 {
@@ -259,8 +336,25 @@ impl<'a, const D: usize> FineAtWall<'a, D> {
                 }
             }
         }
-        Some(a)
+        let (slot, weight) = match slot {
+            Some(s) if !open => (s as u8, closed[s].add(&a, &face, &e, k)),
+            _ => (u8::MAX, 0.0),
+        };
+        Some(WallPair { w, a, slot, weight })
     }
+}
+
+/// One wall pair's acceleration of a fine particle ([`FineAtWall::accelerations`]).
+#[derive(Clone, Copy, Debug)]
+pub struct WallPair<const D: usize> {
+    /// The wall particle.
+    pub w: u32,
+    pub a: Vect<D>,
+    /// Its object's entry among the particle's faces when the contact is closed
+    /// (`u8::MAX`: open, or an object past the first few).
+    slot: u8,
+    /// Its share of a correction of the closed pairs ([`ClosedPairs::add`]).
+    weight: Real,
 }
 
 /// Eq. (35): the pressure of wall particle w against fine particle i at pressure
@@ -408,7 +502,10 @@ mod tests {
         };
         let (x, v) = (V::zeros(), V::zeros());
         let at = FineAtWall::new(&law, &walls, &m, x, v, rho, &src, &[0], lift);
-        at.acceleration(&law, &walls, 0).expect("within the kernel") * rho
+        let mut pairs = Vec::new();
+        at.accelerations(&law, &walls, &[0], &mut pairs);
+        assert_eq!(pairs.len(), 1, "within the kernel");
+        pairs[0].a * rho
     }
 
     /// Eq. (35) read for a submerged soil: a soil of dry bulk density ρ_d whose grains

@@ -67,6 +67,8 @@ pub fn momentum_sweep<const D: usize>(
                 *l = Load::default();
             }
             react.clear();
+            // one particle's wall pairs at a time, the buffer kept across the chunk
+            let mut pairs = Vec::new();
             for (k, vo) in vout.iter_mut().enumerate() {
                 let i = c * CHUNK + k;
                 let mat = &prm.materials[p.material[i] as usize];
@@ -80,11 +82,10 @@ pub fn momentum_sweep<const D: usize>(
                 if !wl.is_empty() {
                     let (w, s) = (walls, &Source::new(mat, &p.stress[i], p.mass[i], rhoi));
                     let at = FineAtWall::new(wall, w, mat, xi, vi, rhoi, s, wl, lift.as_ref());
-                    for &w in wl {
-                        if let Some(a) = at.acceleration(wall, walls, w as usize) {
-                            acc += a;
-                            barrier_load::add_reaction(walls, w as usize, &a, p.mass[i], lout);
-                        }
+                    at.accelerations(wall, walls, wl, &mut pairs);
+                    for q in &pairs {
+                        acc += q.a;
+                        barrier_load::add_reaction(walls, q.w as usize, &q.a, p.mass[i], lout);
                     }
                 }
                 let near = cl.coarse(k);

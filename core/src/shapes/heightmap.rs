@@ -58,6 +58,18 @@ impl Heightmap {
         (z - self.height(x, y)) / (1.0 + gx * gx + gy * gy).sqrt()
     }
 
+    /// The ground's upward unit normal under (x, y), (−∂h/∂x, −∂h/∂y, 1)/√(1 + |∇h|²)
+    /// with the slopes [`sdf`](Self::sdf) takes: the direction of its gradient on the
+    /// surface, in four height lookups where central differences of the distance take
+    /// thirty.
+    pub fn normal(&self, x: Real, y: Real) -> [Real; 3] {
+        let e = 0.25 * self.cell;
+        let gx = (self.height(x + e, y) - self.height(x - e, y)) / (2.0 * e);
+        let gy = (self.height(x, y + e) - self.height(x, y - e)) / (2.0 * e);
+        let n = (1.0 + gx * gx + gy * gy).sqrt();
+        [-gx / n, -gy / n, 1.0 / n]
+    }
+
     /// Horizontal extent [x_lo, x_hi] × [y_lo, y_hi] of the cell centres.
     pub fn extent(&self) -> (Real, Real, Real, Real) {
         (
@@ -159,5 +171,20 @@ mod tests {
         let d = h.sdf(1.0, 1.5, 1.5);
         assert!((d - 1.0 / (1.25f64).sqrt()).abs() < 1e-9, "{d}");
         assert!(parse_esri_ascii("ncols 2\nnrows 2\ncellsize 1\n1 2 3 4").is_err());
+        // the plane's normal (−0.5, 0, 1)/√1.25, and the distance's gradient agrees
+        let n = h.normal(1.0, 1.5);
+        let s = 1.25f64.sqrt();
+        for (a, b) in n.iter().zip([-0.5 / s, 0.0, 1.0 / s]) {
+            assert!((a - b).abs() < 1e-12, "{n:?}");
+        }
+        let e = 1e-6;
+        let g = [
+            (h.sdf(1.0 + e, 1.5, 1.5) - h.sdf(1.0 - e, 1.5, 1.5)) / (2.0 * e),
+            (h.sdf(1.0, 1.5 + e, 1.5) - h.sdf(1.0, 1.5 - e, 1.5)) / (2.0 * e),
+            (h.sdf(1.0, 1.5, 1.5 + e) - h.sdf(1.0, 1.5, 1.5 - e)) / (2.0 * e),
+        ];
+        for (a, b) in n.iter().zip(g) {
+            assert!((a - b).abs() < 1e-6, "{n:?} against {g:?}");
+        }
     }
 }
