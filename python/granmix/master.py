@@ -15,6 +15,7 @@ directory removed, whatever happened.
 from __future__ import annotations
 
 import contextlib
+import itertools
 import os
 import shutil
 import socket
@@ -31,6 +32,7 @@ from fmpy.fmi2 import (
     fmi2CallbackFreeMemoryTYPE,
     fmi2CallbackFunctions,
     fmi2CallbackLoggerTYPE,
+    printLogMessage,
 )
 
 from granmix import extracted
@@ -87,6 +89,33 @@ class CaseResult:
 
 _ERROR_CATEGORIES = ("logStatusError", "logStatusFatal")
 
+#: The live instances by their FMI component environment (the key each instance gives
+#: its FMU, which the FMU passes back with every log message).
+_LOGGING: dict[int, _Instance] = {}
+_KEYS = itertools.count(1)
+
+
+def _dispatch(env: Any, name: Any, status: int, category: Any, message: Any) -> None:
+    """The one logger every instance's callbacks name: the message goes to the instance
+    whose environment it carries, else to fmpy's own printer.
+
+    fmpy's native proxy, which formats a message's variadic arguments, keeps a single,
+    process-wide pointer to the Python logger it forwards to, set by each
+    ``addLoggerProxy`` call. Were each instance to register a logger of its own, that
+    pointer would route every proxied message (other instances', and fmpy's own
+    FMUs' after the study) to the last instance registered, and to freed memory once
+    that instance was collected: a later ``fmpy.simulate_fmu`` in the same process
+    crashed on its first log message. This function lives as long as the process, so
+    the pointer never dangles."""
+    inst = _LOGGING.get(env or 0)
+    if inst is None:
+        printLogMessage(env, name, status, category, message)
+        return
+    inst.logged(status, category, message)
+
+
+_LOGGER = fmi2CallbackLoggerTYPE(_dispatch)
+
 
 class CaseTimeout(RuntimeError):
     """A case outlasted the study's wall-time limit."""
@@ -116,8 +145,11 @@ class _Instance:
             if into is not None:
                 shutil.rmtree(into, ignore_errors=True)
             raise
+        self.key = next(_KEYS)
+        _LOGGING[self.key] = self
         self.callbacks = fmi2CallbackFunctions()
-        self.callbacks.logger = fmi2CallbackLoggerTYPE(self._logged)
+        self.callbacks.componentEnvironment = self.key
+        self.callbacks.logger = _LOGGER
         self.callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
         self.callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
         if addLoggerProxy is not None:
@@ -131,6 +163,7 @@ class _Instance:
             )
         except BaseException:
             # a library that does not load: nothing to free, the directory to remove
+            _LOGGING.pop(self.key, None)
             shutil.rmtree(self.dir, ignore_errors=True)
             raise
 
@@ -145,7 +178,8 @@ class _Instance:
             self.set(k, v)
         self.fmu.exitInitializationMode()
 
-    def _logged(self, _env: Any, _name: Any, status: int, category: Any, message: Any) -> None:
+    def logged(self, status: int, category: Any, message: Any) -> None:
+        """Keep one message the FMU logged."""
         cat = category.decode(errors="replace") if category else ""
         self.log.append((int(status), cat, message.decode(errors="replace") if message else ""))
 
@@ -186,6 +220,7 @@ class _Instance:
                 with contextlib.suppress(Exception):
                     self.fmu.freeLibrary()
             self.fmu = None
+        _LOGGING.pop(self.key, None)
         shutil.rmtree(self.dir, ignore_errors=True)
 
 

@@ -7,6 +7,8 @@ variable names."""
 import os
 import pathlib
 import signal
+import subprocess
+import sys
 import tempfile
 import threading
 import time
@@ -301,3 +303,48 @@ def test_variables_lists_the_fmus_variable_names_and_units(tmp_path, capsys):
     assert line_of("post.k")[:3] == ["parameter", "post.k", "N/m"]
     assert line_of("post.force")[0] == "input"
     assert not (tmp_path / "out" / "results.parquet").exists()
+
+
+AFTER_A_STUDY = """
+import sys
+from fmpy import extract, read_model_description
+from fmpy.fmi2 import FMU2Slave
+from granmix.cli import main
+
+assert main([sys.argv[1], "--out", sys.argv[2], "--serial", "--quiet"]) == 0
+# fmpy's own instance, with fmpy's own logger, after the study's instances are gone
+md = read_model_description(sys.argv[3])
+fmu = FMU2Slave(guid=md.guid, unzipDirectory=extract(sys.argv[3]),
+                modelIdentifier=md.coSimulation.modelIdentifier, instanceName="after")
+fmu.instantiate()
+fmu.setupExperiment(startTime=0.0)
+fmu.enterInitializationMode()
+fmu.exitInitializationMode()
+vr = {v.name: v.valueReference for v in md.modelVariables}
+fmu.setReal([vr["barrier.displacement.x"]], [-0.09])
+try:
+    fmu.doStep(currentCommunicationPoint=0.0, communicationStepSize=1e-3)
+except Exception:
+    print("refused")
+"""
+
+
+def test_fmpy_logs_after_a_serial_study_without_crashing(tmp_path, fmus):
+    """A serial study's instances each registered their own logger with fmpy's native
+    proxy, whose one process-wide pointer then dangled: the next FMU fmpy ran in the
+    same process crashed (SIGSEGV) on its first log message."""
+    text = STUDY.replace("values = [25.0, 35.0]", "values = [25.0, 28.0, 31.0, 35.0]")
+    study = tmp_path / "study.toml"
+    study.write_text(text)
+    script = tmp_path / "after.py"
+    script.write_text(AFTER_A_STUDY)
+    r = subprocess.run(
+        [sys.executable, str(script), str(study), str(tmp_path / "out"), str(fmus["barrier"])],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    assert r.returncode == 0, (r.returncode, r.stdout[-2000:], r.stderr[-2000:])
+    # the blow-up's message reaches fmpy's printer, then the step is refused
+    assert "numerical blow-up" in r.stdout and "refused" in r.stdout, r.stdout[-2000:]
