@@ -3,6 +3,7 @@
 mod bench;
 mod check;
 mod element;
+mod ensemble;
 mod pack;
 mod pattern;
 mod plot;
@@ -66,6 +67,22 @@ enum Command {
         /// 4e9; default: 80 % of the available memory).
         #[arg(long, value_name = "SIZE", value_parser = parse_size)]
         memory_budget: Option<f64>,
+        /// Run N members, each start perturbed (every soil and water particle moved by
+        /// --epsilon dp, seeded), into OUT/member_NN, and write the spread of every
+        /// output: OUT/ensemble.csv, ensemble.json and plots/ensemble.png.
+        #[arg(long, value_name = "N")]
+        ensemble: Option<usize>,
+        /// The members' displacement as a fraction of dp, in (0, 0.5).
+        #[arg(
+            long,
+            value_name = "EPS",
+            default_value_t = 1e-6,
+            requires = "ensemble"
+        )]
+        epsilon: f64,
+        /// Member m's seed is SEED + m.
+        #[arg(long, value_name = "SEED", default_value_t = 0, requires = "ensemble")]
+        seed: u64,
     },
     /// Validate a scene and estimate its particle counts, memory, Δt and cost without
     /// building it; refuse it if over the memory budget.
@@ -154,6 +171,9 @@ fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
             publish_every,
             record,
             memory_budget,
+            ensemble,
+            epsilon,
+            seed,
         } => {
             let out = out.unwrap_or_else(|| {
                 PathBuf::from("out").join(
@@ -173,7 +193,7 @@ fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
                     p
                 }
             });
-            let rep = run::run(&run::RunOptions {
+            let opts = run::RunOptions {
                 scene,
                 out: out.clone(),
                 set,
@@ -184,7 +204,31 @@ fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
                 publish_every,
                 record,
                 memory_budget,
-            })?;
+            };
+            if let Some(members) = ensemble {
+                if opts.publish.is_some() || opts.record.is_some() {
+                    anyhow::bail!(
+                        "--ensemble runs its members side by side: --publish and --record \
+                         take one run (run a member alone with --set \
+                         simulation.perturbation.seed=SEED)"
+                    );
+                }
+                let e = ensemble::Ensemble {
+                    members,
+                    epsilon,
+                    seed,
+                };
+                let reports = ensemble::run(&opts, &e)?;
+                let blown = reports
+                    .iter()
+                    .any(|r| r.as_ref().map_or(true, |r| r.blowup.is_some()));
+                return Ok(if blown {
+                    ExitCode::from(3)
+                } else {
+                    ExitCode::SUCCESS
+                });
+            }
+            let rep = run::run(&opts)?;
             if let Some(b) = rep.blowup {
                 eprintln!("error: {b}");
                 if !no_vtk {

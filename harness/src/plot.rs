@@ -259,6 +259,131 @@ pub fn panels(path: &Path, title: &str, xlabel: &str, panels: &[Panel]) -> Resul
     Ok(())
 }
 
+/// One panel of an [`envelopes`] figure: a quantity's curve in each member of an
+/// ensemble.
+pub struct Band {
+    pub title: String,
+    pub ylabel: String,
+    /// Each member's (t, value) points, at the same times.
+    pub members: Vec<Vec<(f64, f64)>>,
+}
+
+/// The mean and the sample standard deviation over the members at each sample time
+/// (the members' common times: the shortest member's).
+fn mean_sd(members: &[Vec<(f64, f64)>]) -> Vec<(f64, f64, f64)> {
+    let n = members.iter().map(Vec::len).min().unwrap_or(0);
+    (0..n)
+        .map(|k| {
+            let x: Vec<f64> = members.iter().map(|m| m[k].1).collect();
+            let mean = x.iter().sum::<f64>() / x.len() as f64;
+            let var = if x.len() > 1 {
+                x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (x.len() - 1) as f64
+            } else {
+                0.0
+            };
+            (members[0][k].0, mean, var.sqrt())
+        })
+        .collect()
+}
+
+/// Panels stacked one above another against a shared x-axis (time): in each, every
+/// member's curve (thin, grey), the members' mean (thick) and the mean ± sd band.
+pub fn envelopes(path: &Path, title: &str, xlabel: &str, bands: &[Band]) -> Result<()> {
+    register_font();
+    let height = 40 + 330 * bands.len().max(1) as u32;
+    let root = BitMapBackend::new(path, (1000, height)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
+    let root = root
+        .titled(title, ("sans-serif", 24))
+        .map_err(|e| anyhow!("{e}"))?;
+    let x = span(
+        bands
+            .iter()
+            .flat_map(|b| b.members.iter().flat_map(|m| m.iter().map(|q| q.0))),
+    );
+    for (area, band) in root.split_evenly((bands.len().max(1), 1)).iter().zip(bands) {
+        let stats = mean_sd(&band.members);
+        let y = span(
+            band.members
+                .iter()
+                .flat_map(|m| m.iter().map(|q| q.1))
+                .chain(stats.iter().flat_map(|s| [s.1 - s.2, s.1 + s.2])),
+        );
+        let mut chart = ChartBuilder::on(area)
+            .caption(&band.title, ("sans-serif", 18))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(85)
+            .build_cartesian_2d(x.0..x.1, y.0..y.1)
+            .map_err(|e| anyhow!("{e}"))?;
+        chart
+            .configure_mesh()
+            .x_desc(xlabel)
+            .y_desc(band.ylabel.as_str())
+            .label_style(("sans-serif", 14))
+            .y_label_formatter(&|v| linear_tick(*v))
+            .draw()
+            .map_err(|e| anyhow!("{e}"))?;
+        let blue = Palette99::pick(0).to_rgba();
+        let outline: Vec<(f64, f64)> = stats
+            .iter()
+            .map(|s| (s.0, s.1 + s.2))
+            .chain(stats.iter().rev().map(|s| (s.0, s.1 - s.2)))
+            .filter(|(a, b)| a.is_finite() && b.is_finite())
+            .collect();
+        chart
+            .draw_series(std::iter::once(Polygon::new(
+                outline,
+                blue.mix(0.25).filled(),
+            )))
+            .map_err(|e| anyhow!("{e}"))?
+            .label("mean ± sd")
+            .legend(move |(x, y)| {
+                Rectangle::new([(x, y - 5), (x + 20, y + 5)], blue.mix(0.25).filled())
+            });
+        let grey = RGBColor(120, 120, 120).mix(0.6);
+        for (k, m) in band.members.iter().enumerate() {
+            let p: Vec<(f64, f64)> = m
+                .iter()
+                .copied()
+                .filter(|(a, b)| a.is_finite() && b.is_finite())
+                .collect();
+            let s = chart
+                .draw_series(LineSeries::new(p, grey.stroke_width(1)))
+                .map_err(|e| anyhow!("{e}"))?;
+            if k == 0 {
+                s.label(format!("each of {} members", band.members.len()))
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], grey.stroke_width(1))
+                    });
+            }
+        }
+        chart
+            .draw_series(LineSeries::new(
+                stats
+                    .iter()
+                    .map(|s| (s.0, s.1))
+                    .filter(|(a, b)| a.is_finite() && b.is_finite()),
+                blue.stroke_width(3),
+            ))
+            .map_err(|e| anyhow!("{e}"))?
+            .label("mean")
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], blue.stroke_width(3))
+            });
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 14))
+            .draw()
+            .map_err(|e| anyhow!("{e}"))?;
+    }
+    root.present().map_err(|e| anyhow!("{e}"))?;
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     #[test]

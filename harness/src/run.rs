@@ -72,6 +72,8 @@ pub struct RunReport {
     pub particle_steps_per_s: f64,
     /// Fine particle-steps per second alone (equal to the above without coarse grains).
     pub fine_particle_steps_per_s: f64,
+    /// The scene's families and objects: what the series' columns are built from.
+    pub layout: Layout,
 }
 
 /// Load a scene with overrides, turning errors into messages that name the file.
@@ -141,6 +143,7 @@ pub fn run(opts: &RunOptions) -> Result<RunReport> {
         fine_particle_steps_per_s: ran.fine_pss,
         samples: ran.samples,
         blowup: ran.blowup,
+        layout,
     })
 }
 

@@ -2,6 +2,7 @@
 
 mod budget_cli;
 mod element_cli;
+mod ensemble_cli;
 mod golden;
 mod hostile_scenes;
 mod ipc;

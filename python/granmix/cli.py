@@ -19,7 +19,7 @@ from typing import Any
 
 import pandas as pd
 
-from granmix import extracted, preflight
+from granmix import ensemble, extracted, preflight
 from granmix.design import Case, cases
 from granmix.pack import PackCache, PackError
 from granmix.store import CaseStore, output_columns
@@ -121,7 +121,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         # the design's first case, as a clean run checks: a resume is a clean run of the
         # pending cases, where one whose scene value granmix refuses is a failed row
-        found = preflight.check(study, design[0] if design else None, PackCache(cache))
+        found = preflight.check(study, design[0] if design else None, PackCache(cache), design)
     except (StudyError, PackError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
@@ -167,13 +167,60 @@ def main(argv: list[str] | None = None) -> int:
     progress.close()
     rows, series = store.assemble(study, design)
     write(out, rows, series)
-    plots = plot(study, rows, out / "plots", preflight.units(study, found))
+    units = preflight.units(study, found)
+    plots = plot(study, rows, out / "plots", units)
+    if study.design.ensemble:
+        plots += _ensemble(study, rows, series, out, units)
     failed = int((rows["status"] != "ok").sum())
     print(
         f"{len(rows)} cases ({len(results)} run now), {failed} failed: "
         f"{out / 'results.parquet'}, {out / 'results.csv'}, {len(plots)} plots in {out / 'plots'}"
     )
     return 0
+
+
+def _ensemble(
+    study: Study, rows: pd.DataFrame, series: pd.DataFrame, out: Path, units: dict[str, str]
+) -> list[Path]:
+    """``ensemble.parquet``/``.csv`` (the members' statistics), for a refine design
+    ``refine.csv`` (the convergence over the levels), their summary on stdout, and the
+    envelope and convergence plots; returns the plots written."""
+    import matplotlib.pyplot as plt
+
+    stats = ensemble.statistics(study, rows)
+    stats.to_parquet(out / "ensemble.parquet", index=False)
+    stats.to_csv(out / "ensemble.csv", index=False)
+    by = ensemble.groups(study)
+    print(f"ensembles of {study.design.members} members (ε = {study.design.epsilon:g} dp):")
+    for _, r in stats.iterrows():
+        case = ", ".join(f"{n} = {_fmt(r[n])}" for n in by)
+        unit = units.get(r["output"].rsplit(":", 1)[0], "")
+        print(
+            f"  {r['output']}{' (' + case + ')' if case else ''}: {r['mean']:.4g} ± "
+            f"{r['sd']:.2g} {unit} (min {r['min']:.4g}, max {r['max']:.4g}, p95 {r['p95']:.4g}; "
+            f"{r['members']} members" + (f", {r['failed']} failed)" if r["failed"] else ")")
+        )
+    figs = list(ensemble.envelope_figures(study, rows, series, units))
+    if study.design.levels:
+        conv = ensemble.convergence(study, stats)
+        conv.to_csv(out / "refine.csv", index=False)
+        for _, r in conv.iterrows():
+            extra = (
+                f": order {r['order']:.2f}, extrapolated {r['extrapolated']:.4g}"
+                if r["verdict"] == "converging"
+                else ""
+            )
+            print(f"  refine {r['output']}: {r['verdict']}{extra}")
+        figs += list(ensemble.refine_figures(study, stats, conv, units))
+    directory = out / "plots"
+    directory.mkdir(parents=True, exist_ok=True)
+    written = []
+    for name, fig in figs:
+        path = directory / f"{name}.png"
+        fig.savefig(path, dpi=100)
+        plt.close(fig)
+        written.append(path)
+    return written
 
 
 def _print_variables(study: Study, cache: Path) -> int:
@@ -306,8 +353,20 @@ def figures(
                         f"{n} = {_fmt(v)}{' ' + units[n] if units.get(n) else ''}"
                         for n, v in zip(others, vals, strict=True)
                     )
+                    if study.design.ensemble:
+                        # each value's members: their mean, and their sd as a bar
+                        m = g.groupby(p.name, sort=True)[col].agg(["mean", "std"])
+                        ax.errorbar(
+                            m.index,
+                            m["mean"],
+                            m["std"],
+                            fmt="o-",
+                            capsize=3,
+                            label=(label + ", " if label else "") + "mean ± sd",
+                        )
+                        continue
                     ax.plot(g[p.name], g[col], "o-", label=label or None)
-                if others:
+                if others or study.design.ensemble:
                     ax.legend(fontsize="small")
             else:
                 sc = ax.scatter(ok[p.name], ok[col], c=ok[others[0]], cmap="viridis")

@@ -26,59 +26,96 @@ from typing import Any
 
 import numpy as np
 
-from granmix.study import Study
+from granmix.study import LEVEL_KEY, MEMBER_KEY, Design, Study
+
+#: The case values a design adds: the ensemble member's index, the refine level's dp.
+MEMBER = "member"
+LEVEL = "dp"
 
 
 @dataclass(frozen=True)
 class Case:
-    """One co-simulation of a study: its index, parameter values and key."""
+    """One co-simulation of a study: its index, parameter values and key, and the scene
+    overrides its design adds (an ensemble member's perturbation, a refine level's dp)."""
 
     index: int
     values: tuple[tuple[str, Any], ...]
     key: str
+    design_sets: tuple[str, ...] = ()
 
     def value(self, name: str) -> Any:
         return dict(self.values)[name]
 
     def scene_sets(self, study: Study) -> tuple[str, ...]:
         """The ``--set`` overrides of this case's granmix FMU: the study's fixed ones,
-        then each scene parameter's value."""
-        return study.sets + tuple(
-            f"{p.scene_key}={self.value(p.name)}" for p in study.parameters if p.scene_key
+        each scene parameter's value, then the design's own."""
+        return (
+            study.sets
+            + tuple(f"{p.scene_key}={self.value(p.name)}" for p in study.parameters if p.scene_key)
+            + self.design_sets
         )
 
 
+def member_sets(design: Design, member: int) -> tuple[str, ...]:
+    """The scene overrides of ensemble member ``member``: the seed ``seed + member`` and
+    the distance ε (granmix's ``simulation.perturbation``)."""
+    return (
+        f"{MEMBER_KEY}.seed={design.seed + member}",
+        f"{MEMBER_KEY}.amplitude={design.epsilon!r}",
+    )
+
+
 def cases(study: Study) -> list[Case]:
-    """The cases of ``study``'s design, in design order."""
+    """The cases of ``study``'s design, in design order: each base case (a refine
+    design's levels, coarsest first, then its parameters' grid), then its members."""
     names = [p.name for p in study.parameters]
     d = study.design
-    if d.kind == "grid":
-        rows = [tuple(r) for r in itertools.product(*(p.values for p in study.parameters))]
-    elif d.kind == "list":
-        rows = [tuple(v for _, v in row) for row in d.cases]
-    elif d.kind == "random":
-        rng = np.random.default_rng(d.seed)
-        rows = [
-            tuple(_draw(rng, p.values, p.range) for p in study.parameters)
-            for _ in range(d.samples)
-        ]
-    else:
-        rows = _latin_hypercube(study, np.random.default_rng(d.seed))
+    rows = _rows(study)
+    levels: tuple[float | None, ...] = d.levels or (None,)
+    members = range(d.members) if d.ensemble else (None,)
     base = _fingerprint(study)
     out = []
     seen: dict[str, int] = {}
-    for i, row in enumerate(rows):
-        values = tuple(zip(names, row, strict=True))
-        spec: dict[str, Any] = {"study": base, "values": values}
-        text = json.dumps(spec, sort_keys=True, default=str)
-        repeat = seen.get(text, 0)
-        seen[text] = repeat + 1
-        if repeat:
-            # a repeat of an earlier case: the same specification, counted
-            spec["repeat"] = repeat
-            text = json.dumps(spec, sort_keys=True, default=str)
-        out.append(Case(i, values, hashlib.sha256(text.encode()).hexdigest()[:16]))
+    for level in levels:
+        for row in rows:
+            for m in members:
+                values = tuple(zip(names, row, strict=True))
+                sets: tuple[str, ...] = ()
+                if level is not None:
+                    values += ((LEVEL, level),)
+                    sets += (f"{LEVEL_KEY}={level!r}",)
+                if m is not None:
+                    values += ((MEMBER, m),)
+                    sets += member_sets(d, m)
+                spec: dict[str, Any] = {"study": base, "values": values}
+                if sets:
+                    spec["sets"] = sets
+                text = json.dumps(spec, sort_keys=True, default=str)
+                repeat = seen.get(text, 0)
+                seen[text] = repeat + 1
+                if repeat:
+                    # a repeat of an earlier case: the same specification, counted
+                    spec["repeat"] = repeat
+                    text = json.dumps(spec, sort_keys=True, default=str)
+                key = hashlib.sha256(text.encode()).hexdigest()[:16]
+                out.append(Case(len(out), values, key, sets))
     return out
+
+
+def _rows(study: Study) -> list[tuple[Any, ...]]:
+    """The parameter values of each base case of the design."""
+    d = study.design
+    if d.kind in ("grid", "ensemble", "refine"):
+        return [tuple(r) for r in itertools.product(*(p.values for p in study.parameters))]
+    if d.kind == "list":
+        return [tuple(v for _, v in row) for row in d.cases]
+    if d.kind == "random":
+        rng = np.random.default_rng(d.seed)
+        return [
+            tuple(_draw(rng, p.values, p.range) for p in study.parameters)
+            for _ in range(d.samples)
+        ]
+    return _latin_hypercube(study, np.random.default_rng(d.seed))
 
 
 def _draw(rng: np.random.Generator, values: tuple[Any, ...], rng_range: Any) -> Any:

@@ -15,7 +15,7 @@ from pathlib import Path
 
 from fmpy import read_model_description
 
-from granmix.design import Case
+from granmix.design import LEVEL, Case
 from granmix.pack import PackCache, PackError
 from granmix.study import GRANMIX, Study, StudyError, locate, locate_item
 
@@ -84,9 +84,37 @@ def _pack_scene(study: Study, first: Case | None, cache: PackCache) -> Path:
             except PackError as e:
                 key = f"parameters[{i}].target"
                 raise fail(key, f"granmix refuses it: {e}", locate(text, key)) from e
+    if first is not None and first.design_sets:
+        key = "design.levels" if study.design.levels else "design.epsilon"
+        raise fail(
+            key,
+            f"granmix refuses the design's overrides {list(first.design_sets)}: {refused}",
+            locate(text, key) or locate(text, "design"),
+        ) from refused
     raise fail(
         "study.scene", f"granmix cannot pack the scene: {refused}", locate(text, "study.scene")
     ) from refused
+
+
+def _check_levels(study: Study, design: list[Case], cache: PackCache) -> None:
+    """Pack the first case of every refine level after the first: a level granmix
+    refuses (a dp too coarse for a region to hold a particle) stops the study."""
+    seen = {design[0].value(LEVEL)} if design else set()
+    text = _text(study)
+    for c in design:
+        level = c.value(LEVEL)
+        if level in seen:
+            continue
+        seen.add(level)
+        try:
+            cache.fmu(study.scene, c.scene_sets(study))
+        except PackError as e:
+            raise StudyError(
+                study.file,
+                "design.levels",
+                f"granmix refuses level dp = {level:g} m: {e}",
+                locate(text, "design.levels"),
+            ) from e
 
 
 def variables(study: Study, first: Case | None, cache: PackCache) -> dict[str, dict[str, Variable]]:
@@ -105,15 +133,20 @@ def variables(study: Study, first: Case | None, cache: PackCache) -> dict[str, d
     return {name: _read(path) for name, path in paths.items()}
 
 
-def check(study: Study, first: Case | None, cache: PackCache) -> dict[str, dict[str, Variable]]:
-    """Pack the FMUs of the study's first case, hold the study against them, and return
-    each instance's variables."""
+def check(
+    study: Study, first: Case | None, cache: PackCache, design: list[Case] | None = None
+) -> dict[str, dict[str, Variable]]:
+    """Pack the FMUs of the study's first case (and of the first case of each refine
+    level in ``design``), hold the study against them, and return each instance's
+    variables."""
     text = _text(study)
 
     def fail(key: str, message: str) -> StudyError:
         return StudyError(study.file, key, message, locate(text, key))
 
     found = variables(study, first, cache)
+    if study.design.levels and design:
+        _check_levels(study, design, cache)
 
     def need(key: str, variable: str, allowed: tuple[str, ...]) -> None:
         inst, var = variable.split(".", 1)

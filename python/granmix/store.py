@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from granmix.design import Case
+from granmix.design import LEVEL, MEMBER, Case
 from granmix.master import CaseResult, reduce
 from granmix.study import Study
 
@@ -39,6 +39,8 @@ def columns(study: Study) -> list[str]:
         "key",
         "case",
         *(p.name for p in study.parameters),
+        *([LEVEL] if study.design.levels else []),
+        *([MEMBER] if study.design.ensemble else []),
         *output_columns(study),
         "status",
         "diagnostic",

@@ -57,7 +57,12 @@ GRANMIX = "granmix"
 #: How an output's time series is reduced to one value per case.
 REDUCTIONS = ("max", "min", "final", "mean", "integral")
 #: Designs of experiments.
-DESIGNS = ("grid", "list", "random", "lhs")
+DESIGNS = ("grid", "list", "random", "lhs", "ensemble", "refine")
+#: The scene keys an ensemble member and a refine level set (the study may not).
+MEMBER_KEY = "simulation.perturbation"
+LEVEL_KEY = "simulation.dp"
+#: The bounds of an ensemble's perturbation ε (a fraction of dp), as granmix checks them.
+EPSILON_RANGE = (0.0, 0.5)
 
 
 class StudyError(ValueError):
@@ -121,6 +126,18 @@ class Design:
     seed: int = 0
     #: Explicit cases (kind ``list``): parameter name → value.
     cases: tuple[tuple[tuple[str, Any], ...], ...] = ()
+    #: Ensemble members per case (1: no ensemble). Member m starts with every soil and
+    #: water particle moved by ``epsilon``·dp in directions drawn from seed ``seed + m``
+    #: (the scene's ``simulation.perturbation``).
+    members: int = 1
+    epsilon: float = 1e-6
+    #: The particle spacings of a refine design (m), coarsest first.
+    levels: tuple[float, ...] = ()
+
+    @property
+    def ensemble(self) -> bool:
+        """Whether each case of the design is an ensemble of members."""
+        return self.members > 1
 
 
 @dataclass(frozen=True)
@@ -239,6 +256,16 @@ class _Reader:
         connections = self.connections(doc, instances)
         parameters = self.parameters(doc, instances)
         design = self.design(doc, parameters)
+        for fixed, by in ((MEMBER_KEY, design.ensemble), (LEVEL_KEY, bool(design.levels))):
+            for x in sets:
+                key = x.split("=", 1)[0].strip()
+                if by and (key == fixed or key.startswith(fixed + ".")):
+                    raise StudyError(
+                        self.file,
+                        "study.set",
+                        f"`{x}`: `{fixed}` is set by the design ({design.kind}) for every case",
+                        locate_item(self.text, "study.set", x),
+                    )
         outputs = self.outputs(doc, instances)
         return Study(
             file=self.file,
@@ -333,7 +360,12 @@ class _Reader:
         return tuple(out)
 
     def design(self, doc: dict, params: tuple[Parameter, ...]) -> Design:
-        t = self.table(doc.get("design", {}), "design", {"kind", "samples", "seed", "cases"}, set())
+        t = self.table(
+            doc.get("design", {}),
+            "design",
+            {"kind", "samples", "seed", "cases", "members", "epsilon", "levels"},
+            set(),
+        )
         kind = t.get("kind", "grid")
         if kind not in DESIGNS:
             raise self.fail("design.kind", f"unknown design `{kind}`; use one of {list(DESIGNS)}")
@@ -370,7 +402,78 @@ class _Reader:
                 raise self.fail(key, "a random design needs `values` or `range`")
         if kind in ("grid", "random", "lhs") and not params:
             raise self.fail("parameters", f"a {kind} design varies at least one parameter")
-        return Design(kind, samples, seed, cases)
+        if kind in ("ensemble", "refine"):
+            for i, p in enumerate(params):
+                if not p.values:
+                    raise self.fail(
+                        f"parameters[{i}]",
+                        f"the parameters of a {kind} design form a grid: give `values`",
+                    )
+        members = self.members(t, kind)
+        epsilon = self.epsilon(t, members)
+        levels = self.levels(t, kind)
+        for i, p in enumerate(params):
+            for column, by in (("member", members > 1), ("dp", bool(levels))):
+                if by and p.name == column:
+                    raise self.fail(
+                        f"parameters[{i}].name",
+                        f"`{column}` names the design's own column ({kind}); rename the parameter",
+                    )
+        for i, p in enumerate(params):
+            key = p.scene_key or ""
+            for fixed, by in ((MEMBER_KEY, members > 1), (LEVEL_KEY, bool(levels))):
+                if by and (key == fixed or key.startswith(fixed + ".")):
+                    raise self.fail(
+                        f"parameters[{i}].target",
+                        f"`{fixed}` is set by the design ({kind}) for every case",
+                    )
+        return Design(kind, samples, seed, cases, members, epsilon, levels)
+
+    def members(self, t: dict, kind: str) -> int:
+        if "members" not in t:
+            if kind in ("ensemble", "refine"):
+                raise self.fail("design", f"a {kind} design needs `members` (≥ 2)")
+            return 1
+        n = t["members"]
+        if isinstance(n, bool) or not isinstance(n, int) or n < 2:
+            raise self.fail(
+                "design.members",
+                f"an ensemble needs an integer number of members ≥ 2, found {n!r} (a spread "
+                "needs two draws; 8 or more for a 95th percentile)",
+            )
+        return n
+
+    def epsilon(self, t: dict, members: int) -> float:
+        if "epsilon" not in t:
+            return Design.epsilon
+        if members < 2:
+            raise self.fail("design.epsilon", "perturbs ensemble members: give `members` ≥ 2")
+        e = self.number(t["epsilon"], "design.epsilon", positive=False)
+        lo, hi = EPSILON_RANGE
+        if not lo < e < hi:
+            raise self.fail(
+                "design.epsilon",
+                f"must lie in ({lo:g}, {hi:g}): the distance each particle moves, as a "
+                f"fraction of dp (default 1e-6; 1e-12 is a round-off-level change), found {e!r}",
+            )
+        return e
+
+    def levels(self, t: dict, kind: str) -> tuple[float, ...]:
+        if kind != "refine":
+            if "levels" in t:
+                raise self.fail("design.levels", f"a {kind} design takes no levels (refine does)")
+            return ()
+        v = t.get("levels")
+        if not isinstance(v, list) or len(v) < 2:
+            raise self.fail(
+                "design.levels",
+                "a refine design needs a list of at least two particle spacings dp (m), "
+                "e.g. [0.04, 0.02, 0.01]; three give an observed order",
+            )
+        levels = [self.number(x, "design.levels") for x in v]
+        if len(set(levels)) != len(levels):
+            raise self.fail("design.levels", f"repeats a level: {levels}")
+        return tuple(sorted(levels, reverse=True))
 
     def outputs(self, doc: dict, instances: set[str]) -> tuple[Output, ...]:
         out: list[Output] = []

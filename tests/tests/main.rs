@@ -12,6 +12,7 @@ mod contact_restitution;
 mod determinism;
 mod fmu_fmi_crate;
 mod memory_budget;
+mod perturbation;
 mod saturated;
 mod scene_errors;
 mod scene_headers;

@@ -109,6 +109,27 @@ pub struct SimulationSpec {
     /// scenes, e.g. channel flow between plates). Off by default.
     #[serde(default)]
     pub periodic: Option<PeriodicSpec>,
+    /// A seeded displacement of every soil and water particle's start by
+    /// `amplitude`·dp: an ensemble member (docs/sweeps.md, *Ensembles*). Off by default.
+    #[serde(default)]
+    pub perturbation: Option<PerturbationSpec>,
+}
+
+/// `simulation.perturbation`: the seed of the directions and the distance, in dp.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PerturbationSpec {
+    /// Decides every particle's direction; members of an ensemble differ by it alone.
+    pub seed: u64,
+    /// The distance each particle moves, as a fraction ε of dp, in (0, 0.5). Default
+    /// 1e-6.
+    #[serde(default = "default_perturbation_amplitude")]
+    pub amplitude: f64,
+}
+
+/// ε = 1e-6: far below any physical length of a scene, far above round-off.
+pub fn default_perturbation_amplitude() -> f64 {
+    1e-6
 }
 
 /// `simulation.periodic`: the periodic axis and the period's two planes.

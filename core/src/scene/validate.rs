@@ -423,6 +423,19 @@ fn validate_simulation(s: &Scene) -> Check {
     if !(sim.gravity_ramp >= 0.0 && sim.gravity_ramp.is_finite()) {
         return fail("simulation.gravity_ramp", "must be ≥ 0 (seconds)");
     }
+    if let Some(p) = &sim.perturbation {
+        // ε ≥ 0.5 dp would let neighbours pass each other (their gap is dp)
+        if !(p.amplitude > 0.0 && p.amplitude < 0.5 && p.amplitude.is_normal()) {
+            return fail(
+                "simulation.perturbation.amplitude",
+                format!(
+                    "must lie in (0, 0.5) (a fraction of dp; 1e-6 is the default, 1e-12 a \
+                     round-off-level change), found {:?}",
+                    p.amplitude
+                ),
+            );
+        }
+    }
     Ok(())
 }
 

@@ -17,6 +17,7 @@ use crate::water::state::WaterParticles;
 
 mod boundaries;
 mod column_fill;
+pub mod perturbation;
 mod regions;
 pub mod water_at_bodies;
 mod water_fill;
@@ -144,7 +145,19 @@ impl<const D: usize> World<D> {
         }
         let pores = pore_water(scene, &materials, &fine, &region_counts, &up, dp);
         let filled = water_fill::fill(scene, &g_hyd, (dp, vol), (lo, hi), &pores)?;
-        let water = filled.unwrap_or_default();
+        let mut water = filled.unwrap_or_default();
+        if let Some(p) = &scene.simulation.perturbation {
+            use perturbation::{displace, Family};
+            let eps = p.amplitude * dp;
+            displace(&mut fine.pos, p.seed, Family::Soil, eps, periodic);
+            displace(
+                &mut water.particles.pos,
+                p.seed,
+                Family::Water,
+                eps,
+                periodic,
+            );
+        }
         for p in water.particles.pos.iter() {
             lo = lo.inf(p);
             hi = hi.sup(p);

@@ -650,6 +650,7 @@ mod tests {
             wall_time: 0.0,
             particle_steps_per_s: 0.0,
             fine_particle_steps_per_s: 0.0,
+            layout: Default::default(),
         }
     }
 
