@@ -450,17 +450,25 @@ fn summary(
     for line in member_lines(base, e, reports) {
         println!("  left out: {line}");
     }
-    // each barrier's resultant and its parts (not its panels): peak and impulse
+    // each barrier's force and its parts (not its panels, not its moment): the peak and
+    // the impulse of each component, the peak of the largest resultant
     let loads: Vec<&Row> = rows
         .iter()
         .filter(|r| {
             r.load
-                && matches!(r.reduction, Reduction::Peak | Reduction::Integral)
                 && barriers.iter().any(|b| {
-                    r.column
+                    let Some(c) = r
+                        .column
                         .strip_prefix(b.as_str())
                         .and_then(|c| c.strip_prefix('.'))
-                        .is_some_and(|c| !c.starts_with("panel_"))
+                    else {
+                        return false;
+                    };
+                    match r.reduction {
+                        Reduction::Peak => c.starts_with("force") || c == "peak_force",
+                        Reduction::Integral => c.starts_with("force"),
+                        _ => false,
+                    }
                 })
         })
         .collect();
