@@ -138,7 +138,7 @@ impl Spread {
 /// no progress bar of its own.
 fn member_options(base: &RunOptions, e: &Ensemble, m: usize) -> RunOptions {
     let mut o = base.clone();
-    o.out = base.out.join(format!("member_{m:02}"));
+    o.out = member_dir(base, m);
     o.interactive = false;
     o.set.push(format!(
         "simulation.perturbation.seed={}",

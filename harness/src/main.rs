@@ -206,27 +206,14 @@ fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
                 memory_budget,
             };
             if let Some(members) = ensemble {
-                if opts.publish.is_some() || opts.record.is_some() {
-                    anyhow::bail!(
-                        "--ensemble runs its members side by side: --publish and --record \
-                         take one run (run a member alone with --set \
-                         simulation.perturbation.seed=SEED)"
-                    );
-                }
-                let e = ensemble::Ensemble {
-                    members,
-                    epsilon,
-                    seed,
-                };
-                let reports = ensemble::run(&opts, &e)?;
-                let blown = reports
-                    .iter()
-                    .any(|r| r.as_ref().map_or(true, |r| r.blowup.is_some()));
-                return Ok(if blown {
-                    ExitCode::from(3)
-                } else {
-                    ExitCode::SUCCESS
-                });
+                return run_ensemble(
+                    &opts,
+                    ensemble::Ensemble {
+                        members,
+                        epsilon,
+                        seed,
+                    },
+                );
             }
             let rep = run::run(&opts)?;
             if let Some(b) = rep.blowup {
@@ -272,6 +259,25 @@ fn run_cli(cmd: Command) -> anyhow::Result<ExitCode> {
             Ok(ExitCode::SUCCESS)
         }
     }
+}
+
+/// `granmix run --ensemble`: the members, then exit 3 if any blew up or failed.
+fn run_ensemble(opts: &run::RunOptions, e: ensemble::Ensemble) -> anyhow::Result<ExitCode> {
+    if opts.publish.is_some() || opts.record.is_some() {
+        anyhow::bail!(
+            "--ensemble runs its members side by side: --publish and --record take one run \
+             (run a member alone with --set simulation.perturbation.seed=SEED)"
+        );
+    }
+    let reports = ensemble::run(opts, &e)?;
+    let blown = reports
+        .iter()
+        .any(|r| r.as_ref().map_or(true, |r| r.blowup.is_some()));
+    Ok(if blown {
+        ExitCode::from(3)
+    } else {
+        ExitCode::SUCCESS
+    })
 }
 
 /// A reader that stops early (`granmix check … | head`) closes the pipe, and `println!`

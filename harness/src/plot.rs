@@ -192,16 +192,70 @@ fn span(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
+/// A linear-axis chart as the stacked figures draw it.
+type LinearChart<'a, 'b> = ChartContext<
+    'a,
+    BitMapBackend<'b>,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+/// A white figure of `rows` stacked panels under `title`: its drawing area.
+fn stacked_root<'b>(
+    path: &'b Path,
+    title: &str,
+    rows: usize,
+) -> Result<DrawingArea<BitMapBackend<'b>, plotters::coord::Shift>> {
+    register_font();
+    let height = 40 + 330 * rows.max(1) as u32;
+    let root = BitMapBackend::new(path, (1000, height)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
+    root.titled(title, ("sans-serif", 24))
+        .map_err(|e| anyhow!("{e}"))
+}
+
+/// One panel's chart on `area`: its caption, the x range `x` and y range `y`, and the
+/// mesh with its axis labels.
+fn linear_panel<'a, 'b>(
+    area: &'a DrawingArea<BitMapBackend<'b>, plotters::coord::Shift>,
+    caption: &str,
+    (xlabel, ylabel): (&str, &str),
+    x: (f64, f64),
+    y: (f64, f64),
+) -> Result<LinearChart<'a, 'b>> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(85)
+        .build_cartesian_2d(x.0..x.1, y.0..y.1)
+        .map_err(|e| anyhow!("{e}"))?;
+    chart
+        .configure_mesh()
+        .x_desc(xlabel)
+        .y_desc(ylabel)
+        .label_style(("sans-serif", 14))
+        .y_label_formatter(&|v| linear_tick(*v))
+        .draw()
+        .map_err(|e| anyhow!("{e}"))?;
+    Ok(chart)
+}
+
+/// The legend of a panel's labelled series, upper right.
+fn legend<'a, 'b: 'a>(chart: &mut LinearChart<'a, 'b>) -> Result<()> {
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 14))
+        .draw()
+        .map_err(|e| anyhow!("{e}"))
+}
+
 /// Panels stacked one above another, each with linear axes and a legend, against a
 /// shared x-axis (time): the quick-look plot of a run.
 pub fn panels(path: &Path, title: &str, xlabel: &str, panels: &[Panel]) -> Result<()> {
-    register_font();
-    let height = 40 + 330 * panels.len() as u32;
-    let root = BitMapBackend::new(path, (1000, height)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
-    let root = root
-        .titled(title, ("sans-serif", 24))
-        .map_err(|e| anyhow!("{e}"))?;
+    let root = stacked_root(path, title, panels.len())?;
     let x = span(
         panels
             .iter()
@@ -215,21 +269,7 @@ pub fn panels(path: &Path, title: &str, xlabel: &str, panels: &[Panel]) -> Resul
                 .flat_map(|c| c.points.iter().map(|q| q.1))
                 .chain(panel.include.into_iter().flat_map(|(a, b)| [a, b])),
         );
-        let mut chart = ChartBuilder::on(area)
-            .caption(&panel.title, ("sans-serif", 18))
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(85)
-            .build_cartesian_2d(x.0..x.1, y.0..y.1)
-            .map_err(|e| anyhow!("{e}"))?;
-        chart
-            .configure_mesh()
-            .x_desc(xlabel)
-            .y_desc(panel.ylabel.as_str())
-            .label_style(("sans-serif", 14))
-            .y_label_formatter(&|v| linear_tick(*v))
-            .draw()
-            .map_err(|e| anyhow!("{e}"))?;
+        let mut chart = linear_panel(area, &panel.title, (xlabel, &panel.ylabel), x, y)?;
         for (k, c) in panel.curves.iter().enumerate() {
             let color = Palette99::pick(k).to_rgba();
             let p: Vec<(f64, f64)> = c
@@ -246,14 +286,7 @@ pub fn panels(path: &Path, title: &str, xlabel: &str, panels: &[Panel]) -> Resul
                     PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
                 });
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .draw()
-            .map_err(|e| anyhow!("{e}"))?;
+        legend(&mut chart)?;
     }
     root.present().map_err(|e| anyhow!("{e}"))?;
     Ok(())
@@ -289,13 +322,7 @@ fn mean_sd(members: &[Vec<(f64, f64)>]) -> Vec<(f64, f64, f64)> {
 /// Panels stacked one above another against a shared x-axis (time): in each, every
 /// member's curve (thin, grey), the members' mean (thick) and the mean ± sd band.
 pub fn envelopes(path: &Path, title: &str, xlabel: &str, bands: &[Band]) -> Result<()> {
-    register_font();
-    let height = 40 + 330 * bands.len().max(1) as u32;
-    let root = BitMapBackend::new(path, (1000, height)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
-    let root = root
-        .titled(title, ("sans-serif", 24))
-        .map_err(|e| anyhow!("{e}"))?;
+    let root = stacked_root(path, title, bands.len())?;
     let x = span(
         bands
             .iter()
@@ -309,21 +336,7 @@ pub fn envelopes(path: &Path, title: &str, xlabel: &str, bands: &[Band]) -> Resu
                 .flat_map(|m| m.iter().map(|q| q.1))
                 .chain(stats.iter().flat_map(|s| [s.1 - s.2, s.1 + s.2])),
         );
-        let mut chart = ChartBuilder::on(area)
-            .caption(&band.title, ("sans-serif", 18))
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(85)
-            .build_cartesian_2d(x.0..x.1, y.0..y.1)
-            .map_err(|e| anyhow!("{e}"))?;
-        chart
-            .configure_mesh()
-            .x_desc(xlabel)
-            .y_desc(band.ylabel.as_str())
-            .label_style(("sans-serif", 14))
-            .y_label_formatter(&|v| linear_tick(*v))
-            .draw()
-            .map_err(|e| anyhow!("{e}"))?;
+        let mut chart = linear_panel(area, &band.title, (xlabel, &band.ylabel), x, y)?;
         let blue = Palette99::pick(0).to_rgba();
         let outline: Vec<(f64, f64)> = stats
             .iter()
@@ -371,14 +384,7 @@ pub fn envelopes(path: &Path, title: &str, xlabel: &str, bands: &[Band]) -> Resu
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 20, y)], blue.stroke_width(3))
             });
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .draw()
-            .map_err(|e| anyhow!("{e}"))?;
+        legend(&mut chart)?;
     }
     root.present().map_err(|e| anyhow!("{e}"))?;
     Ok(())
