@@ -22,7 +22,7 @@ import pandas as pd
 from granmix import ensemble, extracted, preflight
 from granmix.design import Case, cases
 from granmix.pack import PackCache, PackError
-from granmix.store import CaseStore, output_columns
+from granmix.store import CaseStore, column_unit, output_columns
 from granmix.study import Study, StudyError, load_study
 from granmix.sweep import Progress, StudyInterrupted, pending, run_dask, run_serial, write
 
@@ -194,7 +194,7 @@ def _ensemble(
     print(f"ensembles of {study.design.members} members (ε = {study.design.epsilon:g} dp):")
     for _, r in stats.iterrows():
         case = ", ".join(f"{n} = {_fmt(r[n])}" for n in by)
-        unit = units.get(r["output"].rsplit(":", 1)[0], "")
+        unit = column_unit(r["output"], units)
         print(
             f"  {r['output']}{' (' + case + ')' if case else ''}: {r['mean']:.4g} ± "
             f"{r['sd']:.2g} {unit} (min {r['min']:.4g}, max {r['max']:.4g}, p95 {r['p95']:.4g}; "
@@ -338,9 +338,7 @@ def figures(
     varied = [p for p in study.parameters if rows[p.name].nunique() > 1]
     for col in output_columns(study):
         variable, how = col.rsplit(":", 1)
-        unit = units.get(variable, "")
-        if how == "integral":
-            unit = f"{unit}·s" if unit else "s"
+        unit = column_unit(col, units)
         for p in varied:
             others = [q.name for q in varied if q is not p]
             fig, ax = plt.subplots(figsize=(6.4, 4.4))

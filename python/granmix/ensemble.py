@@ -30,7 +30,7 @@ import numpy as np
 import pandas as pd
 
 from granmix.design import LEVEL
-from granmix.store import output_columns
+from granmix.store import column_unit, output_columns
 from granmix.study import Study
 
 #: The statistics of each reduced output over an ensemble's members.
@@ -233,9 +233,7 @@ def refine_figures(
     by = [p.name for p in study.parameters]
     for col in output_columns(study):
         variable, how = col.rsplit(":", 1)
-        unit = units.get(variable, "")
-        if how == "integral":
-            unit = f"{unit}·s" if unit else "s"
+        unit = column_unit(col, units)
         fig, ax = plt.subplots(figsize=(6.4, 4.4))
         s = stats[stats["output"] == col]
         keyed = list(s.groupby(by, sort=False)) if by else [((), s)]

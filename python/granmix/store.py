@@ -33,6 +33,21 @@ def output_columns(study: Study) -> list[str]:
     return [f"{o.variable}:{r}" for o in study.outputs for r in o.reduce]
 
 
+def column_unit(column: str, units: dict[str, str]) -> str:
+    """The unit of a reduced output's column ``<variable>:<reduction>``, from the
+    variables' ``units``: the variable's, times s for an integral (a load's impulse,
+    N·s/m for a load in N/m)."""
+    variable, how = column.rsplit(":", 1)
+    unit = units.get(variable, "")
+    if how != "integral":
+        return unit
+    if not unit:
+        return "s"
+    # N/m → N·s/m, not N/m·s (which reads as N/(m·s))
+    num, slash, den = unit.partition("/")
+    return f"{num}·s{slash}{den}"
+
+
 def columns(study: Study) -> list[str]:
     """The result table's columns, in order."""
     return [

@@ -13,6 +13,7 @@ from granmix.design import cases
 from granmix.ensemble import observed_order
 from granmix.master import run_case
 from granmix.pack import PackCache
+from granmix.store import column_unit
 from granmix.study import StudyError, parse_study
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -35,8 +36,8 @@ reduce = ["max", "integral"]
 
 #: The barrier moved up the slope against the slab's toe, so that a short run loads it.
 NEAR = (
-    '"barriers.0.shape.min=[1.36, 1.25]", "barriers.0.shape.max=[1.46, 1.8]", '
-    '"barriers.0.reference_point=[1.36, 1.25]"'
+    '"barriers.0.shape.min=[2.05, 0.85]", "barriers.0.shape.max=[2.15, 1.4]", '
+    '"barriers.0.reference_point=[2.05, 0.85]"'
 )
 
 
@@ -91,6 +92,15 @@ def test_the_statistics_are_the_members_mean_sd_min_max_and_p95(eight):
     for col in ("barrier.force_grains.x:max", "barrier.force_water.x:integral"):
         s = stats[stats["output"] == f"granmix.{col}"].iloc[0]
         assert s["mean"] > 10 and 0 < s["sd"] < 0.05 * s["mean"], s.to_dict()
+
+
+def test_an_impulse_is_reported_in_the_loads_unit_times_seconds():
+    units = {"granmix.barrier.force_grains.x": "N/m", "post.displacement": ""}
+    assert column_unit("granmix.barrier.force_grains.x:integral", units) == "N·s/m"
+    assert column_unit("granmix.barrier.force_grains.x:max", units) == "N/m"
+    assert column_unit("post.displacement:integral", units) == "s"
+    assert column_unit("post.force:integral", {"post.force": "N"}) == "N·s"
+    assert column_unit("post.displacement:final", units) == ""
 
 
 def test_every_load_has_an_envelope_plot(eight):

@@ -15,7 +15,7 @@ def test_debris_load_impulse_equals_post_momentum(fmus):
     p = Slave(fmus["post"], "post", start={"m": m, "k": 0.0, "c": 0.0})
     passed, peak_water, peak_grains = 0.0, 0.0, 0.0
     f = g.get("barrier.force.x")
-    for _ in range(350):
+    for _ in range(200):
         p.set("force", f)
         p.step(H)
         passed += f * H
