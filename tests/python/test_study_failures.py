@@ -258,7 +258,7 @@ def test_plots_carry_units_a_title_and_one_curve_per_value_of_the_other_paramete
     lines = {line.get_label(): list(line.get_ydata()) for line in ax.get_lines()}
     assert lines == {"k = 20000 N/m": [4.0, 2.0], "k = 80000 N/m": [3.0, 1.0]}
     ax = figs["granmix.barrier.force.x_integral__k"].axes[0]
-    assert ax.get_ylabel() == "integral of granmix.barrier.force.x [N/m·s]"
+    assert ax.get_ylabel() == "integral of granmix.barrier.force.x [N·s/m]"
     assert {line.get_label() for line in ax.get_lines()} == {
         "friction = 25 deg",
         "friction = 35 deg",
