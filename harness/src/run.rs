@@ -389,6 +389,9 @@ fn summary_json(
         "fine_particle_steps_per_s": (n > 0).then_some(ran.fine_pss),
         "water_particle_steps_per_s": layout.water.then_some(water_pss),
         "stages": stages,
+        "awake": sim.fine_awake().map(|(now, mean)| json!({
+            "fine": {"final": now, "mean": mean}
+        })),
         "skipped": skipped,
         "publish": ran.publish,
         "record": ran.record,
@@ -519,6 +522,13 @@ fn print_table(
             sim.steps(),
             wall,
             pss / 1e6
+        );
+    }
+    if let Some((now, mean)) = sim.fine_awake() {
+        println!(
+            "resting fine grains sleep: {:.1} % of particle-steps awake ({:.1} % at the end)",
+            100.0 * mean,
+            100.0 * now
         );
     }
     println!("{:<22} {:>10} {:>7}", "stage", "seconds", "share");

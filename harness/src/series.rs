@@ -69,6 +69,7 @@ mod tests {
             probes: vec!["p".into()],
             gauges: vec!["g".into()],
             bodies: vec!["b".into()],
+            sleep: false,
         }
     }
 

@@ -185,6 +185,10 @@ impl VtkSeries {
             a.push("total_stress", "Float32", 6, &stress_bytes(&total));
         }
         a.push("id", "UInt32", 1, &bytes_u32(fine.iter().map(|p| p.id)));
+        if !frame.awake.is_empty() {
+            // where resting grains sleep (numerics.sleep): 1 awake, 0 asleep
+            a.push("awake", "UInt8", 1, &bytes_u8(frame.awake.iter().copied()));
+        }
         a.push(
             "family",
             "UInt8",

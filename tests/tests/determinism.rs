@@ -27,6 +27,7 @@ fn run_with_threads(threads: usize, scene: &str, set: &[&str], steps: usize) -> 
                 .flat_map(|p| p.iter().map(|x| x.to_bits() as u64)),
         );
         bits.extend(f.fine.iter().map(|p| p.id as u64));
+        bits.extend(f.awake.iter().map(|&a| a as u64));
         bits.extend(
             f.coarse
                 .iter()
@@ -64,6 +65,17 @@ fn bitwise_identical_across_thread_counts() {
         ("column_collapse_3d.toml", vec!["simulation.dp=0.02"], 200),
         // fine–coarse coupling, multi-rate sub-steps, TLSPH
         ("impact_crater.toml", vec!["simulation.dp=0.008"], 150),
+        // resting grains asleep (a short window so that some fall asleep), woken
+        (
+            "impact_crater.toml",
+            vec![
+                "simulation.dp=0.008",
+                "numerics.sleep=true",
+                "numerics.sleep_steps=10",
+                "numerics.sleep_speed=0.05",
+            ],
+            150,
+        ),
         // rigid bodies with contacts
         ("blocks_impact.toml", vec!["simulation.dp=0.005"], 400),
         // water on walls and a rigid body

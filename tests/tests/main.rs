@@ -17,6 +17,7 @@ mod saturated;
 mod scene_errors;
 mod scene_headers;
 mod scenes_smoke;
+mod sleep;
 mod slope_stability;
 mod soil_models;
 mod spreading_density;

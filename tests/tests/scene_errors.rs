@@ -290,3 +290,31 @@ shape = {{ type = "mesh", file = "{file}" }}
 "#
     )
 }
+
+#[test]
+fn sleep_thresholds_are_checked_and_the_key_named() {
+    let e = err(GOOD, &["numerics.sleep=true", "numerics.sleep_steps=1"]);
+    assert_eq!(e.path, "numerics.sleep_steps", "{e}");
+    assert!(e.message.contains("[2, 65535]"), "{e}");
+    let e = err(GOOD, &["numerics.sleep=true", "numerics.sleep_speed=-1e-3"]);
+    assert_eq!(e.path, "numerics.sleep_speed", "{e}");
+    let no_g = GOOD.replace("gravity = [0.0, -9.81]", "gravity = [0.0, 0.0]");
+    let e = err(&no_g, &["numerics.sleep=true"]);
+    assert_eq!(e.path, "numerics.sleep_speed", "{e}");
+    assert!(e.message.contains("needs gravity"), "{e}");
+    let e = err(&no_g, &["numerics.sleep=true", "numerics.sleep_speed=1e-3"]);
+    assert_eq!(e.path, "numerics.sleep_acceleration", "{e}");
+    load_scene_str(
+        &no_g,
+        "good.toml",
+        &[
+            "numerics.sleep=true".into(),
+            "numerics.sleep_speed=1e-3".into(),
+            "numerics.sleep_acceleration=0.5".into(),
+        ],
+    )
+    .unwrap();
+    let wet = format!("{GOOD}\n[water]\ndensity = 1000.0\n");
+    let e = err(&wet, &["numerics.sleep=true"]);
+    assert_eq!(e.path, "numerics.sleep", "{e}");
+}

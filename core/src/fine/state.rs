@@ -30,6 +30,10 @@ pub struct FineParticles<const D: usize> {
     /// 1 when it stayed elastic, ε_e/(ε_e + Δε_p) after a return mapping (see
     /// [`hourglass`](super::hourglass)).
     pub hourglass_kept: Vec<f32>,
+    /// Consecutive quiet steps of each particle, up to the sleep rule's window: at
+    /// the window it sleeps ([`sleep`](crate::numerics::sleep)); 0 without sleep.
+    #[serde(default)]
+    pub quiet: Vec<u16>,
 }
 
 impl<const D: usize> FineParticles<D> {
@@ -61,6 +65,7 @@ impl<const D: usize> FineParticles<D> {
         self.vel_grad.push(SMatrix::zeros());
         self.hourglass.push(SVector::zeros());
         self.hourglass_kept.push(1.0);
+        self.quiet.push(0);
     }
 
     /// Release the spare capacity left by filling the arrays one particle at a time.
@@ -77,6 +82,7 @@ impl<const D: usize> FineParticles<D> {
         self.vel_grad.shrink_to_fit();
         self.hourglass.shrink_to_fit();
         self.hourglass_kept.shrink_to_fit();
+        self.quiet.shrink_to_fit();
     }
 
     /// Bytes held by the particle arrays.
@@ -95,6 +101,7 @@ impl<const D: usize> FineParticles<D> {
             + self.vel_grad.capacity() * size_of::<SMatrix<f32, D, D>>()
             + self.hourglass.capacity() * size_of::<SVector<f32, D>>()
             + self.hourglass_kept.capacity() * size_of::<f32>()
+            + self.quiet.capacity() * 2
     }
 
     /// Reorder every array by `order` (new index k holds old particle order[k]), in
@@ -114,5 +121,6 @@ impl<const D: usize> FineParticles<D> {
         cycle_apply(&mut self.vel_grad, order, scratch);
         cycle_apply(&mut self.hourglass, order, scratch);
         cycle_apply(&mut self.hourglass_kept, order, scratch);
+        cycle_apply(&mut self.quiet, order, scratch);
     }
 }

@@ -20,8 +20,29 @@ use crate::geometry::walls::Walls;
 use crate::numerics::load::Load;
 use crate::numerics::math::{Real, Sym, Vect};
 use crate::numerics::neighbors::{NeighborLists, CHUNK};
+use crate::numerics::sleep::{SleepRule, HELD, RESTLESS};
 use nalgebra::SVector;
 use rayon::prelude::*;
+
+/// What the fine sweeps read and write of the step's sleep
+/// ([`sleep`](crate::numerics::sleep)): the rule (None: every particle is stepped and
+/// no flag is written), each particle's quiet steps, which wall objects wake the
+/// particles within their reach (barriers and walls that can move), and each
+/// particle's flags of the step.
+pub struct FineSleep<'a> {
+    pub rule: Option<&'a SleepRule>,
+    pub quiet: &'a [u16],
+    pub waking_walls: &'a [bool],
+    pub flags: &'a mut [u8],
+}
+
+impl FineSleep<'_> {
+    /// Whether particle `i` sleeps in this step.
+    #[inline(always)]
+    pub fn asleep(rule: Option<&SleepRule>, quiet: &[u16], i: usize) -> bool {
+        rule.is_some_and(|r| r.asleep(quiet[i]))
+    }
+}
 
 /// Runs over the fine–fine, fine–wall and fine–coarse relations.
 ///
@@ -29,7 +50,8 @@ use rayon::prelude::*;
 /// `hourglass` (in place; each particle reads only its own entry) and per-chunk barrier
 /// loads into `loads` (`max(1, barriers)` slots per chunk). `sums` holds one entry per
 /// particle, all zero on entry; its momentum part is left zero, its continuity part
-/// holds the [`JumpDiffusion`] terms for the continuity sweep.
+/// holds the [`JumpDiffusion`] terms for the continuity sweep. A sleeping particle
+/// (`sleep`) keeps v = 0 and its penalty; an awake one is flagged restless or held.
 #[allow(clippy::too_many_arguments)]
 pub fn momentum_sweep<const D: usize>(
     p: &FineParticles<D>,
@@ -46,7 +68,9 @@ pub fn momentum_sweep<const D: usize>(
     sums: &mut [PairSums<D>],
     water: &[Vect<D>],
     (buf, cp, lanes): FinePairs<'_, D>,
+    sleep: FineSleep<'_>,
 ) {
+    let (rule, quiet, waking) = (sleep.rule, sleep.quiet, sleep.waking_walls);
     let (csrc, coupling, tension) = (coarse.src, coarse.coupling, coarse.tension);
     let nbs = walls.load_slots().max(1);
     // neighbour arrays of one length, so that a neighbour index is bounds-checked once
@@ -61,8 +85,9 @@ pub fn momentum_sweep<const D: usize>(
         .zip(hourglass.par_chunks_mut(CHUNK))
         .zip(loads.par_chunks_mut(nbs))
         .zip(coarse.reactions.par_iter_mut())
+        .zip(sleep.flags.par_chunks_mut(CHUNK))
         .enumerate()
-        .for_each(|(c, (((((cl, sums), vout), hout), lout), react))| {
+        .for_each(|(c, ((((((cl, sums), vout), hout), lout), react), fl))| {
             for l in lout.iter_mut() {
                 *l = Load::default();
             }
@@ -75,11 +100,22 @@ pub fn momentum_sweep<const D: usize>(
                 let (xi, vi, rhoi) = (pos[i], vel[i], p.rho[i]);
                 // the pair sums, left zero for the next step
                 let sum = std::mem::replace(&mut sums[k].momentum, MomentumSums::zero());
+                if FineSleep::asleep(rule, quiet, i) {
+                    *vo = Vect::<D>::zeros();
+                    fl[k] = 0;
+                    continue;
+                }
                 let mut acc = pair_acceleration(&sum, rhoi);
                 let wl = cl.wall(k);
                 // the water's force on a soil (soil_water): buoyancy and seepage
                 let lift = water.get(i).map(|f| f / p.mass[i]);
+                let mut held = false;
                 if !wl.is_empty() {
+                    if rule.is_some() {
+                        held = wl
+                            .iter()
+                            .any(|&w| waking[walls.object[w as usize] as usize]);
+                    }
                     let (w, s) = (walls, &Source::new(mat, &p.stress[i], p.mass[i], rhoi));
                     let at = FineAtWall::new(wall, w, mat, xi, vi, rhoi, s, wl, lift.as_ref());
                     at.accelerations(wall, walls, wl, &mut pairs);
@@ -90,6 +126,7 @@ pub fn momentum_sweep<const D: usize>(
                 }
                 let near = cl.coarse(k);
                 if !near.is_empty() {
+                    held = true;
                     let fs = FineSide {
                         pos: xi,
                         vel: vi,
@@ -112,6 +149,10 @@ pub fn momentum_sweep<const D: usize>(
                     acc += a;
                 }
                 *vo = integrate(p, prm, i, acc, &sum.hourglass, &mut hout[k]);
+                if let Some(r) = rule {
+                    let restless = r.restless_motion(&vi, vo, prm.dt);
+                    fl[k] = if restless { RESTLESS } else { 0 } | if held { HELD } else { 0 };
+                }
             }
         });
 }

@@ -326,6 +326,12 @@ fn momentum<const D: usize>(
         &mut sums,
         &[],
         how.pairs(),
+        super::momentum_pass::FineSleep {
+            rule: None,
+            quiet: &[],
+            waking_walls: &[],
+            flags: &mut vec![0; p.len()],
+        },
     );
     (vel_new, hg, sums)
 }
@@ -454,6 +460,7 @@ fn continuity_matches<const D: usize>(two_soils: bool, jump: ContinuityJump, lan
             hourglass_kept: &mut kept,
         },
         how.pairs(),
+        (None, &[], &mut vec![0; n]),
     );
     assert!(sums
         .iter()

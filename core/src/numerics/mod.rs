@@ -21,5 +21,6 @@ pub mod periodic;
 pub mod permute;
 pub mod riemann;
 pub mod rng;
+pub mod sleep;
 pub mod sparse_cg;
 pub mod timers;

@@ -11,6 +11,7 @@ pub enum Stage {
     Momentum,
     ContinuityStress,
     Finalize,
+    Sleep,
     Coupling,
     Contact,
     CoarseSubsteps,
@@ -23,13 +24,14 @@ pub enum Stage {
 }
 
 impl Stage {
-    pub const ALL: [Stage; 15] = [
+    pub const ALL: [Stage; 16] = [
         Stage::Drift,
         Stage::Neighbors,
         Stage::ArtificialStress,
         Stage::Momentum,
         Stage::ContinuityStress,
         Stage::Finalize,
+        Stage::Sleep,
         Stage::Coupling,
         Stage::Contact,
         Stage::CoarseSubsteps,
@@ -48,6 +50,7 @@ impl Stage {
             Stage::Momentum => "momentum",
             Stage::ContinuityStress => "continuity_stress",
             Stage::Finalize => "finalize_guard",
+            Stage::Sleep => "sleep",
             Stage::Coupling => "coupling",
             Stage::Contact => "contact",
             Stage::CoarseSubsteps => "coarse_substeps",
@@ -64,7 +67,7 @@ impl Stage {
 /// Accumulated seconds per stage.
 #[derive(Clone, Debug, Default)]
 pub struct StageTimers {
-    secs: [f64; 15],
+    secs: [f64; 16],
 }
 
 impl StageTimers {

@@ -61,6 +61,17 @@ impl AnySimulation {
     pub fn fine_count(&self) -> usize {
         dispatch!(self, s => s.world.fine.len())
     }
+    /// Resting fine grains sleep (`numerics.sleep`).
+    pub fn sleeps(&self) -> bool {
+        dispatch!(self, s => s.stepper.params.sleep.is_some())
+    }
+    /// Where fine grains sleep: the share awake now, and its mean over the steps.
+    pub fn fine_awake(&self) -> Option<(f64, f64)> {
+        dispatch!(self, s => s
+            .stepper
+            .fine_awake_share(&s.world)
+            .zip(s.stepper.fine_awake_mean()))
+    }
     /// The scene has `[water]` (its particles may come later, through inflows).
     pub fn has_water(&self) -> bool {
         dispatch!(self, s => s.world.has_water())

@@ -34,6 +34,9 @@ pub struct Layout {
     pub probes: Vec<String>,
     pub gauges: Vec<String>,
     pub bodies: Vec<String>,
+    /// Resting fine grains sleep (`numerics.sleep`): the series carries their awake
+    /// share.
+    pub sleep: bool,
 }
 
 impl Layout {
@@ -51,6 +54,7 @@ impl Layout {
             probes: sim.probe_names(),
             gauges: sim.gauge_names(),
             bodies: sim.body_names(),
+            sleep: sim.sleeps(),
         }
     }
 
@@ -342,7 +346,7 @@ pub fn all(l: &Layout) -> Vec<Observable> {
     t.count("steps", |s| s.steps);
     t.total("steps.fine", "fine solver steps taken so far");
     t.real("dt", S, |s| s.dt);
-    fine(&mut t, l.fine);
+    fine(&mut t, l.fine, l.sleep);
     if l.grains() {
         t.real("runout", M, |s| s.runout);
         t.in_summary(1);
@@ -380,9 +384,10 @@ pub fn total_kinetic_energy(s: &Sample) -> Real {
     s.kinetic_energy + s.coarse_kinetic_energy + s.water.as_ref().map_or(0.0, |w| w.kinetic_energy)
 }
 
-/// The fine grains: energies, largest speed and ρ/ρ0 (`shown`: the scene has them;
-/// otherwise only the FMU's kinetic energy, zero).
-fn fine(t: &mut Table, shown: bool) {
+/// The fine grains: energies, largest speed, ρ/ρ0 and, where they sleep (`sleep`),
+/// the share awake (`shown`: the scene has them; otherwise only the FMU's kinetic
+/// energy, zero).
+fn fine(t: &mut Table, shown: bool, sleep: bool) {
     t.real("kinetic_energy", Unit::Energy, |s| s.kinetic_energy);
     t.total("kinetic_energy.fine", "kinetic energy of the fine grains");
     if !shown {
@@ -399,6 +404,10 @@ fn fine(t: &mut Table, shown: bool) {
         t.maybe(format!("density_ratio.{q}"), NONE, ratio);
     }
     t.in_summary(DENSITY_RATIO.len());
+    if sleep {
+        t.maybe("awake_fine", NONE, |s| s.awake_fine);
+        t.in_summary(1);
+    }
 }
 
 /// The coarse grains: energies, largest speed, sub-steps, κ and momentum (`shown`: the
@@ -676,6 +685,7 @@ mod tests {
                 probes: Vec::new(),
                 gauges: Vec::new(),
                 bodies: Vec::new(),
+                sleep: true,
             };
             for o in all(&l) {
                 let fmu = o.fmu.as_ref().map(|f| f.name.clone());

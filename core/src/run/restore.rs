@@ -131,6 +131,7 @@ impl<const D: usize> Simulation<D> {
             f.vel_grad.len(),
             f.hourglass.len(),
             f.hourglass_kept.len(),
+            f.quiet.len(),
         ];
         let materials = w.materials.len();
         if lens.iter().any(|&l| l != n) || f.material.iter().any(|&m| m as usize >= materials) {

@@ -186,6 +186,9 @@ pub struct Sample {
     /// The fine grains' ρ/ρ0 (median, 10th percentile, minimum); None without fine grains.
     #[serde(default)]
     pub density_ratio: Option<DensityRatio>,
+    /// The share of fine particles awake at the sample (None where they do not sleep).
+    #[serde(default)]
+    pub awake_fine: Option<Real>,
     /// Largest coarse-grain particle speed (m/s); 0 without coarse grains.
     #[serde(default)]
     pub coarse_max_speed: Real,
@@ -227,6 +230,8 @@ pub struct Frame {
     pub density: Vec<f32>,
     /// Stress of each fine particle, xx yy zz xy xz yz (Pa, tension positive).
     pub stress: Vec<[f32; 6]>,
+    /// 1 for each fine particle awake, 0 asleep (empty where they do not sleep).
+    pub awake: Vec<u8>,
     /// Coarse-grain particles.
     pub coarse: Vec<ParticleRecord>,
     /// Force from the fine grains on each coarse particle (Eq. 50).

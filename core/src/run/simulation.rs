@@ -212,6 +212,7 @@ impl<const D: usize> Simulation<D> {
             runout: observe::runout(&w.fine, &coarse_volumes, &self.runout, w.resolution.dp),
             max_speed: self.stepper.fine_vmax(),
             density_ratio: observe::density_ratio(&w.fine, &rho0),
+            awake_fine: self.stepper.fine_awake_share(w),
             coarse_max_speed: cp.vel.iter().map(|v| v.norm()).fold(0.0, Real::max),
             barriers,
             probes,
@@ -615,6 +616,9 @@ impl<const D: usize> Simulation<D> {
             fine: (0..nf).map(|i| self.fine_record(i, &pores)).collect(),
             density: f.rho.iter().map(|&r| r as f32).collect(),
             stress: f.stress.iter().map(|s| s.0.map(|x| x as f32)).collect(),
+            awake: self.stepper.params.sleep.map_or(Vec::new(), |r| {
+                f.quiet.iter().map(|&q| u8::from(!r.asleep(q))).collect()
+            }),
             coarse: (0..nc).map(|i| self.coarse_record(i)).collect(),
             coarse_fine_force: w.coarse.particles.f_fine.iter().map(arr).collect(),
             coarse_water_force: w.coarse.particles.f_water.iter().map(arr).collect(),

@@ -237,6 +237,22 @@ pub struct NumericsSpec {
     /// Default false.
     #[serde(default)]
     pub seepage_midpoint: bool,
+    /// Resting fine grains sleep: a particle whose speed, change of speed per step
+    /// and velocity gradient stay below `sleep_speed`, `sleep_speed / sleep_steps`
+    /// and `sleep_speed / h` for `sleep_steps` steps is frozen until a restless
+    /// neighbour, a coarse grain, a barrier or a moving wall wakes it
+    /// (docs/method.md §Sleep). Default false.
+    #[serde(default)]
+    pub sleep: bool,
+    /// The speed below which a particle may rest (m/s). Default 0.005 √(g dp).
+    #[serde(default)]
+    pub sleep_speed: Option<f64>,
+    /// The acceleration below which a particle may rest (m/s²). Default |g|.
+    #[serde(default)]
+    pub sleep_acceleration: Option<f64>,
+    /// Consecutive quiet steps before a particle sleeps. Default 100.
+    #[serde(default)]
+    pub sleep_steps: Option<u32>,
 }
 
 /// The deviatoric stress a dummy wall particle carries against a fine particle; its
@@ -285,6 +301,10 @@ impl Default for NumericsSpec {
             wall_stress: WallStress::default(),
             density_floor: default_density_floor(),
             seepage_midpoint: false,
+            sleep: false,
+            sleep_speed: None,
+            sleep_acceleration: None,
+            sleep_steps: None,
         }
     }
 }

@@ -490,6 +490,7 @@ fn validate_numerics(s: &Scene) -> Check {
     if n.artificial_stress_epsilon.is_nan() || n.artificial_stress_epsilon < 0.0 {
         return fail("numerics.artificial_stress_epsilon", "must be ≥ 0");
     }
+    validate_sleep(s)?;
     let need = (2.0 * n.smoothing_ratio).ceil() as usize;
     if n.wall_layers < need {
         return fail(
@@ -499,6 +500,50 @@ fn validate_numerics(s: &Scene) -> Check {
                 n.wall_layers,
                 2.0 * n.smoothing_ratio
             ),
+        );
+    }
+    Ok(())
+}
+
+/// `numerics.sleep` and its thresholds.
+fn validate_sleep(s: &Scene) -> Check {
+    let n = &s.numerics;
+    if let Some(v) = n.sleep_speed {
+        positive("numerics.sleep_speed", v)?;
+    }
+    if let Some(a) = n.sleep_acceleration {
+        positive("numerics.sleep_acceleration", a)?;
+    }
+    if let Some(k) = n.sleep_steps {
+        if !(2..=u16::MAX as u32).contains(&k) {
+            return fail(
+                "numerics.sleep_steps",
+                format!("must lie in [2, 65535] (steps), found {k}"),
+            );
+        }
+    }
+    let g2: f64 = s.simulation.gravity.iter().map(|x| x * x).sum();
+    if n.sleep && g2.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        if n.sleep_speed.is_none() {
+            return fail(
+                "numerics.sleep_speed",
+                "the default speed, 0.005 √(g dp), needs gravity; set the speed below \
+                 which a particle may rest (m/s)",
+            );
+        }
+        if n.sleep_acceleration.is_none() {
+            return fail(
+                "numerics.sleep_acceleration",
+                "the default acceleration, |g|, needs gravity; set the acceleration \
+                 below which a particle may rest (m/s²)",
+            );
+        }
+    }
+    if n.sleep && s.water.is_some() {
+        return fail(
+            "numerics.sleep",
+            "resting particles do not sleep yet in a scene with water (the water's and \
+             the pore water's sleep is still to come); remove `sleep = true`",
         );
     }
     Ok(())

@@ -18,13 +18,14 @@ use crate::fine::source;
 use crate::interactions::continuity_pass::continuity_sweep;
 use crate::interactions::fine_coarse::{self, CoarseSide, CoarseSource, Coupling};
 use crate::interactions::fine_wall::WallLaw;
-use crate::interactions::momentum_pass::momentum_sweep;
+use crate::interactions::momentum_pass::{momentum_sweep, FineSleep};
 use crate::numerics::guard::{Blowup, Family};
 use crate::numerics::kernel::WendlandC2;
 use crate::numerics::math::{Real, Sym, Vect};
 use crate::numerics::neighbors::CellGrid;
 use crate::numerics::pairs::quad::Lanes;
 use crate::numerics::riemann::Riemann;
+use crate::numerics::sleep::{self, SleepFlags, SleepRule};
 use crate::numerics::timers::{Stage, StageTimers};
 use crate::world::{geostatic_tensor, World};
 use rayon::prelude::*;
@@ -76,6 +77,13 @@ pub struct FineStepper<const D: usize> {
     /// state the momentum sweep packed).
     #[serde(skip)]
     lanes: FineLanes<D>,
+    /// The sleep's flags of the step (sized every step; written by the sweeps).
+    #[serde(skip)]
+    sleep: SleepFlags,
+    /// Per wall object: whether it wakes the particles within its reach (a barrier,
+    /// or a wall that can move).
+    #[serde(skip)]
+    waking_walls: Vec<bool>,
 }
 
 impl<const D: usize> FineStepper<D> {
@@ -146,6 +154,8 @@ impl<const D: usize> FineStepper<D> {
                 Vec::new()
             },
             lanes: FineLanes::default(),
+            sleep: SleepFlags::default(),
+            waking_walls: Vec::new(),
         }
     }
 
@@ -157,6 +167,7 @@ impl<const D: usize> FineStepper<D> {
             + self.art.capacity() * size_of::<Sym>()
             + self.pair_sums.capacity() * size_of::<PairSums<D>>()
             + self.lanes.bytes()
+            + self.sleep.bytes()
     }
 
     /// Rebuild the lists (particles re-sorted by cell) if the skin may be used up over
@@ -231,13 +242,64 @@ impl<const D: usize> FineStepper<D> {
         })
     }
 
+    /// The sleep of this step (`rule`; None: every particle is stepped): the flags
+    /// sized, each particle's quiet count (a restored or new particle starts awake),
+    /// the wall objects that wake, and the clusters the lane passes evaluate.
+    fn prepare_sleep(&mut self, world: &mut World<D>, rule: Option<&SleepRule>) {
+        let n = world.fine.len();
+        // the sweeps zip over the flags: sized even without sleep (never read then)
+        if self.sleep.flags.len() != n {
+            self.sleep.reset(n);
+        }
+        let Some(rule) = rule else {
+            return;
+        };
+        world.fine.quiet.resize(n, 0);
+        let walls = &world.walls;
+        self.waking_walls.clear();
+        self.waking_walls.extend(
+            (0..walls.objects.len())
+                .map(|o| walls.objects[o].barrier.is_some() || walls.can_move(o)),
+        );
+        let lists = &mut self.family.lists;
+        self.sleep.refresh_reach(&lists.clusters, lists.builds);
+        lists.clusters.runs =
+            sleep::mark_runs(&lists.clusters, rule, &world.fine.quiet, &mut self.sleep);
+    }
+
+    /// After Eq. (56): wake the neighbours of the step's restless particles, advance
+    /// every particle's quiet count (held at zero while gravity ramps up, `ramping`)
+    /// and freeze the particles that fall asleep (v = 0, dρ/dt = 0).
+    pub(super) fn settle(
+        &mut self,
+        world: &mut World<D>,
+        rule: &SleepRule,
+        (cutoff, ramping): (Real, bool),
+    ) {
+        use crate::numerics::periodic::Separation;
+        let wrap = world.periodic;
+        let f = &mut world.fine;
+        if f.is_empty() || self.family.lists.clusters.particles() != f.len() {
+            return;
+        }
+        let cp = &self.family.lists.clusters;
+        let pos = &f.pos;
+        let near = |i: usize, j: usize| wrap.of(pos[i] - pos[j]).norm_squared() < cutoff * cutoff;
+        let fell = sleep::wake(cp, rule, &mut self.sleep, &mut f.quiet, ramping, near);
+        for &i in &fell {
+            f.vel[i as usize] = Vect::<D>::zeros();
+            f.drho[i as usize] = 0.0;
+        }
+    }
+
     /// Buffers sized for this step and the per-material factors of a step of `dt`.
-    fn prepare_sweeps(&mut self, world: &World<D>, dt: Real, cx: &FineContext<'_, D>) {
+    fn prepare_sweeps(&mut self, world: &mut World<D>, dt: Real, cx: &FineContext<'_, D>) {
         let n = world.fine.len();
         self.vel_new.resize(n, Vect::<D>::zeros());
         // the sweeps leave their sums zero, so only new entries need setting
         self.pair_sums.resize(n, PairSums::zero());
         self.family.prepare_pass(&world.walls);
+        self.prepare_sleep(world, cx.params.sleep.as_ref());
         // the stored penalty relaxes over `hourglass_memory` acoustic times h/c0
         let memory = cx.params.hourglass_memory * cx.params.h;
         for (k, m) in self.hourglass_leak.iter_mut().zip(&world.materials) {
@@ -324,6 +386,12 @@ impl<const D: usize> FineStepper<D> {
                 &mut self.pair_sums,
                 cx.soil_water.map_or(&[], |s| &s.force[..]),
                 (&mut self.lanes, &lists.clusters, Lanes::detect()),
+                FineSleep {
+                    rule: cx.params.sleep.as_ref(),
+                    quiet: &world.fine.quiet,
+                    waking_walls: &self.waking_walls,
+                    flags: &mut self.sleep.flags,
+                },
             )
         });
         world.fine.hourglass = hourglass;
@@ -358,14 +426,16 @@ impl<const D: usize> FineStepper<D> {
             lists: &self.family.lists,
             cprm: &cprm,
             csrc: cx.csrc,
+            sleep: cx.params.sleep.as_ref(),
         };
         let pairs = (
             &mut self.lanes,
             &self.family.lists.clusters,
             Lanes::detect(),
         );
+        let flags = &mut self.sleep.flags;
         timers.time(Stage::ContinuityStress, || {
-            sweep.run(world, &mut self.pair_sums, pairs)
+            sweep.run(world, &mut self.pair_sums, pairs, flags)
         });
     }
 }
@@ -401,6 +471,7 @@ struct ContinuitySweep<'a, const D: usize> {
     lists: &'a crate::numerics::neighbors::NeighborLists,
     cprm: &'a ContinuityParams<'a, D>,
     csrc: &'a [CoarseSource<D>],
+    sleep: Option<&'a SleepRule>,
 }
 
 impl<const D: usize> ContinuitySweep<'_, D> {
@@ -408,7 +479,13 @@ impl<const D: usize> ContinuitySweep<'_, D> {
     /// hourglass penalty of every fine particle, advanced in place: the sweep reads
     /// none of these of a neighbour (the neighbours' stress comes from the packed
     /// sources).
-    fn run(&self, world: &mut World<D>, sums: &mut [PairSums<D>], pairs: FinePairs<'_, D>) {
+    fn run(
+        &self,
+        world: &mut World<D>,
+        sums: &mut [PairSums<D>],
+        pairs: FinePairs<'_, D>,
+        flags: &mut [u8],
+    ) {
         let f = &mut world.fine;
         let mut stress = std::mem::take(&mut f.stress);
         let mut drho = std::mem::take(&mut f.drho);
@@ -424,7 +501,10 @@ impl<const D: usize> ContinuitySweep<'_, D> {
             hourglass_kept: &mut hourglass_kept,
         };
         let (f, mats, walls) = (&world.fine, &world.materials, &world.walls);
-        continuity_sweep(f, mats, walls, self.lists, self.cprm, self.csrc, out, pairs);
+        let sleep = (self.sleep, &f.quiet[..], flags);
+        continuity_sweep(
+            f, mats, walls, self.lists, self.cprm, self.csrc, out, pairs, sleep,
+        );
         let f = &mut world.fine;
         f.drho = drho;
         f.stress = stress;

@@ -65,6 +65,10 @@ pub struct Stepper<const D: usize> {
     /// pores).
     #[serde(default)]
     pub soil_water: Option<SoilWater<D>>,
+    /// Where fine grains sleep: the sum over the steps of the share of fine particles
+    /// awake at each step's end, and the steps summed.
+    #[serde(default)]
+    pub awake_tally: (Real, u64),
 }
 
 impl<const D: usize> Stepper<D> {
@@ -98,6 +102,7 @@ impl<const D: usize> Stepper<D> {
             coarse_vol: world.resolution.volume,
             water,
             soil_water,
+            awake_tally: (0.0, 0),
         }
     }
 
@@ -242,6 +247,22 @@ impl<const D: usize> Stepper<D> {
         out
     }
 
+    /// The share of fine particles awake (None where they do not sleep or there are
+    /// none).
+    pub fn fine_awake_share(&self, world: &World<D>) -> Option<Real> {
+        let rule = self.params.sleep.as_ref()?;
+        (!world.fine.is_empty())
+            .then(|| crate::numerics::sleep::awake_share(rule, &world.fine.quiet))
+    }
+
+    /// The mean share of fine particles awake over the steps taken (None where they
+    /// do not sleep or no step was taken): awake particle-steps over particle-steps.
+    pub fn fine_awake_mean(&self) -> Option<Real> {
+        self.params.sleep?;
+        let (sum, steps) = self.awake_tally;
+        (steps > 0).then(|| sum / steps as Real)
+    }
+
     /// Largest fine-grain speed at the end of the last step.
     pub fn fine_vmax(&self) -> Real {
         self.fine.family.vmax()
@@ -291,6 +312,18 @@ impl<const D: usize> Stepper<D> {
             s.fine.finalize(world, half, s.params.max_speed);
             world.walls.advance(half);
         });
+        if let Some(rule) = self.params.sleep {
+            // resting particles fall asleep; the restless wake their neighbours
+            self.timed(Stage::Sleep, |s| {
+                s.fine
+                    .settle(world, &rule, (s.kernel.cutoff, s.g_scale < 1.0));
+                if !world.fine.is_empty() {
+                    s.awake_tally.0 +=
+                        crate::numerics::sleep::awake_share(&rule, &world.fine.quiet);
+                    s.awake_tally.1 += 1;
+                }
+            });
+        }
         self.sum_family_loads();
         // Eqs. (57)–(60): κ coarse sub-steps
         self.coarse_substeps(world, dt, kappa)?;

@@ -3,6 +3,7 @@
 
 use crate::interactions::contact::ContactLaw;
 use crate::numerics::math::Real;
+use crate::numerics::sleep::SleepRule;
 use crate::scene::resolution::Resolution;
 use crate::scene::{ContinuityJump, Scene, TimeStepping, WallStress};
 
@@ -51,6 +52,9 @@ pub struct StepParams {
     pub contact: ContactLaw,
     /// CFL^c of Eq. (52).
     pub cfl_coarse: Real,
+    /// The fine grains' sleep rule (`numerics.sleep`; None: every particle is stepped).
+    #[serde(default)]
+    pub sleep: Option<SleepRule>,
 }
 
 impl StepParams {
@@ -81,8 +85,31 @@ impl StepParams {
             seepage_midpoint: n.seepage_midpoint,
             contact: ContactLaw::from_spec(&s.contact, res.dp, s.simulation.dimension),
             cfl_coarse: s.simulation.cfl_coarse,
+            sleep: n.sleep.then(|| sleep_rule(s, res)),
         }
     }
+}
+
+/// The sleep rule of `s` at resolution `res`: the speed 0.005 √(g dp) unless the
+/// scene sets `numerics.sleep_speed` (a grain at that speed has ½ v² = 1.25e-5 g dp,
+/// the energy of a fall of 1/80,000 of its size), the acceleration g (an unbalanced
+/// force below the grain's weight) unless it sets `numerics.sleep_acceleration`, 100
+/// quiet steps unless it sets `numerics.sleep_steps`.
+fn sleep_rule(s: &Scene, res: &Resolution) -> SleepRule {
+    let g = s
+        .simulation
+        .gravity
+        .iter()
+        .map(|x| x * x)
+        .sum::<f64>()
+        .sqrt();
+    let speed = s
+        .numerics
+        .sleep_speed
+        .unwrap_or(0.005 * (g * res.dp).sqrt());
+    let accel = s.numerics.sleep_acceleration.unwrap_or(g);
+    let steps = s.numerics.sleep_steps.unwrap_or(100) as u16;
+    SleepRule::new(speed, accel, steps, res.h)
 }
 
 /// Statistics of one step.

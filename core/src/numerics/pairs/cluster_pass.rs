@@ -323,6 +323,10 @@ impl<P: PairLaw<D, N>, const D: usize, const N: usize> QuadTask for Slab<'_, P, 
             out: Window { sums, base },
         } = self;
         for ci in cp.slabs[slab] as usize..cp.slabs[slab + 1] as usize {
+            if !cp.runs(ci) {
+                // its members and partners all sleep
+                continue;
+            }
             // a window per cluster from the slice and base held here, so that the
             // terms' stores need not reload them
             let mut out = Window {

@@ -33,6 +33,10 @@ pub struct ClusterPairs {
     /// `js[off[c]..off[c + 1]]`: the particles the members of c pair with, ascending.
     off: Vec<u32>,
     js: Vec<u32>,
+    /// Per cluster, whether the passes evaluate it (empty: every cluster); set per
+    /// step where resting particles sleep ([`sleep::mark_runs`](crate::numerics::sleep::mark_runs)).
+    #[serde(skip)]
+    pub runs: Vec<bool>,
 }
 
 impl ClusterPairs {
@@ -46,6 +50,7 @@ impl ClusterPairs {
         n: usize,
         half: impl Fn(usize, &mut Vec<u32>) + Sync,
     ) -> usize {
+        self.runs.clear();
         self.start.clear();
         self.slabs.clear();
         for s in 0..slabs.len().saturating_sub(1) {
@@ -154,6 +159,12 @@ impl ClusterPairs {
                 .all(|(i, &c)| (c as usize) < nc && self.members(c as usize).contains(&i))
             && rows(&self.off, nc, self.js.len())
             && below(&self.js, n)
+    }
+
+    /// Whether the passes evaluate cluster `c` (some member or partner awake).
+    #[inline(always)]
+    pub fn runs(&self, c: usize) -> bool {
+        self.runs.get(c).copied().unwrap_or(true)
     }
 
     /// Particles in the clusters.
