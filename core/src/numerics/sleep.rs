@@ -17,7 +17,7 @@
 //! scratch, written in full by the step's passes before they are read.
 
 use crate::numerics::math::{Real, Vect};
-use crate::numerics::pairs::clusters::ClusterPairs;
+use crate::numerics::pairs::clusters::{ClusterPairs, Take};
 use crate::numerics::pairs::slabs::two_phase_in;
 use rayon::prelude::*;
 
@@ -180,18 +180,24 @@ pub fn wake(
             for c in clusters.filter(|&c| near_restless[c]) {
                 let (members, partners) = (cp.members(c), cp.of(c));
                 for i in members {
+                    let ri = restless[i];
                     for &j in partners {
                         let j = j as usize;
-                        // each pair once, under its lower index
-                        if j <= i || !(restless[i] || restless[j]) || !near(i, j) {
+                        // each pair once, under its lower index; a pair of two restless
+                        // particles, or whose quiet side is already woken, has nothing
+                        // to wake
+                        let rj = restless[j];
+                        let quiet = if ri == rj {
+                            continue;
+                        } else if ri {
+                            j
+                        } else {
+                            i
+                        };
+                        if j <= i || win[quiet - base] & WOKEN != 0 || !near(i, j) {
                             continue;
                         }
-                        if restless[i] {
-                            win[j - base] |= WOKEN;
-                        }
-                        if restless[j] {
-                            win[i - base] |= WOKEN;
-                        }
+                        win[quiet - base] |= WOKEN;
                     }
                 }
             }
@@ -215,16 +221,29 @@ pub fn wake(
         .collect()
 }
 
-/// Which clusters of `cp` a lane pass evaluates (one entry per cluster): those with a
-/// member or a partner awake (`quiet` below the rule's steps), from the clusters of
-/// `sf`'s reach (made from `cp`'s build, [`SleepFlags::refresh_reach`]).
-pub fn mark_runs(
-    cp: &ClusterPairs,
-    rule: &SleepRule,
-    quiet: &[u16],
-    sf: &mut SleepFlags,
-) -> Vec<bool> {
-    sf.spread(cp, |i| !rule.asleep(quiet[i]))
+/// How the lane passes take each cluster of `cp` ([`ClusterPairs::runs`], with each
+/// particle's [`ClusterPairs::awake`]): whole if a member is awake (`quiet` below the
+/// rule's steps), its awake partners only if a cluster of its reach (`sf`'s, made from
+/// `cp`'s build, [`SleepFlags::refresh_reach`]) has one, otherwise not at all.
+pub fn mark_runs(cp: &mut ClusterPairs, rule: &SleepRule, quiet: &[u16], sf: &mut SleepFlags) {
+    let mut awake = std::mem::take(&mut cp.awake);
+    awake.clear();
+    awake.par_extend(quiet.par_iter().map(|&q| !rule.asleep(q)));
+    let near = sf.spread(cp, |i| awake[i]);
+    let any = &sf.any;
+    let mut runs = std::mem::take(&mut cp.runs);
+    runs.clear();
+    runs.par_extend((0..cp.len()).into_par_iter().map(|c| {
+        if any[c] {
+            Take::All
+        } else if near[c] {
+            Take::AwakePartners
+        } else {
+            Take::Skip
+        }
+    }));
+    cp.runs = runs;
+    cp.awake = awake;
 }
 
 /// The share of `quiet`'s particles awake under `rule` (1 for an empty family).
@@ -275,9 +294,11 @@ mod tests {
         });
         let awake: Vec<usize> = (0..16).filter(|&i| !rule.asleep(quiet[i])).collect();
         assert_eq!(awake, (7..12).collect::<Vec<_>>());
-        let runs = mark_runs(&cp, &rule, &quiet, &mut sf);
+        let mut cp = cp;
+        mark_runs(&mut cp, &rule, &quiet, &mut sf);
         // cluster 3 sleeps with its partners; cluster 0 reaches the awake cluster 1
-        assert_eq!(runs, [true, true, true, false]);
+        use Take::*;
+        assert_eq!(cp.runs, [AwakePartners, All, All, Skip]);
         // a held particle is reset but wakes nobody
         sf.flags.iter_mut().for_each(|f| *f = 0);
         let mut quiet = vec![3u16; 16];
@@ -287,8 +308,8 @@ mod tests {
         });
         assert_eq!(quiet[0], 0);
         assert!(quiet[1..].iter().all(|&q| q == 3));
-        let runs = mark_runs(&cp, &rule, &quiet, &mut sf);
-        assert_eq!(runs, [true, false, false, false]);
+        mark_runs(&mut cp, &rule, &quiet, &mut sf);
+        assert_eq!(cp.runs, [All, Skip, Skip, Skip]);
     }
 
     #[test]

@@ -263,8 +263,12 @@ impl<const D: usize> FineStepper<D> {
         );
         let lists = &mut self.family.lists;
         self.sleep.refresh_reach(&lists.clusters, lists.builds);
-        lists.clusters.runs =
-            sleep::mark_runs(&lists.clusters, rule, &world.fine.quiet, &mut self.sleep);
+        sleep::mark_runs(
+            &mut lists.clusters,
+            rule,
+            &world.fine.quiet,
+            &mut self.sleep,
+        );
     }
 
     /// After Eq. (56): wake the neighbours of the step's restless particles, advance

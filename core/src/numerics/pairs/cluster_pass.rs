@@ -14,7 +14,7 @@
 
 use crate::numerics::kernel::WendlandC2;
 use crate::numerics::math::Real;
-use crate::numerics::pairs::clusters::ClusterPairs;
+use crate::numerics::pairs::clusters::{ClusterPairs, Take};
 use crate::numerics::pairs::quad::{Lanes, Quad, QuadTask, WIDTH};
 use crate::numerics::pairs::slabs::two_phase_in;
 use crate::numerics::periodic::Wrap;
@@ -245,13 +245,14 @@ fn lane_sums<Q: Quad, const N: usize>(q: Q, t: &[Q::V; N], used: usize) -> [Real
     }
 }
 
-/// Law `law` for cluster `ci` against every partner of its list, into `win`.
+/// Law `law` for cluster `ci` against every partner of its list (`only_awake`: those
+/// awake, its members all sleeping), into `win`.
 #[inline(always)]
 fn cluster<Q: Quad, P: PairLaw<D, N>, const D: usize, const N: usize>(
     q: Q,
     (law, kernel, wrap): (&P, &WendlandC2, &Wrap),
     (blocks, cp): (&[[P::Rec; WIDTH]], &ClusterPairs),
-    ci: usize,
+    (ci, only_awake): (usize, bool),
     win: &mut Window<'_, P::Sums>,
 ) {
     let zero = q.splat(0.0);
@@ -263,6 +264,10 @@ fn cluster<Q: Quad, P: PairLaw<D, N>, const D: usize, const N: usize>(
     // a law of one term sums four partners' at once
     let (mut t1, mut to, mut k) = ([zero; WIDTH], [0; WIDTH], 0);
     for &j in cp.of(ci) {
+        if only_awake && !cp.awake[j as usize] {
+            // a pair of two sleeping particles: its terms would be discarded
+            continue;
+        }
         let (c, l, j) = at(cp, j);
         let rec = &blocks[c][l];
         let rij = separation(q, wrap, &xi, rec.x());
@@ -323,17 +328,19 @@ impl<P: PairLaw<D, N>, const D: usize, const N: usize> QuadTask for Slab<'_, P, 
             out: Window { sums, base },
         } = self;
         for ci in cp.slabs[slab] as usize..cp.slabs[slab + 1] as usize {
-            if !cp.runs(ci) {
+            let only_awake = match cp.take(ci) {
+                Take::All => false,
+                Take::AwakePartners => true,
                 // its members and partners all sleep
-                continue;
-            }
+                Take::Skip => continue,
+            };
             // a window per cluster from the slice and base held here, so that the
             // terms' stores need not reload them
             let mut out = Window {
                 sums: &mut *sums,
                 base,
             };
-            cluster(q, law, (blocks, cp), ci, &mut out);
+            cluster(q, law, (blocks, cp), (ci, only_awake), &mut out);
         }
     }
 }

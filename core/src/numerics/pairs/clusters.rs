@@ -33,10 +33,24 @@ pub struct ClusterPairs {
     /// `js[off[c]..off[c + 1]]`: the particles the members of c pair with, ascending.
     off: Vec<u32>,
     js: Vec<u32>,
-    /// Per cluster, whether the passes evaluate it (empty: every cluster); set per
+    /// Per cluster, how the passes take it (empty: every cluster whole); set per
     /// step where resting particles sleep ([`sleep::mark_runs`](crate::numerics::sleep::mark_runs)).
     #[serde(skip)]
-    pub runs: Vec<bool>,
+    pub runs: Vec<Take>,
+    /// Per particle, whether it is awake (read by [`Take::AwakePartners`]).
+    #[serde(skip)]
+    pub awake: Vec<bool>,
+}
+
+/// How a pass takes a cluster where resting particles sleep.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Take {
+    /// Every pair: a member is awake.
+    All,
+    /// Only the pairs with an awake partner: the members sleep, some partners do not.
+    AwakePartners,
+    /// None: the members and their partners all sleep.
+    Skip,
 }
 
 impl ClusterPairs {
@@ -51,6 +65,7 @@ impl ClusterPairs {
         half: impl Fn(usize, &mut Vec<u32>) + Sync,
     ) -> usize {
         self.runs.clear();
+        self.awake.clear();
         self.start.clear();
         self.slabs.clear();
         for s in 0..slabs.len().saturating_sub(1) {
@@ -161,10 +176,10 @@ impl ClusterPairs {
             && below(&self.js, n)
     }
 
-    /// Whether the passes evaluate cluster `c` (some member or partner awake).
+    /// How the passes take cluster `c`.
     #[inline(always)]
-    pub fn runs(&self, c: usize) -> bool {
-        self.runs.get(c).copied().unwrap_or(true)
+    pub fn take(&self, c: usize) -> Take {
+        self.runs.get(c).copied().unwrap_or(Take::All)
     }
 
     /// Particles in the clusters.
