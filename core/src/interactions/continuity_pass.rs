@@ -15,14 +15,14 @@ use crate::fine::pair_sums::ContinuitySums;
 use crate::fine::state::FineParticles;
 use crate::geometry::walls::Walls;
 use crate::numerics::neighbors::{NeighborLists, CHUNK};
-use crate::numerics::sleep::{SleepRule, RESTLESS};
+use crate::numerics::sleep::{Asleep, RESTLESS};
 use rayon::prelude::*;
 
 /// Runs over the fine–fine, fine–wall and fine–coarse relations.
 ///
-/// Sweep with v_{n+1} already in `p.vel`. A sleeping particle (`sleep`: the rule and
-/// each particle's quiet steps) keeps its stress and dρ/dt = 0; an awake one whose
-/// velocity gradient is restless is flagged in `flags`.
+/// Sweep with v_{n+1} already in `p.vel`. A sleeping particle (`asleep`) keeps its
+/// stress and dρ/dt = 0; an awake one whose velocity gradient is restless is flagged
+/// in `flags`.
 #[allow(clippy::too_many_arguments)]
 pub fn continuity_sweep<const D: usize>(
     p: &FineParticles<D>,
@@ -33,7 +33,7 @@ pub fn continuity_sweep<const D: usize>(
     coarse: &[CoarseSource<D>],
     out: ContinuityOut<'_, D>,
     (buf, cp, lanes): FinePairs<'_, D>,
-    (rule, quiet, flags): (Option<&SleepRule>, &[u16], &mut [u8]),
+    (asleep, flags): (Asleep<'_>, &mut [u8]),
 ) {
     // neighbour arrays of one length, so that a neighbour index is bounds-checked once
     let n = p.len();
@@ -59,7 +59,7 @@ pub fn continuity_sweep<const D: usize>(
                     let (xi, vi) = (pos[i], vel[i]);
                     // the pair sums, left zero for the next step
                     let sum = std::mem::replace(&mut sums[k].continuity, ContinuitySums::zero());
-                    if rule.is_some_and(|r| r.asleep(quiet[i])) {
+                    if asleep.at(i) {
                         drho_out[k] = 0.0;
                         continue;
                     }
@@ -81,7 +81,7 @@ pub fn continuity_sweep<const D: usize>(
                         kept: &mut kept_out[k],
                     };
                     drho_out[k] = rates.update(prm, &mats[mat], p.rho[i], out);
-                    if let Some(r) = rule {
+                    if let Some(r) = asleep.rule {
                         let l2 = lg_out[k].norm_squared() as crate::numerics::math::Real;
                         if r.restless_strain(l2) {
                             fl[k] |= RESTLESS;

@@ -20,28 +20,26 @@ use crate::geometry::walls::Walls;
 use crate::numerics::load::Load;
 use crate::numerics::math::{Real, Sym, Vect};
 use crate::numerics::neighbors::{NeighborLists, CHUNK};
-use crate::numerics::sleep::{SleepRule, HELD, RESTLESS};
+use crate::numerics::sleep::Asleep;
 use nalgebra::SVector;
 use rayon::prelude::*;
 
-/// What the fine sweeps read and write of the step's sleep
-/// ([`sleep`](crate::numerics::sleep)): the rule (None: every particle is stepped and
-/// no flag is written), each particle's quiet steps, which wall objects wake the
-/// particles within their reach (barriers and walls that can move), and each
-/// particle's flags of the step.
+/// What the momentum sweep reads and writes of the step's sleep
+/// ([`sleep`](crate::numerics::sleep)): which particles sleep (without a rule none,
+/// and no flag is written), which wall objects hold the particles within their reach
+/// awake (barriers and walls that can move), and each particle's flags of the step.
 pub struct FineSleep<'a> {
-    pub rule: Option<&'a SleepRule>,
-    pub quiet: &'a [u16],
+    pub asleep: Asleep<'a>,
     pub waking_walls: &'a [bool],
     pub flags: &'a mut [u8],
 }
 
-impl FineSleep<'_> {
-    /// Whether particle `i` sleeps in this step.
-    #[inline(always)]
-    pub fn asleep(rule: Option<&SleepRule>, quiet: &[u16], i: usize) -> bool {
-        rule.is_some_and(|r| r.asleep(quiet[i]))
-    }
+/// Whether a wall particle of the list `wl` belongs to an object that holds its
+/// neighbours awake (`waking`, per object).
+#[inline(always)]
+fn held_by<const D: usize>(waking: &[bool], walls: &Walls<D>, wl: &[u32]) -> bool {
+    wl.iter()
+        .any(|&w| waking[walls.object[w as usize] as usize])
 }
 
 /// Runs over the fine–fine, fine–wall and fine–coarse relations.
@@ -70,7 +68,7 @@ pub fn momentum_sweep<const D: usize>(
     (buf, cp, lanes): FinePairs<'_, D>,
     sleep: FineSleep<'_>,
 ) {
-    let (rule, quiet, waking) = (sleep.rule, sleep.quiet, sleep.waking_walls);
+    let (asleep, waking) = (sleep.asleep, sleep.waking_walls);
     let (csrc, coupling, tension) = (coarse.src, coarse.coupling, coarse.tension);
     let nbs = walls.load_slots().max(1);
     // neighbour arrays of one length, so that a neighbour index is bounds-checked once
@@ -100,7 +98,7 @@ pub fn momentum_sweep<const D: usize>(
                 let (xi, vi, rhoi) = (pos[i], vel[i], p.rho[i]);
                 // the pair sums, left zero for the next step
                 let sum = std::mem::replace(&mut sums[k].momentum, MomentumSums::zero());
-                if FineSleep::asleep(rule, quiet, i) {
+                if asleep.at(i) {
                     *vo = Vect::<D>::zeros();
                     fl[k] = 0;
                     continue;
@@ -109,13 +107,9 @@ pub fn momentum_sweep<const D: usize>(
                 let wl = cl.wall(k);
                 // the water's force on a soil (soil_water): buoyancy and seepage
                 let lift = water.get(i).map(|f| f / p.mass[i]);
-                let mut held = false;
+                // held awake by a wall in motion or a barrier, or a coarse grain
+                let mut held = asleep.rule.is_some() && held_by(waking, walls, wl);
                 if !wl.is_empty() {
-                    if rule.is_some() {
-                        held = wl
-                            .iter()
-                            .any(|&w| waking[walls.object[w as usize] as usize]);
-                    }
                     let (w, s) = (walls, &Source::new(mat, &p.stress[i], p.mass[i], rhoi));
                     let at = FineAtWall::new(wall, w, mat, xi, vi, rhoi, s, wl, lift.as_ref());
                     at.accelerations(wall, walls, wl, &mut pairs);
@@ -149,9 +143,8 @@ pub fn momentum_sweep<const D: usize>(
                     acc += a;
                 }
                 *vo = integrate(p, prm, i, acc, &sum.hourglass, &mut hout[k]);
-                if let Some(r) = rule {
-                    let restless = r.restless_motion(&vi, vo, prm.dt);
-                    fl[k] = if restless { RESTLESS } else { 0 } | if held { HELD } else { 0 };
+                if let Some(r) = asleep.rule {
+                    fl[k] = r.motion_flags((&vi, vo), prm.dt, held);
                 }
             }
         });

@@ -327,8 +327,10 @@ fn momentum<const D: usize>(
         &[],
         how.pairs(),
         super::momentum_pass::FineSleep {
-            rule: None,
-            quiet: &[],
+            asleep: crate::numerics::sleep::Asleep {
+                rule: None,
+                quiet: &[],
+            },
             waking_walls: &[],
             flags: &mut vec![0; p.len()],
         },
@@ -460,7 +462,13 @@ fn continuity_matches<const D: usize>(two_soils: bool, jump: ContinuityJump, lan
             hourglass_kept: &mut kept,
         },
         how.pairs(),
-        (None, &[], &mut vec![0; n]),
+        (
+            crate::numerics::sleep::Asleep {
+                rule: None,
+                quiet: &[],
+            },
+            &mut vec![0; n],
+        ),
     );
     assert!(sums
         .iter()

@@ -1,13 +1,13 @@
 //! Resting particles sleep (`numerics.sleep`, docs/method.md §Sleep): a particle whose
 //! motion and strain rate stay below the rule's thresholds for `steps` steps falls
 //! asleep; its state is frozen (v = 0, dρ/dt = 0, its stress kept) and not
-//! integrated, and a cluster of the lane passes whose members and partners all sleep
-//! is not evaluated ([`mark_runs`]).
+//! integrated, and the lane passes leave out the pairs of two sleeping particles
+//! ([`mark_runs`]).
 //!
 //! Waking is causal. A particle that failed the rule's test in a step (*restless*)
-//! wakes every particle of its cluster and of its cluster's list at the step's end
-//! ([`wake`]): the list radius (kernel support and skin) is more than the distance
-//! CFL·h the elastic signal travels in a step, so a wake front is never outrun. A
+//! wakes every particle within its kernel support at the step's end ([`wake`]): the
+//! support 2h is more than the distance CFL·h the elastic signal travels in a step, so
+//! a wake front is never outrun. A
 //! particle a family holds awake (a coarse grain, a barrier or a moving wall within
 //! its reach) has its count reset without waking its neighbours: if it moves, it is
 //! restless at the step's end and wakes them then.
@@ -73,6 +73,40 @@ impl SleepRule {
     #[inline(always)]
     pub fn restless_strain(&self, l2: Real) -> bool {
         l2 >= self.strain_rate * self.strain_rate
+    }
+
+    /// The flags of a step of `dt` that took a particle from `v0` to `v1`, `held`
+    /// awake or not ([`RESTLESS`] by [`restless_motion`](Self::restless_motion),
+    /// [`HELD`]).
+    #[inline(always)]
+    pub fn motion_flags<const D: usize>(
+        &self,
+        (v0, v1): (&Vect<D>, &Vect<D>),
+        dt: Real,
+        held: bool,
+    ) -> u8 {
+        let restless = if self.restless_motion(v0, v1, dt) {
+            RESTLESS
+        } else {
+            0
+        };
+        restless | if held { HELD } else { 0 }
+    }
+}
+
+/// Which particles sleep in a step: the rule (None: none does) and each particle's
+/// count of quiet steps.
+#[derive(Clone, Copy)]
+pub struct Asleep<'a> {
+    pub rule: Option<&'a SleepRule>,
+    pub quiet: &'a [u16],
+}
+
+impl Asleep<'_> {
+    /// Whether particle `i` sleeps.
+    #[inline(always)]
+    pub fn at(&self, i: usize) -> bool {
+        self.rule.is_some_and(|r| r.asleep(self.quiet[i]))
     }
 }
 
@@ -259,6 +293,11 @@ pub fn awake_share(rule: &SleepRule, quiet: &[u16]) -> Real {
 mod tests {
     use super::*;
 
+    /// Within the kernel support of the chain: the next two particles.
+    fn near(i: usize, j: usize) -> bool {
+        i.abs_diff(j) <= 2
+    }
+
     /// A chain of 16 particles, each pairing with the next two: clusters of four in
     /// one slab.
     fn chain() -> ClusterPairs {
@@ -279,9 +318,7 @@ mod tests {
         sf.refresh_reach(&cp, 1);
         for step in 0..3 {
             sf.flags.iter_mut().for_each(|f| *f = 0);
-            let fell = wake(&cp, &rule, &mut sf, &mut quiet, false, |i, j| {
-                i.abs_diff(j) <= 2
-            });
+            let fell = wake(&cp, &rule, &mut sf, &mut quiet, false, near);
             assert_eq!(fell.len(), if step == 2 { 16 } else { 0 });
         }
         assert_eq!(awake_share(&rule, &quiet), 0.0);
@@ -289,9 +326,7 @@ mod tests {
         // and 10, 11 (its own list) wake; the rest sleep on
         sf.flags.iter_mut().for_each(|f| *f = 0);
         sf.flags[9] = RESTLESS;
-        wake(&cp, &rule, &mut sf, &mut quiet, false, |i, j| {
-            i.abs_diff(j) <= 2
-        });
+        wake(&cp, &rule, &mut sf, &mut quiet, false, near);
         let awake: Vec<usize> = (0..16).filter(|&i| !rule.asleep(quiet[i])).collect();
         assert_eq!(awake, (7..12).collect::<Vec<_>>());
         let mut cp = cp;
@@ -303,9 +338,7 @@ mod tests {
         sf.flags.iter_mut().for_each(|f| *f = 0);
         let mut quiet = vec![3u16; 16];
         sf.flags[0] = HELD;
-        wake(&cp, &rule, &mut sf, &mut quiet, false, |i, j| {
-            i.abs_diff(j) <= 2
-        });
+        wake(&cp, &rule, &mut sf, &mut quiet, false, near);
         assert_eq!(quiet[0], 0);
         assert!(quiet[1..].iter().all(|&q| q == 3));
         mark_runs(&mut cp, &rule, &quiet, &mut sf);
@@ -320,9 +353,7 @@ mod tests {
         let mut sf = SleepFlags::default();
         sf.reset(16);
         sf.refresh_reach(&cp, 1);
-        wake(&cp, &rule, &mut sf, &mut quiet, true, |i, j| {
-            i.abs_diff(j) <= 2
-        });
+        wake(&cp, &rule, &mut sf, &mut quiet, true, near);
         assert!(quiet.iter().all(|&q| q == 0));
     }
 

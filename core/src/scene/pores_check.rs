@@ -65,21 +65,12 @@ pub(super) fn validate_pores(s: &Scene) -> Check {
                  seepage force between its grains and its pore water",
             );
         }
-        if m.saturated {
-            let g: f64 = s
-                .simulation
-                .gravity
-                .iter()
-                .map(|x| x * x)
-                .sum::<f64>()
-                .sqrt();
-            if g == 0.0 {
-                return fail(
-                    format!("{p}.saturated"),
-                    "a saturated soil starts at the hydrostatic pore pressure below its top, \
-                     which needs gravity: set `simulation.gravity`",
-                );
-            }
+        if m.saturated && s.simulation.gravity_norm() == 0.0 {
+            return fail(
+                format!("{p}.saturated"),
+                "a saturated soil starts at the hydrostatic pore pressure below its top, \
+                 which needs gravity: set `simulation.gravity`",
+            );
         }
     }
     Ok(())

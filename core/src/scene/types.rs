@@ -145,6 +145,11 @@ pub struct PeriodicSpec {
 }
 
 impl SimulationSpec {
+    /// |g| (m/s²); 0 without gravity.
+    pub fn gravity_norm(&self) -> f64 {
+        self.gravity.iter().map(|x| x * x).sum::<f64>().sqrt()
+    }
+
     /// The scheme as written in scene files.
     pub fn time_stepping_name(&self) -> &'static str {
         match self.time_stepping {

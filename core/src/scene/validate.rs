@@ -522,8 +522,8 @@ fn validate_sleep(s: &Scene) -> Check {
             );
         }
     }
-    let g2: f64 = s.simulation.gravity.iter().map(|x| x * x).sum();
-    if n.sleep && g2.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+    // a gravity of NaN is refused with `simulation.gravity` before this
+    if n.sleep && s.simulation.gravity_norm() == 0.0 {
         if n.sleep_speed.is_none() {
             return fail(
                 "numerics.sleep_speed",

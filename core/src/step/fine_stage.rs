@@ -25,7 +25,7 @@ use crate::numerics::math::{Real, Sym, Vect};
 use crate::numerics::neighbors::CellGrid;
 use crate::numerics::pairs::quad::Lanes;
 use crate::numerics::riemann::Riemann;
-use crate::numerics::sleep::{self, SleepFlags, SleepRule};
+use crate::numerics::sleep::{self, Asleep, SleepFlags, SleepRule};
 use crate::numerics::timers::{Stage, StageTimers};
 use crate::world::{geostatic_tensor, World};
 use rayon::prelude::*;
@@ -391,8 +391,10 @@ impl<const D: usize> FineStepper<D> {
                 cx.soil_water.map_or(&[], |s| &s.force[..]),
                 (&mut self.lanes, &lists.clusters, Lanes::detect()),
                 FineSleep {
-                    rule: cx.params.sleep.as_ref(),
-                    quiet: &world.fine.quiet,
+                    asleep: Asleep {
+                        rule: cx.params.sleep.as_ref(),
+                        quiet: &world.fine.quiet,
+                    },
                     waking_walls: &self.waking_walls,
                     flags: &mut self.sleep.flags,
                 },
@@ -505,7 +507,11 @@ impl<const D: usize> ContinuitySweep<'_, D> {
             hourglass_kept: &mut hourglass_kept,
         };
         let (f, mats, walls) = (&world.fine, &world.materials, &world.walls);
-        let sleep = (self.sleep, &f.quiet[..], flags);
+        let asleep = Asleep {
+            rule: self.sleep,
+            quiet: &f.quiet,
+        };
+        let sleep = (asleep, flags);
         continuity_sweep(
             f, mats, walls, self.lists, self.cprm, self.csrc, out, pairs, sleep,
         );

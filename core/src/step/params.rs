@@ -96,13 +96,7 @@ impl StepParams {
 /// force below the grain's weight) unless it sets `numerics.sleep_acceleration`, 100
 /// quiet steps unless it sets `numerics.sleep_steps`.
 fn sleep_rule(s: &Scene, res: &Resolution) -> SleepRule {
-    let g = s
-        .simulation
-        .gravity
-        .iter()
-        .map(|x| x * x)
-        .sum::<f64>()
-        .sqrt();
+    let g = s.simulation.gravity_norm();
     let speed = s
         .numerics
         .sleep_speed
